@@ -1,0 +1,50 @@
+"""The `jointid` command line: subcommands for fitting and inverse dynamics.
+
+Each subcommand lives in its own module with `add_parser(subparsers)` and
+`run(args) -> int`. With no subcommand, `jointid` opens the terminal explorer.
+Errors a user can cause print one line on stderr and exit with status 2.
+"""
+
+from __future__ import annotations
+
+import sys
+
+from . import explorer_command, fit_command, torque_command
+from .arguments import OneLineParser, UserError, add_settings_arguments
+
+SUBCOMMANDS = (fit_command, torque_command)
+"""Modules that define the subcommands, in help order."""
+
+
+def build_parser() -> OneLineParser:
+    """The top-level parser with every subcommand attached."""
+    parser = OneLineParser(
+        prog="jointid",
+        description=(
+            "Identify a rotating joint's inertia I, gravity mass moment h and viscous damping B "
+            "from motion and torque: tau = I*qdd + h*g*cos(q) + B*qd. "
+            "With no subcommand, open the terminal explorer at the given settings."
+        ),
+    )
+    add_settings_arguments(parser)
+    subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=OneLineParser)
+    for module in SUBCOMMANDS:
+        module.add_parser(subparsers)
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Parse arguments, run the chosen subcommand, and return the exit status."""
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+        module = next((m for m in SUBCOMMANDS if m.NAME == args.command), explorer_command)
+        return module.run(args)
+    except UserError as error:
+        print(f"jointid: {error}", file=sys.stderr)
+        return 2
+    except BrokenPipeError:  # e.g. `jointid fit | head -1`
+        sys.stderr.close()
+        return 0
+    except KeyboardInterrupt:
+        return 130

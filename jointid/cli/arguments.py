@@ -1,0 +1,93 @@
+"""Argument types and the parser class shared by every subcommand."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+
+from ..motions import TRAINING_MOTIONS
+from ..settings import DEFAULT_SETTINGS, Settings, SettingsError, parse_setting
+
+
+class UserError(Exception):
+    """A mistake in the user's input; main prints its message as one line and exits 2."""
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """An ArgumentParser whose errors are one line on stderr and exit status 2 (no usage dump)."""
+
+    def error(self, message: str):
+        """Print `<prog>: <message>` and exit with status 2."""
+        print(f"{self.prog}: {message}", file=sys.stderr)
+        raise SystemExit(2)
+
+
+def setting_type(field: str):
+    """An argparse type that parses and range-checks one experiment setting."""
+
+    def parse(text: str):
+        try:
+            return parse_setting(field, text)
+        except SettingsError as error:
+            raise argparse.ArgumentTypeError(_without_field(str(error), field)) from None
+
+    parse.__name__ = field  # argparse names the type in some messages
+    return parse
+
+
+def _without_field(message: str, field: str) -> str:
+    """'noise must be ...' -> 'must be ...', since argparse already names the flag."""
+    return message[len(field) + 1 :] if message.startswith(field + " ") else message
+
+
+def finite_float(text: str) -> float:
+    """An argparse type for any finite real number."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be a finite number; got {text!r}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"must be a finite number; got {text!r}")
+    return value
+
+
+def add_settings_arguments(parser: argparse.ArgumentParser) -> None:
+    """Add --motion, --noise, --samples and --seed with the lesson's defaults."""
+    defaults = DEFAULT_SETTINGS
+    parser.add_argument(
+        "--motion",
+        type=setting_type("motion"),
+        default=defaults.motion,
+        metavar="{" + ",".join(TRAINING_MOTIONS) + "}",
+        help="training motion: rich (two sines), slow (one small slow sine) or holds "
+        f"(q = qd = qdd = 0); default {defaults.motion}",
+    )
+    parser.add_argument(
+        "--noise",
+        type=setting_type("noise"),
+        default=defaults.noise,
+        metavar="X",
+        help="bound of the uniform training-torque noise, 0 to 100 N m; "
+        f"default {defaults.noise:.2f}",
+    )
+    parser.add_argument(
+        "--samples",
+        type=setting_type("samples"),
+        default=defaults.samples,
+        metavar="N",
+        help="training samples over 0..8 s, 2 to 10000000; "
+        f"default {defaults.samples}",
+    )
+    parser.add_argument(
+        "--seed",
+        type=setting_type("seed"),
+        default=defaults.seed,
+        metavar="S",
+        help=f"noise seed, 0 to 4294967295; default {defaults.seed}",
+    )
+
+
+def settings_from(args: argparse.Namespace) -> Settings:
+    """The Settings named by parsed --motion/--noise/--samples/--seed arguments."""
+    return Settings(motion=args.motion, noise=args.noise, samples=args.samples, seed=args.seed)

@@ -1,0 +1,69 @@
+"""`jointid torque`: inverse dynamics at one state, split into contributions."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+
+from ..fit import format_number
+from ..model import TRUE_PARAMETERS, torque_breakdown
+from .arguments import finite_float
+
+NAME = "torque"
+
+
+def add_parser(subparsers) -> None:
+    """Attach the `torque` subcommand."""
+    parser = subparsers.add_parser(
+        NAME,
+        help="actuator torque at one state, with each contribution",
+        description="Inverse dynamics tau = I*qdd + h*g*cos(q) + B*qd at one state, with the "
+        "power B*qd² that the damper dissipates.",
+    )
+    parser.add_argument("--q", type=finite_float, required=True, metavar="Q",
+                        help="joint angle from +x, counter-clockwise (rad, or deg with --deg)")
+    parser.add_argument("--qd", type=finite_float, required=True, metavar="QD",
+                        help="joint velocity (rad/s)")
+    parser.add_argument("--qdd", type=finite_float, required=True, metavar="QDD",
+                        help="joint acceleration (rad/s²)")
+    parser.add_argument("--deg", action="store_true", help="read --q in degrees")
+    inertia, mass_moment, damping = TRUE_PARAMETERS
+    parser.add_argument("--I", dest="I", type=finite_float, default=inertia, metavar="I",
+                        help=f"inertia about the joint (kg m²); default {inertia}")
+    parser.add_argument("--h", dest="h", type=finite_float, default=mass_moment, metavar="H",
+                        help=f"gravity mass moment m*r (kg m); default {mass_moment}")
+    parser.add_argument("--B", dest="B", type=finite_float, default=damping, metavar="B",
+                        help=f"viscous damping (N m s/rad); default {damping}")
+    parser.add_argument("--json", action="store_true", help="print one JSON object instead of text")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Compute and print the breakdown; exit status 0."""
+    q = math.radians(args.q) if args.deg else args.q
+    parts = torque_breakdown(q, args.qd, args.qdd, (args.I, args.h, args.B))
+    values = {
+        "inertia": float(parts.inertia),
+        "gravity": float(parts.gravity),
+        "damping": float(parts.damping),
+        "total": float(parts.total),
+        "damper_power": float(parts.damper_power),
+    }
+    if args.json:
+        state = {"q": q, "qd": args.qd, "qdd": args.qdd}
+        parameters = {"I": args.I, "h": args.h, "B": args.B}
+        print(json.dumps({"state": state, "parameters": parameters, **values}, indent=2))
+        return 0
+    angle = f"{format_number(args.q)} deg = {format_number(q)} rad" if args.deg else f"{format_number(q)} rad"
+    print(f"State: q = {angle}, qd = {format_number(args.qd)} rad/s, qdd = {format_number(args.qdd)} rad/s²")
+    print(f"Parameters: I = {args.I:g} kg m², h = {args.h:g} kg m, B = {args.B:g} N m s/rad")
+    rows = [
+        ("Inertia            I*qdd", values["inertia"], "N m"),
+        ("Gravity comp.      h*g*cos(q)", values["gravity"], "N m"),
+        ("Damping comp.      B*qd", values["damping"], "N m"),
+        ("Actuator torque", values["total"], "N m"),
+        ("Damper dissipates  B*qd²", values["damper_power"], "W"),
+    ]
+    for label, value, unit in rows:
+        print(f"{label:<32}{format_number(value):>12} {unit}")
+    return 0

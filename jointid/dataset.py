@@ -1,0 +1,54 @@
+"""Joint data: states and torque at N instants, synthetic or from a log."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from .model import regressor
+
+
+@dataclass(frozen=True, eq=False)
+class JointData:
+    """Angle q (rad), velocity qd (rad/s), acceleration qdd (rad/s^2) and torque tau (N m).
+
+    Every array has shape (N,); `t` (s) is None when the source had no times.
+    """
+
+    t: np.ndarray | None
+    q: np.ndarray
+    qd: np.ndarray
+    qdd: np.ndarray
+    tau: np.ndarray
+
+    @property
+    def count(self) -> int:
+        """N, the number of samples."""
+        return len(self.tau)
+
+    @cached_property
+    def regressor(self) -> np.ndarray:
+        """(N, 3) Rows [qdd, g*cos(q), qd]."""
+        return regressor(self.q, self.qd, self.qdd)
+
+    @cached_property
+    def accel_rms(self) -> float:
+        """Root mean square of qdd (rad/s^2)."""
+        return rms(self.qdd)
+
+    @cached_property
+    def speed_rms(self) -> float:
+        """Root mean square of qd (rad/s)."""
+        return rms(self.qd)
+
+    @cached_property
+    def time_axis(self) -> np.ndarray:
+        """(N,) Times for plotting: `t` when known, else the sample index."""
+        return self.t if self.t is not None else np.arange(self.count, dtype=float)
+
+
+def rms(values: np.ndarray) -> float:
+    """Root mean square of an array (0 for an empty one)."""
+    return float(np.sqrt(np.mean(np.square(values)))) if len(values) else 0.0
