@@ -87,7 +87,9 @@ def solve_least_squares(X, y, tolerance: float = RANK_TOLERANCE) -> LeastSquares
     rows, columns = X.shape
     norms = np.sqrt(np.einsum("ij,ij->j", X, X))
     scales = np.where(norms > 0, norms, 1.0)
-    work = np.asfortranarray(X / scales)  # a copy: column operations are contiguous
+    # A scaled copy in column-major order, so each column operation is contiguous.
+    work = np.empty((rows, columns), order="F")
+    np.divide(X, scales, out=work)
     rhs = y.copy()
     permutation = np.arange(columns)
     rank = 0
@@ -124,8 +126,8 @@ def _reflect(work: np.ndarray, rhs: np.ndarray, k: int, column_norm: float) -> N
     v = work[k:, k].copy()
     v[0] -= alpha
     v /= np.linalg.norm(v)
-    trailing = work[k:, k + 1 :]
-    trailing -= np.outer(2.0 * v, v @ trailing)
-    rhs[k:] -= 2.0 * v * (v @ rhs[k:])
+    # Column by column: no (N, p) temporary, and each update is one contiguous axpy.
+    for column in [work[k:, j] for j in range(k + 1, work.shape[1])] + [rhs[k:]]:
+        column -= (2.0 * (v @ column)) * v
     work[k:, k] = 0.0
     work[k, k] = alpha
