@@ -9,7 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from .fit import FitResult, format_number
-from .model import PARAMETER_NAMES
+from .model import PARAMETER_NAMES, SIGN_REQUIREMENTS
 
 UNAVAILABLE = "unavailable"
 """Readout text when the rank gives no unique fit (or no held-out data)."""
@@ -52,7 +52,10 @@ def readouts(result: FitResult) -> tuple[Readout, ...]:
 
 def readouts_text(result: FitResult) -> str:
     """Every readout on its own line, label padded, then the status sentence."""
-    lines = [f"{r.label:<28}{r.text}" for r in readouts(result)]
+    lines = [
+        f"{r.label:<28}{r.text:>12}" + (f"  fails {SIGN_REQUIREMENTS[r.key]}" if r.sign_failure else "")
+        for r in readouts(result)
+    ]
     return "\n".join(lines) + "\n\n" + result.message
 
 

@@ -24,7 +24,7 @@ def test_fit_text_prints_every_readout_and_the_status_sentence(capsys):
     result = run_experiment(Settings(motion="slow", noise=0.2))
     for readout in readouts(result):
         assert f"{readout.label}" in out and readout.text in out
-    assert "Fitted inertia (kg m²)      -1.607788" in out
+    assert "Fitted inertia (kg m²)         -1.607788  fails I > 0" in out
     assert out.splitlines()[0] == "Slow motion, torque noise bound 0.20 N m, 24 samples, seed 7"
     assert result.message in out
 
