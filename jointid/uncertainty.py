@@ -1,0 +1,165 @@
+"""How well a full-rank fit determines each parameter: standard errors, intervals, verdicts.
+
+For y = X theta + e with independent errors of variance sigma^2 the estimate's
+covariance is sigma^2 (X^T X)^-1. The factor (X^T X)^-1 comes from the pivoted
+QR of the column-scaled regressor, X D^-1 P = Q R, as D^-1 P R^-1 R^-T P^T D^-1,
+so X^T X is never formed. Two values of sigma^2 are used:
+
+- empirical: s^2 = RSS / (N - p), available when N > p;
+- expected: b^2 / 3, the variance of noise uniform on [-b, b], when the data are
+  synthetic and the bound b is known.
+
+The verdict uses the expected standard error when the bound is known, because it
+describes the experiment (motion, samples, noise level) rather than one seed's
+luck, and the empirical one otherwise. Intervals are Student t with N - p
+degrees of freedom around the empirical standard error.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from .solver import LeastSquaresSolution, back_substitute
+
+WELL_DETERMINED = "well determined"
+WEAK = "weak"
+NOT_DETERMINED = "not determined"
+
+WELL_DETERMINED_LIMIT = 10.0
+"""Relative standard error (% of |estimate|) at or below which a parameter is well determined."""
+WEAK_LIMIT = 30.0
+"""Relative standard error (%) above which a parameter is not determined; between the limits it is weak."""
+
+CONFIDENCE = 0.95
+"""Coverage of the reported Student-t interval."""
+
+
+def covariance_factor(solution: LeastSquaresSolution) -> np.ndarray:
+    """(p, p) (X^T X)^-1 in the original parameter order and units, from a full-rank R factor."""
+    if not solution.is_full_rank:
+        raise ValueError("(X^T X)^-1 exists only for a full-rank regressor")
+    p = solution.column_count
+    r_inverse = back_substitute(solution.r_factor, np.eye(p))
+    pivoted = r_inverse @ r_inverse.T  # (R^T R)^-1 for the scaled, pivoted columns
+    unpivoted = np.empty((p, p))
+    unpivoted[np.ix_(solution.permutation, solution.permutation)] = pivoted
+    return unpivoted / np.outer(solution.scales, solution.scales)
+
+
+def student_t_quantile(probability: float, degrees_of_freedom: int) -> float:
+    """The Student-t quantile t such that P(T <= t) = probability (scipy, imported only here)."""
+    from scipy.special import stdtrit  # lazy: `import jointid` stays numpy-only
+
+    return float(stdtrit(degrees_of_freedom, probability))
+
+
+def verdict(relative_std_pct: float) -> str:
+    """Well determined (<= 10 %), weak (<= 30 %) or not determined, from a relative standard error."""
+    if relative_std_pct <= WELL_DETERMINED_LIMIT:
+        return WELL_DETERMINED
+    return WEAK if relative_std_pct <= WEAK_LIMIT else NOT_DETERMINED
+
+
+@dataclass(frozen=True, eq=False)
+class ParameterUncertainty:
+    """Standard errors, relative errors, 95 % intervals and verdicts of one full-rank fit."""
+
+    estimate: np.ndarray
+    """(p,) The fitted parameters."""
+    covariance_factor: np.ndarray
+    """(p, p) (X^T X)^-1, which times the noise variance is the estimate's covariance."""
+    residual_norm: float
+    """||y - X theta||, the square root of the residual sum of squares."""
+    row_count: int
+    """N, the number of samples fitted."""
+    noise_bound: float | None
+    """Known bound b of uniform noise on [-b, b], or None for measured data."""
+
+    @property
+    def degrees_of_freedom(self) -> int:
+        """N - p, the residual degrees of freedom (may be zero or negative)."""
+        return self.row_count - len(self.estimate)
+
+    @cached_property
+    def residual_variance(self) -> float | None:
+        """s^2 = RSS / (N - p), or None when N - p <= 0."""
+        if self.degrees_of_freedom <= 0:
+            return None
+        return self.residual_norm**2 / self.degrees_of_freedom
+
+    @cached_property
+    def std_error(self) -> np.ndarray | None:
+        """(p,) Empirical standard errors sqrt(s^2 diag((X^T X)^-1)), or None when N - p <= 0."""
+        if self.residual_variance is None:
+            return None
+        return np.sqrt(self.residual_variance * np.diag(self.covariance_factor))
+
+    @cached_property
+    def expected_std_error(self) -> np.ndarray | None:
+        """(p,) Standard errors the known noise bound implies, sqrt(b^2/3 diag((X^T X)^-1)), or None."""
+        if self.noise_bound is None:
+            return None
+        return np.sqrt(self.noise_bound**2 / 3.0 * np.diag(self.covariance_factor))
+
+    @property
+    def verdict_basis(self) -> str | None:
+        """'expected' or 'empirical': which standard error drives the verdicts (None: neither exists)."""
+        if self.expected_std_error is not None:
+            return "expected"
+        return "empirical" if self.std_error is not None else None
+
+    @property
+    def verdict_std_error(self) -> np.ndarray | None:
+        """(p,) The standard errors the verdicts are judged on (see `verdict_basis`)."""
+        return self.expected_std_error if self.expected_std_error is not None else self.std_error
+
+    @cached_property
+    def relative_std_pct(self) -> np.ndarray | None:
+        """(p,) verdict standard error as % of |estimate| (0 when the error is 0, inf when the estimate is)."""
+        std = self.verdict_std_error
+        if std is None:
+            return None
+        magnitude = np.abs(self.estimate)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            relative = np.where(std == 0, 0.0, 100.0 * std / magnitude)
+        return relative
+
+    @cached_property
+    def verdicts(self) -> tuple[str, ...] | None:
+        """Verdict per parameter from `relative_std_pct`, or None without any standard error."""
+        if self.relative_std_pct is None:
+            return None
+        return tuple(verdict(float(value)) for value in self.relative_std_pct)
+
+    @cached_property
+    def interval95(self) -> np.ndarray | None:
+        """(p, 2) Student-t 95 % interval [low, high] from the empirical standard error, or None."""
+        if self.std_error is None:
+            return None
+        half = student_t_quantile(0.5 + CONFIDENCE / 2, self.degrees_of_freedom) * self.std_error
+        return np.column_stack([self.estimate - half, self.estimate + half])
+
+
+def parameter_uncertainty(
+    solution: LeastSquaresSolution, noise_bound: float | None = None
+) -> ParameterUncertainty | None:
+    """Uncertainty of a single-RHS fit's estimate, or None when the rank gives no unique fit."""
+    if solution.estimate is None:
+        return None
+    return ParameterUncertainty(
+        estimate=solution.estimate,
+        covariance_factor=covariance_factor(solution),
+        residual_norm=float(solution.residual_norm),
+        row_count=solution.row_count,
+        noise_bound=noise_bound,
+    )
+
+
+def finite_or_none(value: float) -> float | None:
+    """A float for JSON, or None when it is infinite or NaN (strict JSON has neither)."""
+    value = float(value)
+    return value if math.isfinite(value) else None
