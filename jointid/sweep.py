@@ -1,0 +1,226 @@
+"""Seed sweep (Monte Carlo): the same experiment under K noise seeds, solved at once.
+
+Noise enters only the torques, so the regressor, its factorisation and its
+rank are the same for every seed: one pivoted QR serves all K right-hand sides.
+Seeds run from the experiment's seed upward and wrap past 2^32 - 1 to 0, which
+is what the generator itself does (it reduces every state modulo 2^32), so a
+sweep never refuses a start seed. Each seed's estimate and RMSEs equal, bit for
+bit, those of `run_experiment` with that seed.
+
+Seeds are processed in chunks that bound memory; an optional `progress(done,
+total)` callback runs after each chunk and an optional `cancelled()` check
+before each, so an app can run a sweep in a worker thread.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, replace
+from functools import cached_property
+
+import numpy as np
+
+from .experiment import training_data, validation_data
+from .fit import fitted_torque
+from .model import PARAMETER_LABELS, PARAMETER_NAMES
+from .motions import TRAINING_MOTIONS
+from .noise import MODULUS, torque_noise
+from .settings import Settings
+from .solver import solve_least_squares
+from .uncertainty import parameter_uncertainty
+
+SEED_COUNT_LIMITS = (1, 1_000_000)
+"""Allowed number of seeds in one sweep."""
+DEFAULT_SEED_COUNT = 1000
+"""Seeds in a sweep unless told otherwise."""
+CHUNK_ELEMENTS = 2**21
+"""Torque values (seeds x samples) handled per chunk: about 16 MB per array."""
+QUANTITIES = (*PARAMETER_NAMES, "training_rmse", "heldout_rmse")
+"""What the sweep summarises, in display order."""
+
+
+class SweepCancelled(Exception):
+    """Raised inside `run_sweep` when its `cancelled()` check returns True."""
+
+
+@dataclass(frozen=True, eq=False)
+class Distribution:
+    """Mean, sample standard deviation and 5/50/95 % percentiles of one quantity over the seeds."""
+
+    mean: float
+    std: float | None
+    """Sample standard deviation (ddof 1), or None for a single seed."""
+    p5: float
+    p50: float
+    p95: float
+
+
+def describe(values: np.ndarray) -> Distribution:
+    """Summarise a 1-D array of per-seed values."""
+    values = np.asarray(values, dtype=float)
+    p5, p50, p95 = np.percentile(values, [5, 50, 95])
+    std = float(np.std(values, ddof=1)) if len(values) > 1 else None
+    return Distribution(float(np.mean(values)), std, float(p5), float(p50), float(p95))
+
+
+def sweep_seeds(first_seed: int, count: int) -> np.ndarray:
+    """(count,) Seeds first_seed, first_seed + 1, ... wrapped modulo 2^32."""
+    return (np.int64(first_seed) + np.arange(count, dtype=np.int64)) % MODULUS
+
+
+@dataclass(frozen=True, eq=False)
+class SweepResult:
+    """Per-seed fits of one experiment and their statistics."""
+
+    settings: Settings
+    """Motion, noise, samples and the first seed."""
+    seeds: np.ndarray
+    """(K,) The seeds, in order."""
+    rank: int
+    """Rank of the training regressor (the same for every seed)."""
+    condition_number: float
+    """Condition number of the column-scaled regressor (inf when rank-deficient)."""
+    estimates: np.ndarray | None
+    """(3, K) Fitted I, h, B per seed (rows in theta order), or None when rank-deficient."""
+    training_rmse: np.ndarray | None
+    """(K,) Training RMSE against each seed's noisy torques, or None."""
+    heldout_rmse: np.ndarray | None
+    """(K,) RMSE on the noiseless validation motion, or None."""
+    expected_std_error: np.ndarray | None
+    """(3,) Standard errors the noise bound implies (the same for every seed), or None."""
+
+    @property
+    def seed_count(self) -> int:
+        """K, the number of seeds."""
+        return len(self.seeds)
+
+    @property
+    def is_full_rank(self) -> bool:
+        """True when the motion gives a unique fit, so the sweep has estimates."""
+        return self.estimates is not None
+
+    def values(self, quantity: str) -> np.ndarray | None:
+        """(K,) Per-seed values of 'I', 'h', 'B', 'training_rmse' or 'heldout_rmse', or None."""
+        if not self.is_full_rank:
+            return None
+        if quantity in PARAMETER_NAMES:
+            return self.estimates[PARAMETER_NAMES.index(quantity)]
+        return {"training_rmse": self.training_rmse, "heldout_rmse": self.heldout_rmse}[quantity]
+
+    @cached_property
+    def statistics(self) -> dict[str, Distribution]:
+        """Distribution of each of QUANTITIES, keyed by name; empty when rank-deficient."""
+        if not self.is_full_rank:
+            return {}
+        return {name: describe(self.values(name)) for name in QUANTITIES}
+
+    @cached_property
+    def empirical_std(self) -> np.ndarray | None:
+        """(3,) Sample standard deviation of I, h, B over the seeds (None: rank-deficient or K = 1)."""
+        if not self.is_full_rank or self.seed_count < 2:
+            return None
+        return np.array([self.statistics[name].std for name in PARAMETER_NAMES])
+
+    @cached_property
+    def sign_failure_mask(self) -> np.ndarray | None:
+        """(3, K) True where a seed's I <= 0, h < 0 or B < 0, or None when rank-deficient."""
+        if not self.is_full_rank:
+            return None
+        inertia, mass_moment, damping = self.estimates
+        return np.stack([~(inertia > 0), ~(mass_moment >= 0), ~(damping >= 0)])
+
+    @cached_property
+    def sign_failure_fraction(self) -> float | None:
+        """Fraction of seeds whose fit fails at least one sign check, or None."""
+        if self.sign_failure_mask is None:
+            return None
+        return float(np.mean(self.sign_failure_mask.any(axis=0)))
+
+    @cached_property
+    def sign_failure_fractions(self) -> dict[str, float] | None:
+        """Fraction of seeds failing each parameter's own sign check, or None."""
+        if self.sign_failure_mask is None:
+            return None
+        return {name: float(np.mean(row)) for name, row in zip(PARAMETER_NAMES, self.sign_failure_mask)}
+
+    @cached_property
+    def message(self) -> str:
+        """One plain paragraph on what the sweep shows."""
+        settings = self.settings
+        last = int(self.seeds[-1])
+        head = (
+            f"{TRAINING_MOTIONS[settings.motion].label}, noise {settings.noise:.2f} N m, "
+            f"{settings.samples} samples, {self.seed_count} seeds {settings.seed}..{last}"
+        )
+        if not self.is_full_rank:
+            return (
+                f"{head}: rank {self.rank} of {len(PARAMETER_NAMES)} for every seed (noise changes only "
+                "the torques), so no seed gives a unique fit and the sweep has no estimates."
+            )
+        failing = [
+            f"{PARAMETER_LABELS[name]} fails its sign check in {100 * fraction:.1f} % of seeds"
+            for name, fraction in self.sign_failure_fractions.items()
+            if fraction > 0
+        ]
+        verdict = "; ".join(failing) if failing else "every seed passes the sign checks"
+        return f"{head}: {verdict}."
+
+
+def run_sweep(
+    settings: Settings,
+    seed_count: int = DEFAULT_SEED_COUNT,
+    *,
+    chunk_size: int | None = None,
+    progress: Callable[[int, int], None] | None = None,
+    cancelled: Callable[[], bool] | None = None,
+) -> SweepResult:
+    """Fit `settings`' experiment for seed_count seeds from settings.seed, one factorisation for all.
+
+    `progress(done, total)` is called after each chunk of seeds and `cancelled()`
+    before each; when it returns True the sweep stops with SweepCancelled.
+    """
+    low, high = SEED_COUNT_LIMITS
+    if not isinstance(seed_count, int) or isinstance(seed_count, bool) or not low <= seed_count <= high:
+        raise ValueError(f"seed count must be a whole number from {low} to {high}; got {seed_count!r}")
+    seeds = sweep_seeds(settings.seed, seed_count)
+    # Noise-free torques on the same states run_experiment builds (x + 0.0 is exact).
+    truth = training_data(replace(settings, noise=0.0))
+    regressor, exact = truth.regressor, truth.tau
+    validation = validation_data()
+    base = solve_least_squares(regressor, exact)
+    uncertainty = parameter_uncertainty(base, settings.noise)
+    result = SweepResult(
+        settings=settings,
+        seeds=seeds,
+        rank=base.rank,
+        condition_number=base.condition_number,
+        estimates=None,
+        training_rmse=None,
+        heldout_rmse=None,
+        expected_std_error=None if uncertainty is None else uncertainty.expected_std_error,
+    )
+    if not base.is_full_rank:
+        if progress is not None:
+            progress(seed_count, seed_count)
+        return result
+    step = chunk_size or max(1, CHUNK_ELEMENTS // max(1, settings.samples))
+    estimates = np.empty((len(PARAMETER_NAMES), seed_count))
+    training_rmse = np.empty(seed_count)
+    heldout_rmse = np.empty(seed_count)
+    for start in range(0, seed_count, step):
+        if cancelled is not None and cancelled():
+            raise SweepCancelled(f"sweep cancelled after {start} of {seed_count} seeds")
+        stop = min(start + step, seed_count)
+        measured = exact + torque_noise(settings.noise, settings.samples, seeds[start:stop])  # (k, N)
+        theta = solve_least_squares(regressor, measured.T).estimate  # (3, k)
+        estimates[:, start:stop] = theta
+        training_rmse[start:stop] = _row_rms(fitted_torque(regressor, theta) - measured)
+        heldout_rmse[start:stop] = _row_rms(fitted_torque(validation.regressor, theta) - validation.tau)
+        if progress is not None:
+            progress(stop, seed_count)
+    return replace(result, estimates=estimates, training_rmse=training_rmse, heldout_rmse=heldout_rmse)
+
+
+def _row_rms(rows: np.ndarray) -> np.ndarray:
+    """(K,) Root mean square of each row of a (K, M) array, as `dataset.rms` computes one row."""
+    return np.sqrt(np.mean(np.square(rows), axis=1))
