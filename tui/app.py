@@ -1,0 +1,234 @@
+"""The jointid explorer: does the motion reveal the joint's parameters?"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+from typing import Iterable
+
+from textual.app import App, ComposeResult, SystemCommand
+from textual.binding import Binding
+from textual.containers import Horizontal, Vertical
+from textual.reactive import reactive, var
+from textual.screen import Screen
+from textual.widgets import Button, Footer, Header, Label, RadioButton, RadioSet, Static
+
+from jointid.experiment import run_experiment
+from jointid.fit import FitResult
+from jointid.model import G, TRUE_PARAMETERS
+from jointid.motions import TRAINING_MOTIONS
+from jointid.report import readouts
+from jointid.settings import DEFAULT_SETTINGS, SEED_LIMITS, Settings
+
+from .charts import TorqueChart, heldout_chart, training_chart
+from .commands import TourCommands
+from .readouts import ReadoutPanel
+from .stepper import StepRange, Stepper
+
+NOISE_RANGE = StepRange("noise", 0.0, 1.0, 0.01, 0.1, decimals=2, unit="N m")
+"""The explorer's noise control: 0.00 to 1.00 N m (the core allows more; `jointid fit` takes it)."""
+SAMPLES_RANGE = StepRange("samples", 2, 240, 1, 10)
+"""The explorer's sample-count control: 2 to 240."""
+SEED_RANGE = StepRange("seed", SEED_LIMITS[0], SEED_LIMITS[1], 1, 100)
+"""The explorer's seed control: the core's whole seed range."""
+STEP_RANGES = (NOISE_RANGE, SAMPLES_RANGE, SEED_RANGE)
+"""Every numeric control, in display order."""
+
+FIELD_LABELS = {
+    "noise": "Torque noise bound (N m)",
+    "samples": "Training samples",
+    "seed": "Seed",
+}
+"""Label shown beside each numeric control."""
+
+STEPPER_HINT = "←/→ step, Shift+←/→ more, or type + Enter"
+"""How to use a number field, shown under the fields."""
+
+MIN_SIZE = (70, 22)
+"""Smallest (width, height) the layout stays readable at; below it the screen asks for more."""
+
+MOTION_KEYS = {"1": ("rich", "Rich"), "2": ("slow", "Slow"), "3": ("holds", "Holds")}
+"""Global keys that select a training motion, with the footer's short name."""
+
+
+@lru_cache(maxsize=128)
+def cached_experiment(settings: Settings) -> FitResult:
+    """run_experiment, remembered: stepping back and forth repeats the same settings."""
+    return run_experiment(settings)
+
+
+def known_parameters_text() -> str:
+    """The synthetic joint's true parameters and conventions, as shown beside the controls."""
+    inertia, mass_moment, damping = (float(v) for v in TRUE_PARAMETERS)
+    return (
+        f"Known joint: I = {inertia:g} kg m², h = {mass_moment:g} kg m, "
+        f"B = {damping:g} N m s/rad, g = {G:g} m/s²; "
+        "q from +x, counter-clockwise."
+    )
+
+
+class MainScreen(Screen):
+    """Controls, charts and readouts; the only place the four settings live."""
+
+    BINDINGS = [
+        *(
+            Binding(key, f"motion('{name}')", short,
+                    tooltip=f"Train on {TRAINING_MOTIONS[name].label.lower()}")
+            for key, (name, short) in MOTION_KEYS.items()
+        ),
+        # Priority so these work while a number field has focus (no setting needs r, ? or q).
+        Binding("r", "reset", "Reset", priority=True, tooltip="Restore the four default settings"),
+        Binding("question_mark", "help", "Help", key_display="?", priority=True,
+                tooltip="Keys, controls, model and things to try"),
+        Binding("q", "quit", "Quit", priority=True, tooltip="Leave the explorer"),
+    ]
+
+    HORIZONTAL_BREAKPOINTS = [(0, "-narrow"), (110, "-wide")]
+    VERTICAL_BREAKPOINTS = [(0, "-short"), (32, "-tall")]
+
+    motion: reactive[str] = reactive(DEFAULT_SETTINGS.motion, init=False)
+    noise: reactive[float] = reactive(DEFAULT_SETTINGS.noise, init=False)
+    samples: reactive[int] = reactive(DEFAULT_SETTINGS.samples, init=False)
+    seed: reactive[int] = reactive(DEFAULT_SETTINGS.seed, init=False)
+    settings: var[Settings] = var(DEFAULT_SETTINGS, init=False)
+    """Derived from the four reactives; its watcher is the one place results are computed."""
+
+    def __init__(self, settings: Settings = DEFAULT_SETTINGS) -> None:
+        """Create the screen.
+
+        Args:
+            settings: Settings to open at.
+        """
+        super().__init__()
+        self._initial = settings
+        self.result: FitResult | None = None
+
+    def compose(self) -> ComposeResult:
+        """Side panel with controls and readouts, chart column, too-small message, footer."""
+        yield Header(icon="≡")
+        with Horizontal(id="main"):
+            with Vertical(id="side"):
+                with Horizontal(id="motion-row"):
+                    # No button starts pressed: the first settings push presses one, which
+                    # also moves the set's highlight to it.
+                    with RadioSet(id="motion"):
+                        for name, motion in TRAINING_MOTIONS.items():
+                            yield RadioButton(motion.label, id=f"motion-{name}")
+                    yield Button("Reset", id="reset", compact=True)
+                for steps in STEP_RANGES:
+                    with Horizontal(classes="field"):
+                        yield Label(FIELD_LABELS[steps.field], classes="field--label")
+                        yield Stepper(steps, getattr(self._initial, steps.field), id=steps.field)
+                yield Static(STEPPER_HINT, id="stepper-hint", markup=False)
+                yield Static(known_parameters_text(), id="known", markup=False)
+                yield ReadoutPanel(id="readouts")
+            with Vertical(id="charts"):
+                yield TorqueChart(id="training-chart")
+                yield TorqueChart(id="heldout-chart")
+        yield Static("", id="status", markup=False)
+        yield Static("", id="too-small", markup=False)
+        yield Footer()
+
+    def on_mount(self) -> None:
+        """Show the initial settings (set here so the single watcher does the first update)."""
+        self.apply_settings(self._initial)
+
+    def on_resize(self) -> None:
+        """Swap the layout for a plain message when the terminal is too small to read."""
+        width, height = self.size
+        too_small = width < MIN_SIZE[0] or height < MIN_SIZE[1]
+        self.set_class(too_small, "-too-small")
+        if too_small:
+            self.query_one("#too-small", Static).update(
+                f"Please enlarge the terminal.\n\n"
+                f"The jointid explorer needs at least {MIN_SIZE[0]} x {MIN_SIZE[1]} characters; "
+                f"this one is {width} x {height}.\n\nPress q to quit."
+            )
+
+    def compute_settings(self) -> Settings:
+        """The four reactives as one frozen Settings value."""
+        return Settings(motion=self.motion, noise=self.noise, samples=self.samples, seed=self.seed)
+
+    def watch_settings(self, settings: Settings) -> None:
+        """Recompute the fit and push it down to every view (the one watcher)."""
+        result = cached_experiment(settings)
+        self.result = result
+        self.query_one(f"#motion-{settings.motion}", RadioButton).value = True
+        for stepper in self.query(Stepper):
+            stepper.show_value(getattr(settings, stepper.field))
+        self.query_one("#training-chart", TorqueChart).show(training_chart(result))
+        self.query_one("#heldout-chart", TorqueChart).show(heldout_chart(result))
+        self.query_one(ReadoutPanel).show(readouts(result))
+        self.query_one("#status", Static).update(result.message)
+
+    def apply_settings(self, settings: Settings) -> None:
+        """Set all four controls at once (reset, tour stops, start-up)."""
+        self.motion, self.noise = settings.motion, settings.noise
+        self.samples, self.seed = settings.samples, settings.seed
+        # Assigning equal values does not fire the computed watcher; force the first push.
+        if self.result is None:
+            self.watch_settings(self.settings)
+
+    def on_stepper_committed(self, message: Stepper.Committed) -> None:
+        """A numeric control committed a value: store it in the matching reactive."""
+        setattr(self, message.stepper.field, message.value)
+
+    def on_radio_set_changed(self, message: RadioSet.Changed) -> None:
+        """The motion radio set changed."""
+        self.motion = message.pressed.id.removeprefix("motion-")
+
+    def on_button_pressed(self, message: Button.Pressed) -> None:
+        """The Reset button."""
+        if message.button.id == "reset":
+            self.action_reset()
+
+    def action_motion(self, name: str) -> None:
+        """Select a training motion."""
+        self.motion = name
+
+    def action_reset(self) -> None:
+        """Restore the four default settings."""
+        self.apply_settings(DEFAULT_SETTINGS)
+
+    def action_help(self) -> None:
+        """Open the help screen."""
+        from .help import HelpScreen  # Markdown is only needed when help is asked for
+
+        self.app.push_screen(HelpScreen())
+
+    async def action_quit(self) -> None:
+        """Leave the explorer."""
+        await self.app.action_quit()
+
+
+class JointIdApp(App):
+    """The jointid terminal explorer."""
+
+    CSS_PATH = "app.tcss"
+    TITLE = "jointid"
+    SUB_TITLE = "Does the motion reveal the parameters?"
+    COMMANDS = App.COMMANDS | {TourCommands}
+
+    def __init__(self, settings: Settings = DEFAULT_SETTINGS) -> None:
+        """Create the app.
+
+        Args:
+            settings: Settings to open at.
+        """
+        super().__init__()
+        self.initial_settings = settings
+
+    def get_default_screen(self) -> Screen:
+        """The main screen at the initial settings."""
+        return MainScreen(self.initial_settings)
+
+    def get_system_commands(self, screen: Screen) -> Iterable[SystemCommand]:
+        """Textual's commands plus every main-screen key binding, so nothing needs a key."""
+        yield from super().get_system_commands(screen)
+        if isinstance(screen, MainScreen):
+            for binding in screen.BINDINGS:
+                help_text = f"{binding.tooltip} (key {binding.key_display or binding.key})"
+                yield SystemCommand(
+                    binding.description, help_text,
+                    lambda action=binding.action: screen.run_action(action),
+                )
+

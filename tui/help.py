@@ -1,0 +1,69 @@
+"""The help screen: keys, controls, model and the lesson's three things to try."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from textual.app import ComposeResult
+from textual.binding import Binding
+from textual.containers import VerticalScroll
+from textual.screen import Screen
+from textual.widgets import Footer, Markdown
+
+from .stepper import Stepper
+
+HELP_FILE = Path(__file__).with_name("help.md")
+"""Markdown source of the help text; `{keys}` and the ranges are filled in from the code."""
+
+
+def keys_table() -> str:
+    """A Markdown table of the main screen's and the number fields' keys."""
+    from .app import MainScreen  # the app module imports nothing from here at start-up
+
+    rows = [("Tab / Shift+Tab", "move between controls"), ("Up / Down", "choose a motion in the list")]
+    for binding in MainScreen.BINDINGS:
+        rows.append((binding.key_display or binding.key, binding.tooltip))
+    for binding in Stepper.BINDINGS:
+        rows.append((binding.key.replace("shift+", "Shift+").title(), f"in a number field: {binding.description.lower()}"))
+    rows.append(("Enter", "in a number field: commit the typed value"))
+    rows.append(("Ctrl+P", "command palette: every action and the guided tour"))
+    lines = ["| Key | Does |", "|---|---|"]
+    lines += [f"| `{key}` | {does} |" for key, does in rows]
+    return "\n".join(lines)
+
+
+def help_markdown() -> str:
+    """The help text with keys and ranges taken from the code."""
+    from .app import NOISE_RANGE, SAMPLES_RANGE, SEED_RANGE
+
+    return HELP_FILE.read_text(encoding="utf-8").format(
+        keys=keys_table(),
+        noise_range=NOISE_RANGE.describe().capitalize(),
+        samples_range=SAMPLES_RANGE.describe().capitalize(),
+        seed_range=SEED_RANGE.describe().capitalize(),
+    )
+
+
+class HelpScreen(Screen):
+    """Scrollable help; Escape (or ?, q) closes it."""
+
+    BINDINGS = [
+        Binding("escape", "close", "Close help"),
+        Binding("question_mark", "close", "Close help", key_display="?", show=False),
+        Binding("q", "close", "Close help", show=False),
+    ]
+
+    def compose(self) -> ComposeResult:
+        """The help Markdown in a focused scroll view, and the footer."""
+        with VerticalScroll() as scroll:
+            scroll.border_title = "Help"
+            yield Markdown(help_markdown())
+        yield Footer()
+
+    def on_mount(self) -> None:
+        """Focus the scroll view so the arrow keys scroll at once."""
+        self.query_one(VerticalScroll).focus()
+
+    def action_close(self) -> None:
+        """Return to the explorer."""
+        self.dismiss()

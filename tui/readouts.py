@@ -1,0 +1,73 @@
+"""The lab's readouts and the status sentence, rendered from the core's own readout text."""
+
+from __future__ import annotations
+
+from textual.content import Content
+from textual.widget import Widget
+
+from jointid.model import SIGN_REQUIREMENTS
+from jointid.report import Readout
+
+LABEL_WIDTH = 27
+"""Columns reserved for a readout label ("Fitted damping (N m s/rad)" and a space)."""
+
+
+def failure_note(readout: Readout) -> str:
+    """The label that names the requirement a fitted value breaks, e.g. 'I > 0 fails'."""
+    return f"{SIGN_REQUIREMENTS[readout.key]} fails"
+
+
+class ReadoutPanel(Widget):
+    """Eight labelled readouts; a sign failure is shown unclipped in the error colour.
+
+    When the panel is too narrow to name the failed requirement on the value's
+    line, the note goes on a line of its own under the value.
+    """
+
+    DEFAULT_CSS = """
+    ReadoutPanel {
+        height: auto;
+    }
+    """
+
+    def __init__(self, *, id: str | None = None) -> None:
+        """Create an empty panel.
+
+        Args:
+            id: Widget id.
+        """
+        super().__init__(id=id)
+        self.items: tuple[Readout, ...] = ()
+
+    def show(self, items: tuple[Readout, ...]) -> None:
+        """Display new readouts (Readout is a value object, so equal tuples skip the refresh)."""
+        if items != self.items:
+            self.items = items
+            self.refresh(layout=True)
+
+    def lines(self, width: int) -> list[Content]:
+        """The panel's lines for a given width."""
+        lines = []
+        for item in self.items:
+            line = Content(item.label.ljust(LABEL_WIDTH))
+            if not item.sign_failure:
+                lines.append(line + Content(item.text))
+                continue
+            note = failure_note(item)
+            value = Content.from_markup("[bold $text-error]$text[/]", text=item.text)
+            note_text = Content.from_markup("[bold $text-error]✗ $note[/]", note=note)
+            if LABEL_WIDTH + len(item.text) + 2 + note_text.cell_length <= width:
+                lines.append(line + value + Content("  ") + note_text)
+            else:
+                lines.append(line + value)
+                indent = max(0, min(LABEL_WIDTH, width - note_text.cell_length))
+                lines.append(Content(" " * indent) + note_text)
+        return lines
+
+    def render(self) -> Content:
+        """All readout lines for the current width."""
+        return Content("\n").join(self.lines(self.size.width))
+
+    def get_content_height(self, container, viewport, width: int) -> int:
+        """One line per readout plus any note lines that the width pushes down."""
+        return len(self.lines(width))

@@ -1,0 +1,163 @@
+"""A focusable numeric stepper: Left/Right to step, Shift for big steps, or type a value."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from textual.binding import Binding
+from textual.message import Message
+from textual.widgets import Input
+
+from jointid.settings import SettingsError, parse_setting
+
+
+@dataclass(frozen=True)
+class StepRange:
+    """The explorer's range and step sizes for one numeric setting.
+
+    Attributes:
+        field: Name of the setting in `jointid.settings` ("noise", "samples", "seed").
+        low: Smallest value the control accepts.
+        high: Largest value the control accepts.
+        step: Change per Left/Right press.
+        big_step: Change per Shift+Left/Right press.
+        decimals: Decimals shown; 0 means a whole number.
+        unit: Unit appended in messages ("" for none).
+    """
+
+    field: str
+    low: float
+    high: float
+    step: float
+    big_step: float
+    decimals: int = 0
+    unit: str = ""
+
+    def clamp(self, value: float) -> float:
+        """Value limited to [low, high], rounded to kill float drift from repeated steps."""
+        value = min(max(value, self.low), self.high)
+        # Stepping 0.01 a hundred times in binary floats gives 0.9999999999999999;
+        # rounding well below the displayed decimals removes that drift.
+        return round(value, 10) if self.decimals else int(value)
+
+    def format(self, value: float) -> str:
+        """Text for a value: fixed decimals, or more when a typed value needs them."""
+        if not self.decimals:
+            return str(int(value))
+        text = f"{value:.{self.decimals}f}"
+        return text if float(text) == value else f"{value:.10g}"
+
+    def describe(self) -> str:
+        """The range as a phrase, e.g. 'from 0.00 to 1.00 N m'."""
+        unit = f" {self.unit}" if self.unit else ""
+        return f"from {self.format(self.low)} to {self.format(self.high)}{unit}"
+
+    def parse(self, text: str) -> float:
+        """Typed text as a value in range, or raise SettingsError with a one-line message."""
+        value = parse_setting(self.field, text)
+        if not self.low <= value <= self.high:
+            raise SettingsError(
+                self.field,
+                f"{self.field} in the explorer must be {self.describe()}; got {text.strip()!r}",
+            )
+        return value
+
+
+class Stepper(Input):
+    """A numeric setting that steps with Left/Right (Shift: big step) and accepts typed values.
+
+    Typed text is committed with Enter or when focus leaves; invalid text is
+    refused with a notification and the previous value is kept.
+    """
+
+    DEFAULT_CSS = """
+    Stepper {
+        width: 14;
+    }
+    """
+
+    BINDINGS = [
+        Binding("left", "step(-1)", "Step down", show=False),
+        Binding("right", "step(1)", "Step up", show=False),
+        Binding("shift+left", "step(-1, True)", "Big step down", show=False),
+        Binding("shift+right", "step(1, True)", "Big step up", show=False),
+        Binding("escape", "revert", "Discard typing", show=False),
+    ]
+
+    @dataclass
+    class Committed(Message):
+        """A new value was committed; repeats from one stepper replace each other in the queue."""
+
+        stepper: Stepper
+        value: float
+
+        @property
+        def control(self) -> Stepper:
+            """The stepper that changed."""
+            return self.stepper
+
+        def can_replace(self, message: Message) -> bool:
+            """Coalesce key repeats: only the latest value of a stepper matters."""
+            return isinstance(message, Stepper.Committed) and message.stepper is self.stepper
+
+    def __init__(self, steps: StepRange, value: float, *, id: str | None = None) -> None:
+        """Create a stepper.
+
+        Args:
+            steps: Range and step sizes.
+            value: Initial value (clamped into range).
+            id: Widget id.
+        """
+        self.steps = steps
+        self.number = steps.clamp(value)
+        super().__init__(value=steps.format(self.number), id=id, compact=True)
+
+    @property
+    def field(self) -> str:
+        """Name of the setting this stepper controls."""
+        return self.steps.field
+
+    def show_value(self, value: float) -> None:
+        """Display a value pushed down from the app without posting a message back."""
+        self.number = value
+        text = self.steps.format(value)
+        if self.value != text:
+            with self.prevent(Input.Changed):
+                self.value = text
+
+    def action_step(self, direction: int, big: bool = False) -> None:
+        """Step the committed value by one small or big step, clamped to the range."""
+        size = self.steps.big_step if big else self.steps.step
+        self._commit(self.steps.clamp(self.number + direction * size))
+
+    def action_revert(self) -> None:
+        """Throw away typed text and show the committed value again."""
+        self.show_value(self.number)
+
+    async def action_submit(self) -> None:
+        """Enter: validate the typed text and commit it, or refuse it with a message."""
+        self._commit_typed()
+
+    def _on_blur(self, event) -> None:
+        # Tabbing away from a typed value should not silently drop it.
+        self._commit_typed()
+        super()._on_blur(event)
+
+    def _commit_typed(self) -> None:
+        if self.value.strip() == self.steps.format(self.number):
+            self.show_value(self.number)
+            return
+        try:
+            value = self.steps.parse(self.value)
+        except SettingsError as error:
+            self.notify(f"{error}. Kept {self.steps.format(self.number)}.", title="Value refused",
+                        severity="error")
+            self.show_value(self.number)
+            return
+        self._commit(value)
+
+    def _commit(self, value: float) -> None:
+        changed = value != self.number
+        self.show_value(value)
+        if changed:
+            self.post_message(self.Committed(self, value))
