@@ -6,10 +6,12 @@ take their readout text from here so the two never disagree.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 from .fit import FitResult, format_number
-from .model import PARAMETER_NAMES, SIGN_REQUIREMENTS
+from .model import PARAMETER_NAMES, PARAMETER_UNITS, SIGN_REQUIREMENTS
+from .uncertainty import finite_or_none
 
 UNAVAILABLE = "unavailable"
 """Readout text when the rank gives no unique fit (or no held-out data)."""
@@ -72,4 +74,85 @@ def result_to_dict(result: FitResult) -> dict:
         "speed_rms": result.speed_rms,
         "sign_failures": list(result.sign_failures),
         "message": result.message,
+        **uncertainty_to_dict(result),
     }
+
+
+def uncertainty_to_dict(result: FitResult) -> dict:
+    """Standard errors, intervals, verdicts (objects keyed I, h, B; None where unavailable), conditioning, subset, warnings."""
+    uncertainty = result.uncertainty
+
+    def per_parameter(values) -> dict:
+        if values is None:
+            return dict.fromkeys(PARAMETER_NAMES)
+        return {name: _json_value(value) for name, value in zip(PARAMETER_NAMES, values)}
+
+    return {
+        "std_error": per_parameter(uncertainty and uncertainty.std_error),
+        "expected_std_error": per_parameter(uncertainty and uncertainty.expected_std_error),
+        "relative_std_pct": per_parameter(uncertainty and uncertainty.relative_std_pct),
+        "interval95": per_parameter(uncertainty and uncertainty.interval95),
+        "verdicts": per_parameter(uncertainty and uncertainty.verdicts),
+        "verdict_basis": uncertainty and uncertainty.verdict_basis,
+        "condition_number": finite_or_none(result.condition_number),
+        "identifiable": result.identifiable.values,
+        "warnings": list(result.warnings),
+    }
+
+
+def _json_value(value):
+    """A verdict string, a finite float, a [low, high] list, or None for inf/NaN."""
+    if isinstance(value, str):
+        return value
+    if getattr(value, "shape", ()) != ():
+        return [finite_or_none(v) for v in value]
+    return finite_or_none(value)
+
+
+CONDITION_CAVEAT = "a modest value does not mean the parameters are accurate"
+"""Shown beside every condition number: slow motion scores about 3.78 with its inertia undetermined."""
+
+
+def uncertainty_text(result: FitResult) -> str:
+    """Lines of 'value ± standard error, verdict' per parameter, then the condition number."""
+    uncertainty = result.uncertainty
+    lines = []
+    if uncertainty is None:
+        subset = result.identifiable.values
+        known = ", ".join(f"{name} = {format_number(value)}" for name, value in subset.items())
+        lines.append(f"{'Determined alone':<28}{known or 'none'}")
+    else:
+        errors = uncertainty.verdict_std_error
+        basis = uncertainty.verdict_basis
+        for i, name in enumerate(PARAMETER_NAMES):
+            label = f"{name} ({PARAMETER_UNITS[name]})"
+            if errors is None:
+                lines.append(f"{label:<17}{format_number(uncertainty.estimate[i]):>11}   no standard error")
+                continue
+            relative = uncertainty.relative_std_pct[i]
+            lines.append(
+                f"{label:<17}{format_number(uncertainty.estimate[i]):>11} ± {format_number(errors[i]):<10}"
+                f"{uncertainty.verdicts[i]} ({relative:.1f} %)"
+            )
+        if basis == "expected":
+            lines.append(
+                f"Standard errors above: expected from the noise bound {format_number(result.noise_bound, 2)} N m "
+                "(uniform, variance b²/3)."
+            )
+        if uncertainty.std_error is not None:
+            from_residuals = ", ".join(
+                f"{name} {format_number(v)}" for name, v in zip(PARAMETER_NAMES, uncertainty.std_error)
+            )
+            lines.append(f"From the residuals (N - p = {uncertainty.degrees_of_freedom}): {from_residuals}.")
+            intervals = ", ".join(
+                f"{name} [{format_number(low)}, {format_number(high)}]"
+                for name, (low, high) in zip(PARAMETER_NAMES, uncertainty.interval95)
+            )
+            lines.append(f"95 % intervals (Student t): {intervals}.")
+    condition = result.condition_number
+    label = "Condition number (column-scaled regressor)"
+    if math.isfinite(condition):
+        lines.append(f"{label} {condition:.2f}: {CONDITION_CAVEAT}.")
+    else:
+        lines.append(f"{label} infinite: the columns are linearly dependent.")
+    return "\n".join(lines)

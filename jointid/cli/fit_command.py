@@ -8,7 +8,7 @@ import json
 from ..experiment import run_experiment
 from ..fit import format_number
 from ..motions import TRAINING_MOTIONS
-from ..report import readouts_text, result_to_dict
+from ..report import readouts_text, result_to_dict, uncertainty_text
 from .arguments import add_settings_arguments, settings_from
 
 NAME = "fit"
@@ -41,4 +41,6 @@ def run(args: argparse.Namespace) -> int:
             f"{settings.samples} samples, seed {settings.seed}"
         )
         print(readouts_text(result))
+        print()
+        print(uncertainty_text(result))
     return 0
