@@ -75,7 +75,7 @@ class MainScreen(Screen):
                     tooltip=f"Train on {TRAINING_MOTIONS[name].label.lower()}")
             for key, (name, short) in MOTION_KEYS.items()
         ),
-        # Priority so these work while a number field has focus (no setting needs r, ? or q).
+        # Priority, and not claimed by number fields, so these work while one has focus.
         Binding("r", "reset", "Reset", priority=True, tooltip="Restore the four default settings"),
         Binding("question_mark", "help", "Help", key_display="?", priority=True,
                 tooltip="Keys, controls, model and things to try"),

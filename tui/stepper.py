@@ -11,6 +11,10 @@ from textual.widgets import Input
 from jointid.settings import SettingsError, parse_setting
 
 
+NUMBER_CHARACTERS = frozenset("0123456789.+-eE")
+"""Characters a typed number may contain; other keys fall through to the screen's bindings."""
+
+
 @dataclass(frozen=True)
 class StepRange:
     """The explorer's range and step sizes for one numeric setting.
@@ -111,6 +115,10 @@ class Stepper(Input):
         self.steps = steps
         self.number = steps.clamp(value)
         super().__init__(value=steps.format(self.number), id=id, compact=True)
+
+    def check_consume_key(self, key: str, character: str | None) -> bool:
+        """Claim only characters a number can contain, so r, ? and q stay global keys here."""
+        return character is not None and character in NUMBER_CHARACTERS
 
     @property
     def field(self) -> str:

@@ -1,0 +1,339 @@
+"""Pilot tests: every key and control of the explorer changes state, and the readouts follow."""
+
+from __future__ import annotations
+
+import asyncio
+from dataclasses import replace
+
+import pytest
+from textual.widgets import Button, Input, RadioSet
+
+from jointid.experiment import run_experiment
+from jointid.report import readouts
+from jointid.settings import DEFAULT_SETTINGS, SEED_LIMITS, Settings
+from tui.app import MIN_SIZE, MOTION_KEYS, NOISE_RANGE, SAMPLES_RANGE, SEED_RANGE, MainScreen
+from tui.charts import TorqueChart
+from tui.commands import TOUR, tour_title
+from tui.readouts import ReadoutPanel
+from tui.stepper import Stepper
+from tui_support import make_app
+
+SIZE = (120, 40)
+
+
+def run(scenario, settings: Settings | None = None, size=SIZE):
+    """Run an async scenario(pilot, screen) against a fresh app and return its result."""
+
+    async def main():
+        app = make_app(settings)
+        async with app.run_test(size=size) as pilot:
+            await pilot.pause()
+            return await scenario(pilot, app.screen)
+
+    return asyncio.run(main())
+
+
+def assert_shows(screen: MainScreen, settings: Settings) -> None:
+    """The screen holds these settings, its controls show them, and its readouts are the core's."""
+    assert screen.settings == settings
+    expected = readouts(run_experiment(settings))
+    assert screen.query_one(ReadoutPanel).items == expected
+    shown = "\n".join(line.plain for line in screen.query_one(ReadoutPanel).lines(200))
+    for item in expected:
+        assert f"{item.label}" in shown and item.text in shown
+    assert str(screen.query_one("#status").render()) == run_experiment(settings).message
+    radio = screen.query_one(RadioSet)
+    assert radio.pressed_button.id == f"motion-{settings.motion}"
+    for stepper in screen.query(Stepper):
+        assert stepper.number == getattr(settings, stepper.field)
+        assert stepper.value == stepper.steps.format(getattr(settings, stepper.field))
+
+
+async def focus(pilot, screen, field: str) -> Stepper:
+    stepper = screen.query_one(f"#{field}", Stepper)
+    stepper.focus()
+    await pilot.pause()
+    return stepper
+
+
+async def type_value(pilot, screen, field: str, text: str) -> None:
+    """Focus a number field (which selects its text), type over it and press Enter."""
+    await focus(pilot, screen, field)
+    await pilot.press(*text, "enter")
+    await pilot.pause()
+
+
+def test_opens_at_the_lesson_defaults():
+    async def scenario(pilot, screen):
+        assert_shows(screen, DEFAULT_SETTINGS)
+
+    run(scenario)
+
+
+def test_opens_at_given_settings():
+    settings = Settings(motion="slow", noise=0.2, samples=30, seed=11)
+
+    async def scenario(pilot, screen):
+        assert_shows(screen, settings)
+
+    run(scenario, settings)
+
+
+@pytest.mark.parametrize("key", sorted(MOTION_KEYS))
+def test_motion_keys_select_each_motion(key):
+    motion = MOTION_KEYS[key][0]
+    start = replace(DEFAULT_SETTINGS, motion="slow" if motion == "rich" else "rich", noise=0.2)
+
+    async def scenario(pilot, screen):
+        await pilot.press(key)
+        await pilot.pause()
+        assert_shows(screen, replace(start, motion=motion))
+
+    run(scenario, start)
+
+
+def test_radio_set_selects_motion_with_arrows_and_enter():
+    async def scenario(pilot, screen):
+        screen.query_one(RadioSet).focus()
+        await pilot.press("down", "enter")
+        await pilot.pause()
+        assert_shows(screen, replace(DEFAULT_SETTINGS, motion="slow"))
+
+    run(scenario)
+
+
+@pytest.mark.parametrize("steps", [NOISE_RANGE, SAMPLES_RANGE, SEED_RANGE], ids=lambda s: s.field)
+def test_steppers_step_small_and_big(steps):
+    start = replace(DEFAULT_SETTINGS, noise=0.5)
+
+    async def scenario(pilot, screen):
+        await focus(pilot, screen, steps.field)
+        value = getattr(start, steps.field)
+        for key, change in (("right", steps.step), ("shift+right", steps.big_step),
+                            ("left", -steps.step), ("shift+left", -steps.big_step)):
+            await pilot.press(key)
+            await pilot.pause()
+            value = steps.clamp(value + change)
+            assert_shows(screen, replace(start, **{steps.field: value}))
+        assert value == getattr(start, steps.field)
+
+    run(scenario, start)
+
+
+@pytest.mark.parametrize("steps", [NOISE_RANGE, SAMPLES_RANGE, SEED_RANGE], ids=lambda s: s.field)
+@pytest.mark.parametrize("end", ["low", "high"])
+def test_steppers_clamp_at_both_ends(steps, end):
+    limit = getattr(steps, end)
+    start = replace(DEFAULT_SETTINGS, **{steps.field: limit})
+    key = "shift+left" if end == "low" else "shift+right"
+
+    async def scenario(pilot, screen):
+        await focus(pilot, screen, steps.field)
+        await pilot.press(key, key[6:])
+        await pilot.pause()
+        assert_shows(screen, start)
+
+    run(scenario, start)
+
+
+def test_noise_steps_do_not_drift():
+    """A hundred 0.01 steps from 0 land exactly on 1.00, the top of the range."""
+
+    async def scenario(pilot, screen):
+        await focus(pilot, screen, "noise")
+        await pilot.press(*["right"] * 100)
+        await pilot.pause()
+        assert screen.settings.noise == NOISE_RANGE.high
+        assert screen.query_one("#noise", Stepper).value == "1.00"
+
+    run(scenario)
+
+
+@pytest.mark.parametrize(
+    "field, text, value",
+    [("noise", "0.35", 0.35), ("samples", "100", 100), ("seed", str(SEED_LIMITS[1]), SEED_LIMITS[1])],
+)
+def test_typed_values_are_committed(field, text, value):
+    async def scenario(pilot, screen):
+        await type_value(pilot, screen, field, text)
+        assert_shows(screen, replace(DEFAULT_SETTINGS, **{field: value}))
+
+    run(scenario)
+
+
+@pytest.mark.parametrize(
+    "field, text, phrase",
+    [
+        ("noise", "abc", "noise must be"),
+        ("noise", "1.5", "from 0.00 to 1.00 N m"),
+        ("noise", "-0.1", "noise must be"),
+        ("samples", "241", "from 2 to 240"),
+        ("samples", "1", "samples must be"),
+        ("samples", "2.5", "samples must be"),
+        ("seed", str(SEED_LIMITS[1] + 1), "seed must be"),
+    ],
+)
+def test_invalid_typed_values_are_refused_visibly(field, text, phrase):
+    start = replace(DEFAULT_SETTINGS, noise=0.2)
+
+    async def scenario(pilot, screen):
+        await type_value(pilot, screen, field, text)
+        assert_shows(screen, start)
+        messages = [n.message for n in pilot.app._notifications]
+        assert any(phrase in m and repr(text) in m for m in messages), messages
+
+    run(scenario, start)
+
+
+def test_typed_value_is_committed_when_focus_leaves():
+    async def scenario(pilot, screen):
+        await focus(pilot, screen, "samples")
+        await pilot.press("4", "0", "tab")
+        await pilot.pause()
+        assert_shows(screen, replace(DEFAULT_SETTINGS, samples=40))
+
+    run(scenario)
+
+
+def test_escape_discards_typing():
+    async def scenario(pilot, screen):
+        stepper = await focus(pilot, screen, "seed")
+        await pilot.press("9", "9", "escape")
+        await pilot.pause()
+        assert stepper.value == "7"
+        assert_shows(screen, DEFAULT_SETTINGS)
+
+    run(scenario)
+
+
+@pytest.mark.parametrize("how", ["key", "button"])
+def test_reset_restores_all_four_controls(how):
+    start = Settings(motion="holds", noise=0.73, samples=99, seed=1234)
+
+    async def scenario(pilot, screen):
+        assert_shows(screen, start)
+        if how == "key":
+            await focus(pilot, screen, "seed")  # r works even from a number field
+            await pilot.press("r")
+        else:
+            screen.query_one("#reset", Button).focus()
+            await pilot.press("enter")
+        await pilot.pause()
+        assert_shows(screen, DEFAULT_SETTINGS)
+
+    run(scenario, start)
+
+
+@pytest.mark.parametrize("index", range(len(TOUR)))
+def test_tour_entries_in_the_palette_set_all_four_controls(index):
+    start = Settings(motion="holds", noise=0.9, samples=200, seed=99)
+
+    async def scenario(pilot, screen):
+        await pilot.press("ctrl+p")
+        await pilot.pause()
+        await pilot.press(*tour_title(index, TOUR[index]))
+        await pilot.pause(0.3)  # the palette searches in a worker
+        await pilot.press("enter")
+        await pilot.pause()
+        assert pilot.app.screen is screen
+        assert_shows(screen, TOUR[index])
+
+    run(scenario, start)
+
+
+def test_palette_offers_every_key_binding():
+    async def scenario(pilot, screen):
+        names = {command.title for command in pilot.app.get_system_commands(screen)}
+        for binding in MainScreen.BINDINGS:
+            assert binding.description in names
+
+    run(scenario)
+
+
+def test_help_opens_and_escape_closes_it():
+    async def scenario(pilot, screen):
+        await pilot.press("question_mark")
+        await pilot.pause()
+        help_screen = pilot.app.screen
+        assert type(help_screen).__name__ == "HelpScreen"
+        text = help_screen.query_one("Markdown").source
+        assert "Three things to try" in text and "| `r` |" in text
+        await pilot.press("escape")
+        await pilot.pause()
+        assert pilot.app.screen is screen
+
+    run(scenario)
+
+
+def test_quit_key_exits():
+    async def scenario(pilot, screen):
+        await pilot.press("q")
+        await pilot.pause()
+        return pilot.app.is_running
+
+    assert run(scenario) is False
+
+
+@pytest.mark.parametrize("size", [(20, 5), (MIN_SIZE[0] - 1, MIN_SIZE[1]), (MIN_SIZE[0], MIN_SIZE[1] - 1)])
+def test_too_small_terminal_asks_for_more_room_and_recovers(size):
+    async def scenario(pilot, screen):
+        await pilot.resize_terminal(*size)
+        await pilot.pause()
+        assert screen.has_class("-too-small")
+        assert "enlarge" in str(screen.query_one("#too-small").render())
+        await pilot.resize_terminal(*MIN_SIZE)
+        await pilot.pause()
+        assert not screen.has_class("-too-small")
+
+    run(scenario)
+
+
+def test_resizing_through_many_sizes_never_fails():
+    async def scenario(pilot, screen):
+        for width, height in [(1, 1), (10, 3), (50, 15), (80, 24), (79, 23), (200, 60), (120, 40)]:
+            await pilot.resize_terminal(width, height)
+            await pilot.pause()
+        assert_shows(screen, DEFAULT_SETTINGS)
+
+    run(scenario)
+
+
+def test_charts_redraw_only_when_their_data_change():
+    """Without noise the seed changes nothing visible, so neither chart is rebuilt."""
+
+    async def scenario(pilot, screen):
+        charts = list(screen.query(TorqueChart))
+        before = [chart.draws for chart in charts]
+        await focus(pilot, screen, "seed")
+        await pilot.press("right")
+        await pilot.pause()
+        assert [chart.draws for chart in charts] == before
+        await focus(pilot, screen, "noise")
+        await pilot.press("right")
+        await pilot.pause()
+        assert [chart.draws for chart in charts] == [n + 1 for n in before]
+
+    run(scenario)
+
+
+def test_rank_deficient_charts_say_predictions_are_unavailable():
+    async def scenario(pilot, screen):
+        for chart in screen.query(TorqueChart):
+            assert chart.data.line is None
+            assert "predictions unavailable" in chart.data.summaries[0]
+
+    run(scenario, replace(DEFAULT_SETTINGS, motion="holds"))
+
+
+def test_no_input_ends_up_with_a_stale_value_after_push_down():
+    """Settings pushed from above (tour, reset) replace half-typed text in every field."""
+
+    async def scenario(pilot, screen):
+        await focus(pilot, screen, "noise")
+        await pilot.press("0", ".", "9")
+        screen.apply_settings(TOUR[2])
+        await pilot.pause()
+        assert all(isinstance(s, Input) for s in screen.query(Stepper))
+        assert_shows(screen, TOUR[2])
+
+    run(scenario)

@@ -1,0 +1,28 @@
+"""Pinned readouts: the text the explorer displays for the lesson's four tour stops.
+
+A change to any readout shows up here as a one-line diff. To regenerate the
+pinned files on purpose (then review `git diff snapshots/readouts`):
+
+    .venv/bin/python tests/tui_support.py
+"""
+
+from __future__ import annotations
+
+import asyncio
+
+import pytest
+
+from tui_support import CANONICAL_STATES, READOUTS_DIR, read_displayed
+
+
+@pytest.mark.parametrize("name", sorted(CANONICAL_STATES))
+def test_displayed_readouts_match_pinned_text(name):
+    """The app shows exactly the pinned readout lines and status sentence."""
+    pinned = (READOUTS_DIR / f"{name}.txt").read_text(encoding="utf-8")
+    assert asyncio.run(read_displayed(CANONICAL_STATES[name])) == pinned
+
+
+def test_every_pinned_file_belongs_to_a_state():
+    """No orphaned readout file lingers after a state is renamed or removed."""
+    pinned = {path.stem for path in READOUTS_DIR.glob("*.txt")}
+    assert pinned == set(CANONICAL_STATES)

@@ -1,0 +1,65 @@
+"""Helpers shared by the explorer's pilot, readout and snapshot tests."""
+
+from __future__ import annotations
+
+import asyncio
+from pathlib import Path
+
+from jointid.settings import Settings
+from tui.app import JointIdApp, MainScreen
+from tui.commands import TOUR
+from tui.readouts import ReadoutPanel
+
+THEME = "textual-dark"
+"""Fixed theme for every snapshot."""
+
+CANONICAL_STATES = {
+    "default": TOUR[0],
+    "rich_0.20": TOUR[1],
+    "slow_0.20": TOUR[2],
+    "holds": TOUR[3],
+}
+"""The lesson's tour stops, by the name of their pinned files."""
+
+READOUTS_DIR = Path(__file__).resolve().parent.parent / "snapshots" / "readouts"
+"""Pinned readout texts, one file per canonical state."""
+
+READOUT_SIZE = (120, 40)
+"""Terminal size at which pinned readouts are read off the app."""
+
+
+def make_app(settings: Settings | None = None) -> JointIdApp:
+    """An explorer with the fixed snapshot theme."""
+    app = JointIdApp() if settings is None else JointIdApp(settings)
+    app.theme = THEME
+    return app
+
+
+def displayed_readouts(screen: MainScreen) -> str:
+    """The readout lines and the status sentence exactly as the screen displays them."""
+    panel = screen.query_one(ReadoutPanel)
+    lines = [line.plain.rstrip() for line in panel.lines(panel.content_region.width)]
+    status = str(screen.query_one("#status").render())
+    return "\n".join(lines) + "\n\n" + status + "\n"
+
+
+async def read_displayed(settings: Settings) -> str:
+    """Open the app at settings and return its displayed readouts."""
+    app = make_app(settings)
+    async with app.run_test(size=READOUT_SIZE) as pilot:
+        await pilot.pause()
+        return displayed_readouts(app.screen)
+
+
+def regenerate_readouts() -> None:
+    """Rewrite every pinned readout file from the app (run on purpose, then review the diff)."""
+    READOUTS_DIR.mkdir(parents=True, exist_ok=True)
+    for name, settings in CANONICAL_STATES.items():
+        text = asyncio.run(read_displayed(settings))
+        (READOUTS_DIR / f"{name}.txt").write_text(text, encoding="utf-8")
+        print(f"wrote {name}.txt")
+
+
+if __name__ == "__main__":
+    # Regenerate pinned readouts:  .venv/bin/python tests/tui_support.py
+    regenerate_readouts()
