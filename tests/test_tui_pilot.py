@@ -257,7 +257,7 @@ def test_help_opens_and_escape_closes_it():
         help_screen = pilot.app.screen
         assert type(help_screen).__name__ == "HelpScreen"
         text = help_screen.query_one("Markdown").source
-        assert "Three things to try" in text and "| `r` |" in text
+        assert "Three things to try" in text and "- `r`: " in text
         await pilot.press("escape")
         await pilot.pause()
         assert pilot.app.screen is screen

@@ -17,7 +17,7 @@ HELP_FILE = Path(__file__).with_name("help.md")
 
 
 def keys_table() -> str:
-    """A Markdown table of the main screen's and the number fields' keys."""
+    """A Markdown list of the main screen's and the number fields' keys."""
     from .app import MainScreen  # the app module imports nothing from here at start-up
 
     rows = [("Tab / Shift+Tab", "move between controls"), ("Up / Down", "choose a motion in the list")]
@@ -27,9 +27,7 @@ def keys_table() -> str:
         rows.append((binding.key.replace("shift+", "Shift+").title(), f"in a number field: {binding.description.lower()}"))
     rows.append(("Enter", "in a number field: commit the typed value"))
     rows.append(("Ctrl+P", "command palette: every action and the guided tour"))
-    lines = ["| Key | Does |", "|---|---|"]
-    lines += [f"| `{key}` | {does} |" for key, does in rows]
-    return "\n".join(lines)
+    return "\n".join(f"- `{key}`: {does}" for key, does in rows)
 
 
 def help_markdown() -> str:
