@@ -10,6 +10,7 @@ runs after a warm-up, the loop's is one run (it takes seconds).
 import time
 
 import numpy as np
+from bench_noise import best_of  # the script's own folder is on sys.path
 
 from jointid.experiment import run_experiment
 from jointid.settings import Settings
@@ -18,16 +19,6 @@ from jointid.sweep import run_sweep
 SEEDS = 10_000
 GOAL_SECONDS = 0.050
 SETTINGS = Settings(motion="slow", noise=0.2, samples=24, seed=1000)
-
-
-def best_of(repeats: int, function) -> float:
-    """Shortest wall time of `repeats` calls, in seconds."""
-    times = []
-    for _ in range(repeats):
-        start = time.perf_counter()
-        function()
-        times.append(time.perf_counter() - start)
-    return min(times)
 
 
 def naive_loop() -> np.ndarray:

@@ -81,12 +81,6 @@ def result_to_dict(result: FitResult) -> dict:
 def uncertainty_to_dict(result: FitResult) -> dict:
     """Standard errors, intervals, verdicts (objects keyed I, h, B; None where unavailable), conditioning, subset, warnings."""
     uncertainty = result.uncertainty
-
-    def per_parameter(values) -> dict:
-        if values is None:
-            return dict.fromkeys(PARAMETER_NAMES)
-        return {name: _json_value(value) for name, value in zip(PARAMETER_NAMES, values)}
-
     return {
         "std_error": per_parameter(uncertainty and uncertainty.std_error),
         "expected_std_error": per_parameter(uncertainty and uncertainty.expected_std_error),
@@ -98,6 +92,13 @@ def uncertainty_to_dict(result: FitResult) -> dict:
         "identifiable": result.identifiable.values,
         "warnings": list(result.warnings),
     }
+
+
+def per_parameter(values) -> dict:
+    """JSON object keyed I, h, B from a (3,) sequence (floats, [low, high] pairs or strings); all None for None."""
+    if values is None:
+        return dict.fromkeys(PARAMETER_NAMES)
+    return {name: _json_value(value) for name, value in zip(PARAMETER_NAMES, values)}
 
 
 def _json_value(value):

@@ -7,6 +7,7 @@ import json
 
 from ..fit import format_number
 from ..model import PARAMETER_NAMES
+from ..report import per_parameter
 from ..sweep import DEFAULT_SEED_COUNT, QUANTITIES, SEED_COUNT_LIMITS, SweepResult, run_sweep
 from ..uncertainty import finite_or_none
 from .arguments import add_settings_arguments, settings_from
@@ -59,12 +60,6 @@ def add_parser(subparsers) -> None:
 
 def sweep_to_dict(sweep: SweepResult) -> dict:
     """The sweep's statistics as JSON-ready values (None where unavailable)."""
-
-    def per_parameter(values) -> dict:
-        if values is None:
-            return dict.fromkeys(PARAMETER_NAMES)
-        return {name: finite_or_none(v) for name, v in zip(PARAMETER_NAMES, values)}
-
     statistics = {name: None for name in QUANTITIES}
     for name, distribution in sweep.statistics.items():
         statistics[name] = vars(distribution).copy()
