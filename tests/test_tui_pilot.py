@@ -59,7 +59,7 @@ async def focus(pilot, screen, field: str) -> Stepper:
 async def type_value(pilot, screen, field: str, text: str) -> None:
     """Focus a number field (which selects its text), type over it and press Enter."""
     await focus(pilot, screen, field)
-    await pilot.press(*text, "enter")
+    await pilot.press(*(list(text) or ["backspace"]), "enter")  # backspace clears the selection
     await pilot.pause()
 
 
@@ -164,13 +164,15 @@ def test_typed_values_are_committed(field, text, value):
 @pytest.mark.parametrize(
     "field, text, phrase",
     [
-        ("noise", "abc", "noise must be"),
-        ("noise", "1.5", "from 0.00 to 1.00 N m"),
-        ("noise", "-0.1", "noise must be"),
-        ("samples", "241", "from 2 to 240"),
-        ("samples", "1", "samples must be"),
-        ("samples", "2.5", "samples must be"),
-        ("seed", str(SEED_LIMITS[1] + 1), "seed must be"),
+        ("noise", "abc", "noise must be a number from 0.00 to 1.00 N m"),
+        ("noise", "1.5", "noise must be a number from 0.00 to 1.00 N m"),
+        ("noise", "-0.1", "noise must be a number from 0.00 to 1.00 N m"),
+        ("noise", "nan", "noise must be a number from 0.00 to 1.00 N m"),
+        ("samples", "241", "samples must be a whole number from 2 to 240"),
+        ("samples", "1", "samples must be a whole number from 2 to 240"),
+        ("samples", "2.5", "samples must be a whole number from 2 to 240"),
+        ("seed", str(SEED_LIMITS[1] + 1), f"seed must be a whole number from 0 to {SEED_LIMITS[1]}"),
+        ("seed", "", "seed must be a whole number"),
     ],
 )
 def test_invalid_typed_values_are_refused_visibly(field, text, phrase):

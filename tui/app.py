@@ -40,7 +40,7 @@ FIELD_LABELS = {
 }
 """Label shown beside each numeric control."""
 
-STEPPER_HINT = "←/→ step, Shift+←/→ more, or type + Enter"
+STEPPER_HINT = "←/→ step, Shift+←/→ more, or type"
 """How to use a number field, shown under the fields."""
 
 MIN_SIZE = (70, 22)
@@ -64,6 +64,15 @@ def known_parameters_text() -> str:
         f"B = {damping:g} N m s/rad, g = {G:g} m/s²; "
         "q from +x, counter-clockwise."
     )
+
+
+class MotionButton(RadioButton):
+    """A radio button whose mark is empty when off, so the choice reads without colour (NO_COLOR)."""
+
+    @property
+    def BUTTON_INNER(self) -> str:  # noqa: N802 - overrides Textual's class constant
+        """The mark inside the button: a dot only when this motion is chosen."""
+        return "●" if self.value else " "
 
 
 class MainScreen(Screen):
@@ -107,18 +116,19 @@ class MainScreen(Screen):
         yield Header(icon="≡")
         with Horizontal(id="main"):
             with Vertical(id="side"):
-                with Horizontal(id="motion-row"):
-                    # No button starts pressed: the first settings push presses one, which
-                    # also moves the set's highlight to it.
-                    with RadioSet(id="motion"):
-                        for name, motion in TRAINING_MOTIONS.items():
-                            yield RadioButton(motion.label, id=f"motion-{name}")
-                    yield Button("Reset", id="reset", compact=True)
+                # No button starts pressed: the first settings push presses one, which
+                # also moves the set's highlight to it.
+                with RadioSet(id="motion"):
+                    for name, motion in TRAINING_MOTIONS.items():
+                        yield MotionButton(motion.label, id=f"motion-{name}")
                 for steps in STEP_RANGES:
                     with Horizontal(classes="field"):
                         yield Label(FIELD_LABELS[steps.field], classes="field--label")
                         yield Stepper(steps, getattr(self._initial, steps.field), id=steps.field)
-                yield Static(STEPPER_HINT, id="stepper-hint", markup=False)
+                # After the fields, so Tab visits motion, noise, samples, seed, then Reset.
+                with Horizontal(id="reset-row"):
+                    yield Button("Reset", id="reset", compact=True)
+                    yield Static(STEPPER_HINT, id="stepper-hint", markup=False)
                 yield Static(known_parameters_text(), id="known", markup=False)
                 yield ReadoutPanel(id="readouts")
             with Vertical(id="charts"):

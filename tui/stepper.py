@@ -58,13 +58,16 @@ class StepRange:
 
     def parse(self, text: str) -> float:
         """Typed text as a value in range, or raise SettingsError with a one-line message."""
-        value = parse_setting(self.field, text)
-        if not self.low <= value <= self.high:
-            raise SettingsError(
-                self.field,
-                f"{self.field} in the explorer must be {self.describe()}; got {text.strip()!r}",
-            )
-        return value
+        try:
+            value = parse_setting(self.field, text)  # the core's parsing and type rules
+            if self.low <= value <= self.high:
+                return value
+        except SettingsError:
+            pass
+        # One message for every refusal, naming this control's range rather than the core's
+        # wider one, which the explorer cannot show.
+        kind = "a number" if self.decimals else "a whole number"
+        raise SettingsError(self.field, f"{self.field} must be {kind} {self.describe()}; got {text.strip()!r}")
 
 
 class Stepper(Input):
