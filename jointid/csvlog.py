@@ -1,0 +1,481 @@
+"""Read a joint log from CSV: t, q, qd, qdd, tau by header name, checked row by row.
+
+Format: comma-separated, one header row, then one sample per row. Lines whose
+first non-blank character is `#` are comments wherever they stand; blank lines
+are skipped too. Columns are found by name, case-insensitively and in any order:
+t (s), q (rad), qd (rad/s), qdd (rad/s^2) and tau (N m). Other columns are
+ignored (their cells need not be numbers) but every row must have as many cells
+as the header. Cells are not quoted.
+
+Rows in messages are 1-based line numbers in the file, so an editor's "go to
+line" finds them; columns are 1-based positions with their header name.
+
+Speed: the file is read in chunks of CHUNK_BYTES and each chunk is parsed by
+numpy.loadtxt's C reader, so memory stays near the size of the numbers rather
+than of the text, and a caller can follow progress and cancel between chunks.
+Only when a chunk fails to parse is it scanned line by line in Python, to say
+exactly which cell is wrong.
+"""
+
+from __future__ import annotations
+
+import io
+import math
+import os
+import re
+from bisect import bisect_right
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from .dataset import JointData
+from .derivatives import DEFAULT_ORDER, DEFAULT_WINDOW, METHOD, DerivativeEstimate, check_filter, differentiate
+
+COLUMNS = ("t", "q", "qd", "qdd", "tau")
+"""Recognised column names, in the order the loader stores them."""
+
+UNITS = {"t": "s", "q": "rad", "qd": "rad/s", "qdd": "rad/s²", "tau": "N m"}
+"""Unit of each recognised column (angles in degrees with `degrees=True`)."""
+
+ANGLE_COLUMNS = ("q", "qd", "qdd")
+"""Columns that `degrees=True` converts from degrees."""
+
+CHUNK_BYTES = 1 << 22
+"""Bytes read and parsed at a time (4 MiB): measured fastest for numpy.loadtxt here."""
+
+UNIFORM_TOLERANCE = 0.01
+"""Largest allowed relative departure of a time step from the median step."""
+
+MIN_FIT_ROWS = 3
+"""A fit of three parameters needs at least three samples."""
+
+_NUMBER = re.compile(r"[+-]?(\d+\.?\d*([eE][+-]?\d+)?|\.\d+([eE][+-]?\d+)?|nan|inf|infinity)", re.I)
+
+ProgressCallback = Callable[[int, int], None]
+"""progress(bytes_read, total_bytes), called after each chunk."""
+
+CancelCheck = Callable[[], bool]
+"""cancel() -> True to stop loading (raises LoadCancelled)."""
+
+
+class LogError(ValueError):
+    """A problem with a log file; str() is one line naming the file, row and column."""
+
+    def __init__(self, path, problem: str, row: int | None = None, column: str | None = None):
+        self.path = os.fspath(path)
+        self.problem = problem
+        self.row = row
+        self.column = column
+        where = [self.path]
+        if row is not None:
+            where.append(f"row {row}")
+        if column is not None:
+            where.append(f"column {column}")
+        super().__init__(f"{', '.join(where)}: {problem}")
+
+
+class LoadCancelled(Exception):
+    """Loading stopped because the cancel check returned True."""
+
+
+@dataclass(frozen=True, eq=False)
+class LogTable:
+    """The recognised numeric columns of a CSV log, as read (no unit conversion)."""
+
+    path: str
+    """The file's path as given."""
+    columns: dict
+    """Name -> (N,) float array, for each recognised column present."""
+    positions: dict
+    """Name -> 1-based column position in the file."""
+    ignored: tuple[str, ...]
+    """Header names of the columns that were not used, in file order."""
+    segments: tuple[tuple[int, int], ...]
+    """(index of the first data row, byte offset in the file) of each parsed chunk."""
+
+    @property
+    def count(self) -> int:
+        """N, the number of data rows."""
+        return len(next(iter(self.columns.values())))
+
+    def line_of(self, index: int) -> int:
+        """1-based line number in the file of data row `index` (0-based); rereads the file, for messages only."""
+        k = bisect_right([s[0] for s in self.segments], index) - 1
+        first, offset = self.segments[k]
+        return _line_of_data_row(self.path, offset, index - first)
+
+    def column_label(self, name: str) -> str:
+        """'3 (qd)': the position and header name of a column, for messages."""
+        return f"{self.positions[name]} ({name})"
+
+    def error(self, problem: str, index: int | None = None, name: str | None = None) -> LogError:
+        """A LogError at data row `index` and column `name` (either may be None)."""
+        row = None if index is None else self.line_of(index)
+        return LogError(self.path, problem, row, None if name is None else self.column_label(name))
+
+
+@dataclass(frozen=True, eq=False)
+class JointLog:
+    """A log ready to fit: joint data (SI units, trimmed) plus how it was obtained."""
+
+    path: str
+    """The file's path as given."""
+    data: JointData
+    """The samples to fit; rows trimmed by derivative estimation are gone."""
+    ignored: tuple[str, ...]
+    """Header names of unused columns."""
+    derivatives: DerivativeEstimate | None
+    """How missing qd/qdd were estimated, or None when the log had both."""
+    degrees: bool
+    """True when q, qd, qdd were read in degrees and converted."""
+    rows: int
+    """Data rows in the file, before any trimming."""
+
+    @property
+    def notes(self) -> tuple[str, ...]:
+        """Sentences a person should read alongside the fit."""
+        notes = []
+        if self.ignored:
+            notes.append(f"{self.path}: ignored columns " + ", ".join(repr(n) for n in self.ignored) + ".")
+        if self.derivatives is not None:
+            notes.append(f"{self.path}: {self.derivatives.description}")
+        return tuple(notes)
+
+    def source_text(self) -> str:
+        """One line describing what was read, e.g. for the line above the readouts."""
+        units = "degrees converted to radians" if self.degrees else "radians"
+        return f"{self.path}: {self.rows} rows ({units}), {self.data.count} samples fitted"
+
+
+def read_table(
+    path,
+    *,
+    progress: ProgressCallback | None = None,
+    cancel: CancelCheck | None = None,
+    chunk_bytes: int = CHUNK_BYTES,
+) -> LogTable:
+    """Read and check the header and every row of a CSV log; raise LogError on the first problem."""
+    path = os.fspath(path)
+    try:
+        handle = open(path, "rb")
+    except OSError as error:
+        raise LogError(path, f"cannot open: {error.strerror or error}") from None
+    try:
+        with handle:
+            total = os.fstat(handle.fileno()).st_size
+            reader = _ChunkReader(path, handle, total, progress, cancel, chunk_bytes)
+            return reader.read()
+    except OSError as error:  # e.g. a directory, or a read error mid-file
+        raise LogError(path, f"cannot read: {error.strerror or error}") from None
+
+
+class _ChunkReader:
+    """Reads one open log: header first, then data in newline-aligned chunks.
+
+    Clean chunks are not even scanned for line numbers: lines are only counted
+    (by rereading the file) when a message needs one.
+    """
+
+    def __init__(self, path, handle, total, progress, cancel, chunk_bytes):
+        self.path, self.handle, self.total = path, handle, total
+        self.progress, self.cancel, self.chunk_bytes = progress, cancel, max(int(chunk_bytes), 1)
+
+    def read(self) -> LogTable:
+        header_line, names = self._read_header()
+        positions = _check_header(self.path, header_line, names)
+        wanted = tuple(n for n in COLUMNS if n in positions)
+        self.width = len(names)
+        self.usecols = None if len(wanted) == self.width else tuple(positions[n] - 1 for n in wanted)
+        self.wanted, self.positions = wanted, positions
+        store = _ColumnStore(len(wanted), self.total)
+        segments = []
+        while True:
+            if self.cancel is not None and self.cancel():
+                raise LoadCancelled(self.path)
+            offset, data = self._next_chunk()
+            if not data:
+                break
+            values = self._parse(data, offset)
+            if len(values):
+                segments.append((store.rows, offset))
+                store.append(values, len(data))
+            if self.progress is not None:
+                self.progress(offset + len(data), self.total)
+        if store.rows == 0:
+            raise LogError(self.path, "has a header but no data rows", header_line)
+        table = LogTable(
+            path=self.path,
+            columns=dict(zip(wanted, store.columns())),
+            positions={n: positions[n] for n in wanted},
+            ignored=tuple(
+                n or f"(unnamed column {i + 1})"
+                for i, n in enumerate(names)
+                if i + 1 not in positions.values()
+            ),
+            segments=tuple(segments),
+        )
+        _check_finite(table)
+        return table
+
+    def _read_header(self) -> tuple[int, list[str]]:
+        """Skip leading comments and blank lines; return the header's line number and names."""
+        line = 0
+        while True:
+            raw = self.handle.readline()
+            if not raw:
+                raise LogError(self.path, "is empty: no header row")
+            line += 1
+            if line == 1 and raw.startswith(b"\xef\xbb\xbf"):  # a UTF-8 byte order mark
+                raw = raw[3:]
+            text = raw.decode("utf-8", errors="replace").strip()
+            if text and not text.startswith("#"):
+                return line, [cell.strip().strip('"').strip() for cell in text.split(",")]
+
+    def _next_chunk(self) -> tuple[int, bytes]:
+        """(offset, bytes) of the next run of whole lines, about chunk_bytes long; b"" at the end."""
+        offset = self.handle.tell()
+        data = self.handle.read(self.chunk_bytes)
+        while len(data) >= self.chunk_bytes and not data.endswith(b"\n"):
+            cut = data.rfind(b"\n") + 1
+            if cut:  # give back the partial last line; the next chunk starts with it
+                self.handle.seek(offset + cut)
+                return offset, data[:cut]
+            more = self.handle.read(self.chunk_bytes)  # one line longer than a chunk
+            if not more:
+                break
+            data += more
+        return offset, data
+
+    def _parse(self, data: bytes, offset: int) -> np.ndarray:
+        """(rows, wanted) values of one chunk of whole lines starting at byte `offset`."""
+        if b"#" not in data:  # loadtxt itself skips empty lines
+            values = self._loadtxt(data)
+            if values is not None and values.shape[1] == len(self.wanted) and self._widths_ok(data):
+                return values
+        # Comment lines, whitespace-only lines or an error: keep only the data lines.
+        kept, relative = [], []
+        for number, text in enumerate(data.split(b"\n")):
+            stripped = text.strip()
+            if stripped and not stripped.startswith(b"#"):
+                kept.append(text)
+                relative.append(number)
+        if not kept:
+            return np.empty((0, len(self.wanted)))
+        joined = b"\n".join(kept)
+        values = self._loadtxt(joined)
+        if values is None or values.shape != (len(kept), len(self.wanted)) or not self._widths_ok(joined):
+            first_line = _count_newlines(self.path, offset) + 1
+            self._diagnose(kept, [first_line + r for r in relative])
+            raise LogError(self.path, "cannot be read as comma-separated numbers", first_line)
+        return values
+
+    def _loadtxt(self, data: bytes) -> np.ndarray | None:
+        """numpy's C parser on one chunk, or None when it rejects something."""
+        try:
+            return np.loadtxt(
+                io.BytesIO(data), delimiter=",", comments=None, ndmin=2, usecols=self.usecols, dtype=float
+            )
+        except ValueError:
+            return None
+
+    def _widths_ok(self, data: bytes) -> bool:
+        """True when every line has as many cells as the header (loadtxt checks this itself without usecols)."""
+        if self.usecols is None:
+            return True
+        buffer = np.frombuffer(data, dtype=np.uint8)
+        ends = np.flatnonzero(buffer == ord("\n"))
+        if not data.endswith(b"\n"):
+            ends = np.append(ends, len(buffer))
+        commas = np.searchsorted(np.flatnonzero(buffer == ord(",")), ends)
+        per_line = np.diff(commas, prepend=0)
+        blank = np.diff(ends, prepend=-1) <= 2  # empty lines, "\r\n" included, have no cells
+        return bool(np.all((per_line == self.width - 1) | blank))
+
+    def _diagnose(self, texts: list[bytes], lines: list[int]) -> None:
+        """Find the first bad row in a chunk that failed to parse, and raise LogError for it."""
+        names = {self.positions[n] - 1: n for n in self.wanted}
+        for text, line in zip(texts, lines):
+            cells = text.decode("utf-8", errors="replace").rstrip("\r").split(",")
+            if len(cells) != self.width:
+                raise LogError(
+                    self.path, f"has {len(cells)} cells but the header has {self.width} columns", line
+                )
+            for index in sorted(names):
+                cell = cells[index].strip()
+                if not _NUMBER.fullmatch(cell):
+                    what = "is empty" if not cell else f"{_shorten(cell)!r} is not a number"
+                    raise LogError(self.path, what, line, f"{index + 1} ({names[index]})")
+
+
+class _ColumnStore:
+    """Parsed rows copied chunk by chunk into one column-major array sized from the file's length.
+
+    Loading then holds about one copy of the numbers (plus a chunk) instead of a
+    list of blocks and their concatenation, and every column is contiguous.
+    """
+
+    def __init__(self, width: int, total_bytes: int):
+        self.width, self.total_bytes = width, total_bytes
+        self.values = np.empty((width, 0))
+        self.rows = 0
+
+    def append(self, block: np.ndarray, text_bytes: int) -> None:
+        """Store a (n, width) block parsed from `text_bytes` bytes of the file."""
+        count = len(block)
+        needed = self.rows + count
+        capacity = self.values.shape[1]
+        if needed > capacity:
+            # Estimate the final row count from this chunk's bytes per row (2 % spare).
+            guess = int(self.total_bytes * count / text_bytes * 1.02) + count
+            grown = np.empty((self.width, max(needed, guess, int(capacity * 1.25))))
+            grown[:, : self.rows] = self.values[:, : self.rows]
+            self.values = grown
+        self.values[:, self.rows : needed] = block.T
+        self.rows = needed
+
+    def columns(self) -> list[np.ndarray]:
+        """(rows,) contiguous views, one per column."""
+        return [self.values[j, : self.rows] for j in range(self.width)]
+
+
+def _count_newlines(path: str, end: int) -> int:
+    """Newlines in the file's first `end` bytes."""
+    count = 0
+    with open(path, "rb") as handle:
+        while end > 0:
+            data = handle.read(min(end, CHUNK_BYTES))
+            if not data:
+                break
+            count += data.count(b"\n")
+            end -= len(data)
+    return count
+
+
+def _line_of_data_row(path: str, offset: int, index: int) -> int:
+    """1-based line number of the `index`-th data line (0-based) at or after byte `offset`."""
+    line = _count_newlines(path, offset)
+    with open(path, "rb") as handle:
+        handle.seek(offset)
+        for text in handle:
+            line += 1
+            stripped = text.strip()
+            if stripped and not stripped.startswith(b"#"):
+                if index == 0:
+                    return line
+                index -= 1
+    raise IndexError("data row beyond the end of the file")
+
+
+def _shorten(text: str, limit: int = 30) -> str:
+    """The text, cut with an ellipsis when longer than `limit` characters."""
+    return text if len(text) <= limit else text[: limit - 1] + "…"
+
+
+def _check_header(path: str, line: int, names: list[str]) -> dict[str, int]:
+    """Map each recognised column to its 1-based position; raise LogError for duplicates or missing ones."""
+    positions: dict[str, int] = {}
+    for position, name in enumerate(names, start=1):
+        key = name.lower()
+        if key in COLUMNS:
+            if key in positions:
+                raise LogError(
+                    path, f"column {key!r} appears twice (columns {positions[key]} and {position})", line
+                )
+            positions[key] = position
+    missing = [n for n in ("q", "tau") if n not in positions]
+    if missing:
+        raise LogError(path, f"missing required column {missing[0]!r} in the header", line)
+    if "t" not in positions and not ("qd" in positions and "qdd" in positions):
+        lacking = " and ".join(n for n in ("qd", "qdd") if n not in positions)
+        raise LogError(path, f"missing column 't': without {lacking}, times are needed to estimate them", line)
+    return positions
+
+
+def _check_finite(table: LogTable) -> None:
+    """Raise LogError at the first NaN or infinite value (earliest row, then leftmost column)."""
+    first = None
+    for name, values in table.columns.items():
+        if not np.isfinite(values).all():
+            index = int(np.flatnonzero(~np.isfinite(values))[0])
+            if first is None or index < first[0] or (index == first[0] and table.positions[name] < table.positions[first[1]]):
+                first = (index, name)
+    if first is not None:
+        index, name = first
+        value = table.columns[name][index]
+        kind = "NaN" if math.isnan(value) else "infinity"
+        raise table.error(f"{kind} is not a measurement", index, name)
+
+
+def check_time(table: LogTable, uniform: bool) -> float | None:
+    """Raise LogError unless t strictly increases (and, if `uniform`, steps within 1 %).
+
+    Returns the median step when `uniform` is asked for, else None.
+    """
+    t = table.columns.get("t")
+    if t is None or len(t) < 2:
+        return None
+    steps = np.diff(t)
+    if not (steps > 0).all():
+        i = int(np.flatnonzero(~(steps > 0))[0]) + 1
+        raise table.error(f"t = {t[i]:.9g} s does not increase (previous row has {t[i - 1]:.9g} s)", i, "t")
+    if not uniform:
+        return None
+    step = float(np.median(steps))
+    off = np.flatnonzero(np.abs(steps - step) > UNIFORM_TOLERANCE * step)
+    if len(off):
+        i = int(off[0]) + 1
+        raise table.error(
+            f"time step {steps[i - 1]:.9g} s differs from the median step {step:.9g} s by more than "
+            f"{UNIFORM_TOLERANCE:.0%}; derivative estimation needs uniform sampling",
+            i,
+            "t",
+        )
+    return step
+
+
+def load_log(
+    path,
+    *,
+    degrees: bool = False,
+    window: int = DEFAULT_WINDOW,
+    order: int = DEFAULT_ORDER,
+    progress: ProgressCallback | None = None,
+    cancel: CancelCheck | None = None,
+) -> JointLog:
+    """Read a CSV joint log, estimate any missing qd/qdd, and return it ready to fit; LogError on any problem."""
+    check_filter(window, order)
+    table = read_table(path, progress=progress, cancel=cancel)
+    columns = table.columns
+    missing = tuple(n for n in ("qd", "qdd") if n not in columns)
+    step = check_time(table, uniform=bool(missing))
+    needed = MIN_FIT_ROWS + (window - 1 if missing else 0)
+    if table.count < needed:
+        why = f"a window of {window} samples trims {window - 1} and " if missing else ""
+        raise LogError(
+            table.path, f"has {table.count} data rows; {why}fitting 3 parameters needs at least {needed}"
+        )
+    scale = math.pi / 180 if degrees else 1.0
+    q = columns["q"] * scale if degrees else columns["q"]
+    estimate = None
+    if missing:
+        velocity, acceleration = differentiate(q, step, window, order)
+        half = window // 2
+        keep = slice(half, table.count - half)
+        qd = columns["qd"][keep] * scale if "qd" in columns else velocity
+        qdd = columns["qdd"][keep] * scale if "qdd" in columns else acceleration
+        t, q, tau = columns["t"][keep], q[keep], columns["tau"][keep]
+        estimate = DerivativeEstimate(METHOD, window, order, step, window - 1, missing)
+    else:
+        qd, qdd = columns["qd"], columns["qdd"]
+        if degrees:
+            qd, qdd = qd * scale, qdd * scale
+        t, tau = columns.get("t"), columns["tau"]
+    return JointLog(
+        path=table.path,
+        data=JointData(t=t, q=q, qd=qd, qdd=qdd, tau=tau),
+        ignored=table.ignored,
+        derivatives=estimate,
+        degrees=degrees,
+        rows=table.count,
+    )
