@@ -211,7 +211,9 @@ class FitResult:
         if self.heldout_rmse is None:
             parts.append("No held-out data, so predictions are untested.")
         else:
-            parts.append(f"Held-out torque RMSE is {format_number(self.heldout_rmse)} N m.")
+            # Measured held-out torques carry their own noise, which no fit can predict.
+            measured = "" if self.heldout_is_noiseless else " against measured torques, so it includes their measurement noise"
+            parts.append(f"Held-out torque RMSE is {format_number(self.heldout_rmse)} N m{measured}.")
         for name in self.sign_failures:
             value = self.estimate[PARAMETER_NAMES.index(name)]
             parts.append(
