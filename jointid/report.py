@@ -78,6 +78,26 @@ def result_to_dict(result: FitResult) -> dict:
     }
 
 
+def fit_document(result: FitResult, *, settings=None, source=None, derivatives=None, **extra) -> dict:
+    """The command line's JSON object for one fit: `settings` (None for a log), `source`, `derivatives`, the fit.
+
+    `source` is {"training": path, "heldout": path or None} for logs and None for
+    synthetic data; `derivatives` says how missing qd/qdd were estimated, or None.
+    """
+    return {"settings": settings, "source": source, "derivatives": derivatives, **extra, **result_to_dict(result)}
+
+
+def log_fit_document(result: FitResult, training, heldout=None) -> dict:
+    """fit_document for a fit of CSV logs (csvlog.JointLog objects): source paths, derivatives and notes."""
+    return fit_document(
+        result,
+        source={"training": training.path, "heldout": None if heldout is None else heldout.path},
+        derivatives=None if training.derivatives is None else training.derivatives.to_dict(),
+        heldout_derivatives=None if heldout is None or heldout.derivatives is None else heldout.derivatives.to_dict(),
+        notes=[*training.notes, *(heldout.notes if heldout is not None else ())],
+    )
+
+
 def uncertainty_to_dict(result: FitResult) -> dict:
     """Standard errors, intervals, verdicts (objects keyed I, h, B; None where unavailable), conditioning, subset, warnings."""
     uncertainty = result.uncertainty

@@ -8,8 +8,9 @@ import json
 from ..experiment import run_experiment
 from ..fit import format_number
 from ..motions import TRAINING_MOTIONS
-from ..report import readouts_text, result_to_dict, uncertainty_text
+from ..report import fit_document, readouts_text, uncertainty_text
 from .arguments import add_settings_arguments, settings_from
+from .log_fit import add_log_arguments, run_log_fit, with_default_settings
 
 NAME = "fit"
 
@@ -25,14 +26,17 @@ def add_parser(subparsers) -> None:
     )
     add_settings_arguments(parser)
     parser.add_argument("--json", action="store_true", help="print one JSON object instead of text")
+    add_log_arguments(parser)
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run the experiment and print text or JSON; exit status 0."""
-    settings = settings_from(args)
+    """Run the experiment (or fit the --csv log) and print text or JSON; exit status 0."""
+    if args.csv is not None:
+        return run_log_fit(args)
+    settings = settings_from(with_default_settings(args))
     result = run_experiment(settings)
     if args.json:
-        document = {"settings": vars(settings).copy(), **result_to_dict(result)}
+        document = fit_document(result, settings=vars(settings).copy())
         print(json.dumps(document, indent=2))
     else:
         motion = TRAINING_MOTIONS[settings.motion].label

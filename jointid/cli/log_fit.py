@@ -1,0 +1,102 @@
+"""`jointid fit --csv`: the options and the run for fitting CSV joint logs.
+
+Synthetic settings (--motion, --noise, --samples, --seed) describe generated
+data, so they cannot apply to a log: giving them with --csv is an error (one
+line, exit 2) rather than something silently ignored. To tell a flag the user
+typed from its default, `fit` parses them with default None and fills the
+defaults in afterwards (`with_default_settings`).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+from ..csvlog import LogError, load_log
+from ..derivatives import DEFAULT_ORDER, DEFAULT_WINDOW
+from ..fit import fit_joint
+from ..report import log_fit_document, readouts_text, uncertainty_text
+from ..settings import DEFAULT_SETTINGS
+from .arguments import UserError
+
+SETTING_FLAGS = ("motion", "noise", "samples", "seed")
+"""Synthetic-experiment options that a log fit rejects."""
+
+LOG_ONLY_FLAGS = ("heldout", "degrees", "window", "order")
+"""Options that mean something only with --csv."""
+
+
+def whole_number(low: int):
+    """An argparse type for an integer of at least `low`."""
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text.strip())
+        except ValueError:
+            value = None
+        if value is None or value < low:
+            raise argparse.ArgumentTypeError(f"must be a whole number, at least {low}; got {text!r}")
+        return value
+
+    return parse
+
+
+def add_log_arguments(parser: argparse.ArgumentParser) -> None:
+    """Add --csv, --heldout, --degrees, --window and --order, and make setting flags detectable."""
+    group = parser.add_argument_group("joint logs (CSV: t, q, qd, qdd, tau by header name)")
+    group.add_argument("--csv", metavar="TRAIN.csv", help="fit this log instead of a synthetic experiment")
+    group.add_argument("--heldout", metavar="TEST.csv",
+                       help="predict this log's measured torques with the fit (needs --csv)")
+    group.add_argument("--degrees", action="store_true", help="the logs give q, qd, qdd in degrees")
+    group.add_argument("--window", type=whole_number(3), default=None, metavar="W",
+                       help="Savitzky-Golay window (odd number of samples) when qd or qdd is missing; "
+                       f"default {DEFAULT_WINDOW}")
+    group.add_argument("--order", type=whole_number(2), default=None, metavar="P",
+                       help=f"Savitzky-Golay polynomial order; default {DEFAULT_ORDER}")
+    parser.set_defaults(**dict.fromkeys(SETTING_FLAGS))
+
+
+def with_default_settings(args: argparse.Namespace) -> argparse.Namespace:
+    """Reject log-only flags without --csv, and fill unset synthetic settings with their defaults."""
+    stray = [f"--{name}" for name in LOG_ONLY_FLAGS if getattr(args, name) not in (None, False)]
+    if stray:
+        raise UserError(f"{', '.join(stray)}: only for fitting a log; add --csv TRAIN.csv")
+    for name in SETTING_FLAGS:
+        if getattr(args, name) is None:
+            setattr(args, name, getattr(DEFAULT_SETTINGS, name))
+    return args
+
+
+def run_log_fit(args: argparse.Namespace) -> int:
+    """Load the training (and held-out) log, fit, and print text or JSON; exit status 0."""
+    given = [f"--{name}" for name in SETTING_FLAGS if getattr(args, name) is not None]
+    if given:
+        raise UserError(f"synthetic settings ({', '.join(given)}) cannot apply to a --csv log; drop them")
+    window = DEFAULT_WINDOW if args.window is None else args.window
+    order = DEFAULT_ORDER if args.order is None else args.order
+    if window % 2 == 0:
+        raise UserError(f"argument --window: must be an odd number of samples; got {window}")
+    if order >= window:
+        raise UserError(f"argument --order: must be less than the window {window}; got {order}")
+    try:
+        training = load_log(args.csv, degrees=args.degrees, window=window, order=order)
+        heldout = None if args.heldout is None else load_log(
+            args.heldout, degrees=args.degrees, window=window, order=order
+        )
+    except LogError as error:
+        raise UserError(str(error)) from None
+    result = fit_joint(training.data, None if heldout is None else heldout.data, heldout_is_noiseless=False)
+    if args.json:
+        print(json.dumps(log_fit_document(result, training, heldout), indent=2))
+        return 0
+    print(f"Training log {training.source_text()}")
+    if heldout is not None:
+        print(f"Held-out log {heldout.source_text()}")
+    print(readouts_text(result))
+    print()
+    print(uncertainty_text(result))
+    notes = [*training.notes, *(heldout.notes if heldout is not None else ())]
+    if notes:
+        print()
+        print("\n".join(f"Note: {note}" for note in notes))
+    return 0
