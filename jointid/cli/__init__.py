@@ -9,10 +9,10 @@ from __future__ import annotations
 
 import sys
 
-from . import explorer_command, fit_command, matrix_command, sweep_command, torque_command
+from . import explorer_command, fit_command, matrix_command, simulate_command, sweep_command, torque_command
 from .arguments import OneLineParser, UserError, add_settings_arguments
 
-SUBCOMMANDS = (fit_command, torque_command, sweep_command, matrix_command)
+SUBCOMMANDS = (fit_command, torque_command, sweep_command, matrix_command, simulate_command)
 """Modules that define the subcommands, in help order."""
 
 

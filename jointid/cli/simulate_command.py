@@ -1,0 +1,138 @@
+"""`jointid simulate`: write a synthetic joint log in the CSV format `fit --csv` reads.
+
+Times are t_i = duration*i/(samples-1), so samples = duration*rate + 1. Any two
+of --samples, --rate and --duration fix the third; all three must agree; with
+fewer, the duration defaults to 8 s and then the samples to 24.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+
+import numpy as np
+
+from ..export import ExportError, atomic_output
+from ..model import PARAMETER_NAMES, TRUE_PARAMETERS, predict_torque
+from ..motions import ALL_MOTIONS, DURATION
+from ..noise import torque_noise
+from ..settings import DEFAULT_SETTINGS, SettingsError, check_setting
+from .arguments import UserError, setting_type
+
+NAME = "simulate"
+
+FULL_COLUMNS = ("t", "q", "qd", "qdd", "tau")
+ENCODER_COLUMNS = ("t", "q", "tau")
+
+
+def motion_name(text: str) -> str:
+    """An argparse type for any motion, the validation motion `test` included."""
+    name = text.strip().lower()
+    if name not in ALL_MOTIONS:
+        raise argparse.ArgumentTypeError(f"must be one of {', '.join(ALL_MOTIONS)}; got {text!r}")
+    return name
+
+
+def positive_number(text: str) -> float:
+    """An argparse type for a finite number greater than zero."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = math.nan
+    if not (math.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"must be a finite number greater than 0; got {text!r}")
+    return value
+
+
+def encoder_counts(text: str) -> int:
+    """An argparse type for counts per revolution, a whole number of at least 2."""
+    try:
+        value = int(text.strip())
+    except ValueError:
+        value = 0
+    if value < 2:
+        raise argparse.ArgumentTypeError(f"must be a whole number of counts per revolution, at least 2; got {text!r}")
+    return value
+
+
+def add_parser(subparsers) -> None:
+    """Attach the `simulate` subcommand."""
+    parser = subparsers.add_parser(
+        NAME,
+        help="write a synthetic joint log (CSV) to try fit --csv on",
+        description="Sample a motion, compute the true torque (I = 0.8, h = 0.4, B = 0.15) plus the lesson's "
+        "seeded uniform noise, and write t, q, qd, qdd, tau as CSV (or, with --encoder-counts, only t, "
+        "a quantised q and tau). The file is written atomically and never over an existing one without --force.",
+    )
+    parser.add_argument("--motion", type=motion_name, default=DEFAULT_SETTINGS.motion,
+                        metavar="{" + ",".join(ALL_MOTIONS) + "}",
+                        help=f"motion to sample, the validation motion test included; default {DEFAULT_SETTINGS.motion}")
+    parser.add_argument("--noise", type=setting_type("noise"), default=DEFAULT_SETTINGS.noise, metavar="X",
+                        help="bound of the uniform torque noise, 0 to 100 N m; default 0")
+    parser.add_argument("--seed", type=setting_type("seed"), default=DEFAULT_SETTINGS.seed, metavar="S",
+                        help=f"noise seed, 0 to 4294967295; default {DEFAULT_SETTINGS.seed}")
+    parser.add_argument("--samples", type=setting_type("samples"), default=None, metavar="N",
+                        help=f"number of samples, 2 to 10000000; default {DEFAULT_SETTINGS.samples} "
+                        "(or duration*rate + 1 with --rate)")
+    parser.add_argument("--rate", type=positive_number, default=None, metavar="HZ",
+                        help="sample rate (Hz); samples = duration*rate + 1")
+    parser.add_argument("--duration", type=positive_number, default=None, metavar="S",
+                        help=f"time span from the first to the last sample (s); default {DURATION:g}")
+    parser.add_argument("--encoder-counts", type=encoder_counts, default=None, metavar="C",
+                        help="write only t, q and tau, with q quantised to 2*pi/C rad like an encoder")
+    parser.add_argument("--out", required=True, metavar="FILE", help="the CSV file to write")
+    parser.add_argument("--force", action="store_true", help="replace FILE if it exists")
+
+
+def timing(samples: int | None, rate: float | None, duration: float | None) -> tuple[int, float]:
+    """Resolve (samples, duration) from the given subset of samples, rate and duration; UserError on conflict."""
+    if rate is not None:
+        if duration is None:
+            duration = DURATION if samples is None else (samples - 1) / rate
+        intervals = duration * rate
+        whole = round(intervals)
+        if abs(intervals - whole) > 1e-9 * max(1.0, intervals):
+            raise UserError(
+                f"--duration {duration:g} s at --rate {rate:g} Hz is {intervals:g} sample intervals, "
+                "not a whole number"
+            )
+        if samples is not None and samples != whole + 1:
+            raise UserError(
+                f"--samples {samples} contradicts --rate {rate:g} Hz over {duration:g} s, "
+                f"which gives {whole + 1} samples; give two of the three"
+            )
+        samples = whole + 1
+        try:
+            check_setting("samples", samples)
+        except SettingsError as error:
+            raise UserError(f"--rate {rate:g} Hz over {duration:g} s gives {error}") from None
+    return (DEFAULT_SETTINGS.samples if samples is None else samples), (DURATION if duration is None else duration)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Write the log; print one line saying what was written; exit status 0."""
+    samples, duration = timing(args.samples, args.rate, args.duration)
+    t = np.linspace(0.0, duration, samples)
+    states = ALL_MOTIONS[args.motion].states(t)
+    tau = predict_torque(states.q, states.qd, states.qdd) + torque_noise(args.noise, samples, args.seed)
+    if args.encoder_counts is None:
+        names, table = FULL_COLUMNS, np.column_stack([t, states.q, states.qd, states.qdd, tau])
+    else:
+        step = 2 * math.pi / args.encoder_counts
+        names, table = ENCODER_COLUMNS, np.column_stack([t, np.round(states.q / step) * step, tau])
+    truth = ", ".join(f"{n} = {v:g}" for n, v in zip(PARAMETER_NAMES, TRUE_PARAMETERS))
+    quantised = "" if args.encoder_counts is None else f", q quantised to {args.encoder_counts} counts/rev"
+    comment = (
+        f"# jointid simulate: {args.motion} motion, {samples} samples over {duration:g} s{quantised}, "
+        f"uniform torque noise bound {args.noise:g} N m, seed {args.seed}; true {truth}\n"
+    )
+    try:
+        with atomic_output(args.out, overwrite=args.force) as handle:
+            handle.write(comment)
+            # 17 significant digits: reading the file back gives the same doubles.
+            np.savetxt(handle, table, delimiter=",", fmt="%.17g", header=",".join(names), comments="")
+    except ExportError as error:
+        hint = " (add --force to replace it)" if "already exists" in str(error) else ""
+        raise UserError(f"{error}{hint}") from None
+    print(f"Wrote {args.out}: {samples} samples of {', '.join(names)} ({args.motion} motion, {duration:g} s).")
+    return 0
