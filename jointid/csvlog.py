@@ -186,7 +186,11 @@ class _ChunkReader:
         positions = _check_header(self.path, header_line, names)
         wanted = tuple(n for n in COLUMNS if n in positions)
         self.width = len(names)
-        self.usecols = None if len(wanted) == self.width else tuple(positions[n] - 1 for n in wanted)
+        # Without extra columns loadtxt parses every cell and checks row widths itself;
+        # the columns are then put in COLUMNS order if the file has another order.
+        file_order = [positions[n] - 1 for n in wanted]
+        self.usecols = None if len(wanted) == self.width else tuple(file_order)
+        self.order = file_order if self.usecols is None and file_order != sorted(file_order) else None
         self.wanted, self.positions = wanted, positions
         store = _ColumnStore(len(wanted), self.total)
         segments = []
@@ -197,6 +201,8 @@ class _ChunkReader:
             if not data:
                 break
             values = self._parse(data, offset)
+            if self.order is not None:
+                values = values[:, self.order]
             if len(values):
                 segments.append((store.rows, offset))
                 store.append(values, len(data))
@@ -249,6 +255,8 @@ class _ChunkReader:
 
     def _parse(self, data: bytes, offset: int) -> np.ndarray:
         """(rows, wanted) values of one chunk of whole lines starting at byte `offset`."""
+        if data.isspace():
+            return np.empty((0, len(self.wanted)))
         if b"#" not in data:  # loadtxt itself skips empty lines
             values = self._loadtxt(data)
             if values is not None and values.shape[1] == len(self.wanted) and self._widths_ok(data):
@@ -442,10 +450,11 @@ def load_log(
     order: int = DEFAULT_ORDER,
     progress: ProgressCallback | None = None,
     cancel: CancelCheck | None = None,
+    chunk_bytes: int = CHUNK_BYTES,
 ) -> JointLog:
     """Read a CSV joint log, estimate any missing qd/qdd, and return it ready to fit; LogError on any problem."""
     check_filter(window, order)
-    table = read_table(path, progress=progress, cancel=cancel)
+    table = read_table(path, progress=progress, cancel=cancel, chunk_bytes=chunk_bytes)
     columns = table.columns
     missing = tuple(n for n in ("qd", "qdd") if n not in columns)
     step = check_time(table, uniform=bool(missing))
