@@ -1,0 +1,107 @@
+"""Benchmark: load + fit a 1,000,000-row, 5-column CSV log against numpy.loadtxt + numpy.linalg.lstsq.
+
+Run `python benchmarks/bench_csv.py [ROWS]`. It writes the log to a temporary
+directory, then times both pipelines alternately (best of REPEATS each, so
+disk cache and machine noise treat them alike), and measures each one's peak
+traced memory in a separate run: tracemalloc slows allocation-heavy code, so
+timed runs are untraced. Goals (issue 5): ours <= 2.0 s, not slower than the
+baseline, peak memory <= 4x the numeric data (rows * 5 * 8 bytes).
+"""
+
+from __future__ import annotations
+
+import gc
+import os
+import sys
+import tempfile
+import time
+import tracemalloc
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+from jointid.csvlog import load_log  # noqa: E402
+from jointid.fit import fit_joint  # noqa: E402
+from jointid.model import G, TRUE_PARAMETERS, predict_torque  # noqa: E402
+from jointid.motions import TRAINING_MOTIONS  # noqa: E402
+
+REPEATS = 3
+"""Timed runs of each pipeline; the best is reported."""
+
+GOAL_SECONDS = 2.0
+GOAL_MEMORY_MULTIPLE = 4.0
+
+
+def write_log(path: Path, rows: int) -> None:
+    """A full-column log of the rich motion at 1 kHz with exact torques, 17 significant digits."""
+    t = np.arange(rows) * 1e-3
+    states = TRAINING_MOTIONS["rich"].states(t)
+    tau = predict_torque(states.q, states.qd, states.qdd)
+    table = np.column_stack([t, states.q, states.qd, states.qdd, tau])
+    np.savetxt(path, table, delimiter=",", fmt="%.17g", header="t,q,qd,qdd,tau", comments="")
+
+
+def ours(path: Path) -> np.ndarray:
+    """jointid: checked chunked load, then the pivoted-QR fit."""
+    return fit_joint(load_log(path).data).estimate
+
+
+def baseline(path: Path) -> np.ndarray:
+    """numpy.loadtxt of the whole file, regressor by hand, numpy.linalg.lstsq."""
+    table = np.loadtxt(path, delimiter=",", skiprows=1)
+    X = np.column_stack([table[:, 3], G * np.cos(table[:, 1]), table[:, 2]])
+    return np.linalg.lstsq(X, table[:, 4], rcond=None)[0]
+
+
+def timed(function, path: Path) -> tuple[float, np.ndarray]:
+    """Wall time of one call and its result."""
+    gc.collect()
+    start = time.perf_counter()
+    result = function(path)
+    return time.perf_counter() - start, result
+
+
+def peak_memory(function, path: Path) -> int:
+    """Peak bytes traced by tracemalloc during one call."""
+    gc.collect()
+    tracemalloc.start()
+    try:
+        function(path)
+        return tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+
+
+def main(rows: int = 1_000_000) -> int:
+    """Write the log, measure both pipelines and print the figures; exit 1 if a goal is missed."""
+    numeric_bytes = rows * 5 * 8
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "log.csv"
+        write_log(path, rows)
+        print(f"log: {rows} rows x 5 columns, {os.path.getsize(path) / 1e6:.1f} MB of text, "
+              f"{numeric_bytes / 1e6:.1f} MB of numbers")
+        times = {"ours": [], "baseline": []}
+        for _ in range(REPEATS):
+            for name, function in (("ours", ours), ("baseline", baseline)):
+                seconds, estimate = timed(function, path)
+                times[name].append(seconds)
+                error = np.max(np.abs(estimate / TRUE_PARAMETERS - 1))
+                if error > 1e-6:
+                    print(f"{name}: wrong estimate {estimate}")
+                    return 1
+        memory = {name: peak_memory(f, path) / numeric_bytes for name, f in (("ours", ours), ("baseline", baseline))}
+    best = {name: min(values) for name, values in times.items()}
+    ratio = best["ours"] / best["baseline"]
+    for name in ("ours", "baseline"):
+        runs = ", ".join(f"{s:.3f}" for s in times[name])
+        print(f"{name:<9} best {best[name]:.3f} s (runs {runs}); peak memory {memory[name]:.2f}x the numeric data")
+    print(f"ratio ours/baseline {ratio:.3f}")
+    met = best["ours"] <= GOAL_SECONDS and ratio <= 1.0 and memory["ours"] <= GOAL_MEMORY_MULTIPLE
+    print("goals met" if met else "GOALS MISSED")
+    return 0 if met else 1
+
+
+if __name__ == "__main__":
+    raise SystemExit(main(*(int(a) for a in sys.argv[1:2])))
