@@ -21,6 +21,7 @@ from jointid.settings import DEFAULT_SETTINGS, SEED_LIMITS, Settings
 
 from .charts import TorqueChart, heldout_chart, training_chart
 from .commands import TourCommands
+from .precision import precision
 from .readouts import ReadoutPanel
 from .stepper import StepRange, Stepper
 
@@ -167,7 +168,7 @@ class MainScreen(Screen):
             stepper.show_value(getattr(settings, stepper.field))
         self.query_one("#training-chart", TorqueChart).show(training_chart(result))
         self.query_one("#heldout-chart", TorqueChart).show(heldout_chart(result))
-        self.query_one(ReadoutPanel).show(readouts(result))
+        self.query_one(ReadoutPanel).show(readouts(result), precision(result))
         self.query_one("#status", Static).update(result.message)
 
     def apply_settings(self, settings: Settings) -> None:

@@ -8,6 +8,8 @@ from textual.widget import Widget
 from jointid.model import SIGN_REQUIREMENTS
 from jointid.report import Readout
 
+from .precision import Precision, closing_content, note_lines
+
 LABEL_WIDTH = 27
 """Columns reserved for a readout label ("Fitted damping (N m s/rad)" and a space)."""
 
@@ -28,7 +30,13 @@ class ReadoutPanel(Widget):
     ReadoutPanel {
         height: auto;
     }
+    ReadoutPanel:focus {
+        background: $boost;
+    }
     """
+
+    # Focusable so Tab scrolls a short terminal's side panel down to every readout.
+    can_focus = True
 
     def __init__(self, *, id: str | None = None) -> None:
         """Create an empty panel.
@@ -38,11 +46,12 @@ class ReadoutPanel(Widget):
         """
         super().__init__(id=id)
         self.items: tuple[Readout, ...] = ()
+        self.precision: Precision | None = None
 
-    def show(self, items: tuple[Readout, ...]) -> None:
-        """Display new readouts (Readout is a value object, so equal tuples skip the refresh)."""
-        if items != self.items:
-            self.items = items
+    def show(self, items: tuple[Readout, ...], precision: Precision | None = None) -> None:
+        """Display new readouts and precision notes (value objects, so equal ones skip the refresh)."""
+        if (items, precision) != (self.items, self.precision):
+            self.items, self.precision = items, precision
             self.refresh(layout=True)
 
     def lines(self, width: int) -> list[Content]:
@@ -52,6 +61,7 @@ class ReadoutPanel(Widget):
             line = Content(item.label.ljust(LABEL_WIDTH))
             if not item.sign_failure:
                 lines.append(line + Content(item.text))
+                lines.extend(note_lines(self.precision, item.key, width))
                 continue
             note = failure_note(item)
             value = Content.from_markup("[bold $text-error]$text[/]", text=item.text)
@@ -62,7 +72,8 @@ class ReadoutPanel(Widget):
                 lines.append(line + value)
                 indent = max(0, min(LABEL_WIDTH, width - note_text.cell_length))
                 lines.append(Content(" " * indent) + note_text)
-        return lines
+            lines.extend(note_lines(self.precision, item.key, width))
+        return lines + closing_content(self.precision, LABEL_WIDTH)
 
     def render(self) -> Content:
         """All readout lines for the current width."""
