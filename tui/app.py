@@ -90,6 +90,13 @@ class MainScreen(Screen):
         Binding("question_mark", "help", "Help", key_display="?", priority=True,
                 tooltip="Keys, controls, model and things to try"),
         Binding("q", "quit", "Quit", priority=True, tooltip="Leave the explorer"),
+        # The analysis views; s and m are not number characters, so they work in a number
+        # field too, while e stays typeable there (1e-2), like the motion keys' digits.
+        Binding("s", "sweep", "Sweep", priority=True,
+                tooltip="Seed sweep: this experiment under many noise seeds"),
+        Binding("m", "matrix", "Matrix", priority=True,
+                tooltip="Cross-excitation: fit each motion, predict every motion"),
+        Binding("e", "residuals", "Residuals", tooltip="Training residuals against t, q, qd, qdd"),
     ]
 
     HORIZONTAL_BREAKPOINTS = [(0, "-narrow"), (110, "-wide")]
@@ -205,6 +212,25 @@ class MainScreen(Screen):
         from .help import HelpScreen  # Markdown is only needed when help is asked for
 
         self.app.push_screen(HelpScreen())
+
+    # The views are imported when first opened, which keeps start-up fast.
+    def action_sweep(self) -> None:
+        """Open the seed-sweep view for the current settings."""
+        from .sweep_screen import SweepScreen
+
+        self.app.push_screen(SweepScreen(self.settings))
+
+    def action_matrix(self) -> None:
+        """Open the cross-excitation view for the current noise, samples and seed."""
+        from .matrix_screen import MatrixScreen
+
+        self.app.push_screen(MatrixScreen(self.settings))
+
+    def action_residuals(self) -> None:
+        """Open the residual view of the current fit."""
+        from .residual_screen import ResidualScreen
+
+        self.app.push_screen(ResidualScreen(self.settings, self.result))
 
     async def action_quit(self) -> None:
         """Leave the explorer."""

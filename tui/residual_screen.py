@@ -1,0 +1,90 @@
+"""The residual view: training residuals against time, q, qd or qdd, with what structure would mean."""
+
+from __future__ import annotations
+
+from textual.app import ComposeResult
+from textual.binding import Binding
+from textual.reactive import reactive
+from textual.screen import Screen
+from textual.widgets import Footer, Static
+
+from jointid.fit import FitResult, format_number
+from jointid.residuals import AXES, AXIS_LABELS, ResidualData, residual_data
+from jointid.settings import Settings
+
+from .plots import ScatterData, SmallPlot
+from .sweep_screen import settings_line
+
+AXIS_KEYS = {axis: str(number) for number, axis in enumerate(AXES, start=1)}
+"""Key per axis: 1 time, 2 angle q, 3 velocity qd, 4 acceleration qdd."""
+
+
+def residual_scatter(data: ResidualData, axis: str) -> ScatterData:
+    """The scatter of residuals against one axis."""
+    x_label = AXIS_LABELS[axis] if data.has_times or axis != "t" else "sample index"
+    return ScatterData(
+        titles=(f"Training residuals (N m) against {x_label}", f"Residuals against {x_label}"),
+        x=data.axes[axis],
+        y=data.residuals,
+        x_label=x_label.capitalize(),
+        y_label="Residual (N m)",
+    )
+
+
+def residual_summary(data: ResidualData, axis: str) -> str:
+    """One text line for people who cannot see the chart: count, range and which fit."""
+    low, high = (format_number(float(f(data.residuals)), 3) for f in (min, max))
+    source = "the fit" if data.unique_fit else "the basic solution (rank below 3: every solution fits the same)"
+    return f"{len(data.residuals)} residuals (measured - fitted) from {source}, {low} to {high} N m."
+
+
+class ResidualScreen(Screen):
+    """Training residuals of the current fit against a switchable axis."""
+
+    BINDINGS = [
+        Binding("escape", "back", "Back", tooltip="Return to the explorer"),
+        *(
+            Binding(key, f"axis('{axis}')", axis, tooltip=f"Residuals against {AXIS_LABELS[axis]}")
+            for axis, key in AXIS_KEYS.items()
+        ),
+    ]
+
+    axis: reactive[str] = reactive("t", init=False)
+
+    def __init__(self, settings: Settings, result: FitResult) -> None:
+        """Create the view.
+
+        Args:
+            settings: The experiment the fit came from (shown in the title).
+            result: The fit whose training residuals are shown.
+        """
+        super().__init__()
+        self.settings = settings
+        self.data = residual_data(result)
+
+    def compose(self) -> ComposeResult:
+        """Title, scatter chart, summary, note, footer."""
+        yield Static(f"Residuals: {settings_line(self.settings)}", id="residual-title", markup=False)
+        yield SmallPlot(id="residual-plot")
+        yield Static("", id="residual-summary", markup=False)
+        yield Static("", id="residual-note", markup=False)
+        yield Footer()
+
+    def on_mount(self) -> None:
+        """Draw the first axis."""
+        self.watch_axis(self.axis)
+
+    def watch_axis(self, axis: str) -> None:
+        """Redraw the chart and the note for a new axis."""
+        self.query_one(SmallPlot).show(residual_scatter(self.data, axis))
+        self.query_one("#residual-summary", Static).update(residual_summary(self.data, axis))
+        self.query_one("#residual-note", Static).update(f"What structure would mean: {self.data.note(axis)}")
+
+    def action_axis(self, axis: str) -> None:
+        """Show the residuals against an axis."""
+        if axis in AXES:
+            self.axis = axis
+
+    def action_back(self) -> None:
+        """Return to the explorer."""
+        self.dismiss()
