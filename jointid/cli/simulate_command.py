@@ -18,6 +18,7 @@ from ..motions import ALL_MOTIONS, DURATION
 from ..noise import torque_noise
 from ..settings import DEFAULT_SETTINGS, SettingsError, check_setting
 from .arguments import UserError, setting_type
+from .log_fit import whole_number
 
 NAME = "simulate"
 
@@ -44,17 +45,6 @@ def positive_number(text: str) -> float:
     return value
 
 
-def encoder_counts(text: str) -> int:
-    """An argparse type for counts per revolution, a whole number of at least 2."""
-    try:
-        value = int(text.strip())
-    except ValueError:
-        value = 0
-    if value < 2:
-        raise argparse.ArgumentTypeError(f"must be a whole number of counts per revolution, at least 2; got {text!r}")
-    return value
-
-
 def add_parser(subparsers) -> None:
     """Attach the `simulate` subcommand."""
     parser = subparsers.add_parser(
@@ -78,7 +68,7 @@ def add_parser(subparsers) -> None:
                         help="sample rate (Hz); samples = duration*rate + 1")
     parser.add_argument("--duration", type=positive_number, default=None, metavar="S",
                         help=f"time span from the first to the last sample (s); default {DURATION:g}")
-    parser.add_argument("--encoder-counts", type=encoder_counts, default=None, metavar="C",
+    parser.add_argument("--encoder-counts", type=whole_number(2), default=None, metavar="C",
                         help="write only t, q and tau, with q quantised to 2*pi/C rad like an encoder")
     parser.add_argument("--out", required=True, metavar="FILE", help="the CSV file to write")
     parser.add_argument("--force", action="store_true", help="replace FILE if it exists")
