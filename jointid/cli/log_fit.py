@@ -43,7 +43,11 @@ def whole_number(low: int):
 
 def add_log_arguments(parser: argparse.ArgumentParser) -> None:
     """Add --csv, --heldout, --degrees, --window and --order, and make setting flags detectable."""
-    group = parser.add_argument_group("joint logs (CSV: t, q, qd, qdd, tau by header name)")
+    group = parser.add_argument_group(
+        "joint logs (CSV: t, q, qd, qdd, tau by header name)",
+        "Fit a logged joint instead of a synthetic experiment; --motion, --noise, --samples and --seed "
+        "describe synthetic data and are refused with --csv.",
+    )
     group.add_argument("--csv", metavar="TRAIN.csv", help="fit this log instead of a synthetic experiment")
     group.add_argument("--heldout", metavar="TEST.csv",
                        help="predict this log's measured torques with the fit (needs --csv)")
