@@ -97,11 +97,12 @@ def note_lines(precision: Precision | None, key: str, width: int) -> list[Conten
 
 
 def closing_content(precision: Precision | None, label_width: int) -> list[Content]:
-    """The closing lines: labelled values as the readouts have them, notes indented and muted."""
+    """The closing lines: labelled values as the readouts have them, notes indented and dim."""
     if precision is None:
         return []
     return [
         Content(label.ljust(label_width) + text) if label
-        else Content.from_markup("[$text-muted]$t[/]", t=INDENT + text)
+        # dim, not $text-muted: that variable has alpha, which showed as plain text here.
+        else Content.from_markup("[dim]$t[/]", t=INDENT + text)
         for label, text in precision.closing
     ]
