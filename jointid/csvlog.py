@@ -10,6 +10,11 @@ as the header. Cells are not quoted.
 Rows in messages are 1-based line numbers in the file, so an editor's "go to
 line" finds them; columns are 1-based positions with their header name.
 
+Checks: every recognised cell a finite number; t, when present, strictly
+increasing. Uniform sampling (every step within 1 % of the median) is required
+only when qd or qdd must be estimated, since only the differentiator uses t:
+a log with both derivatives and jittery timestamps still fits.
+
 Speed: the file is read in chunks of CHUNK_BYTES and each chunk is parsed by
 numpy.loadtxt's C reader, so memory stays near the size of the numbers rather
 than of the text, and a caller can follow progress and cancel between chunks.
