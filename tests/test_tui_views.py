@@ -118,6 +118,16 @@ def test_view_keys_are_bindings_with_descriptions_in_the_palette():
     assert descriptions["s"] and descriptions["m"] and descriptions["e"]
 
 
+@pytest.mark.parametrize("key, titles", [("s", {"Cancel / back", "Cancel", "Run again"}),
+                                         ("m", {"Back"}), ("e", {"Back", "t", "q", "qd", "qdd"})])
+def test_view_keys_are_in_the_palette_too(key, titles):
+    async def scenario(pilot, app):
+        view = await open_view(pilot, key)
+        return {command.title for command in app.get_system_commands(view)}
+
+    assert titles <= run(scenario)
+
+
 def test_help_lists_the_view_keys():
     from tui.help import help_markdown
 

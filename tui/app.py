@@ -259,10 +259,11 @@ class JointIdApp(App):
         return MainScreen(self.initial_settings)
 
     def get_system_commands(self, screen: Screen) -> Iterable[SystemCommand]:
-        """Textual's commands plus every main-screen key binding, so nothing needs a key."""
+        """Textual's commands plus every key binding with a tooltip, so nothing needs a key."""
         yield from super().get_system_commands(screen)
-        if isinstance(screen, MainScreen):
-            for binding in screen.BINDINGS:
+        # Bindings with a tooltip: the main screen's and the analysis views' (help has none).
+        for binding in screen.BINDINGS:
+            if isinstance(binding, Binding) and binding.tooltip:
                 help_text = f"{binding.tooltip} (key {binding.key_display or binding.key})"
                 yield SystemCommand(
                     binding.description, help_text,

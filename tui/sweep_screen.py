@@ -129,8 +129,10 @@ class SweepScreen(Screen):
         # Priority: the seed-count field has focus and would otherwise take Escape.
         Binding("escape", "back", "Cancel / back", priority=True,
                 tooltip="Cancel a running sweep, otherwise return to the explorer"),
-        Binding("c", "cancel", "Cancel", tooltip="Stop a running sweep"),
-        Binding("g", "run", "Run again", tooltip="Run the sweep again with the current seed count"),
+        # Priority too, or the focused seed-count field would type the letters.
+        Binding("c", "cancel", "Cancel", priority=True, tooltip="Stop a running sweep"),
+        Binding("g", "run", "Run again", priority=True,
+                tooltip="Run the sweep again with the current seed count"),
     ]
 
     def __init__(self, settings: Settings, seed_count: int = DEFAULT_SEED_COUNT) -> None:
