@@ -27,7 +27,7 @@ from jointid.fit import fit_joint  # noqa: E402
 from jointid.model import G, TRUE_PARAMETERS, predict_torque  # noqa: E402
 from jointid.motions import TRAINING_MOTIONS  # noqa: E402
 
-REPEATS = 5
+REPEATS = 7
 """Timed runs of each pipeline; the best is reported."""
 
 GOAL_SECONDS = 2.0
