@@ -52,7 +52,9 @@ def add_parser(subparsers) -> None:
         help="write a synthetic joint log (CSV) to try fit --csv on",
         description="Sample a motion, compute the true torque (I = 0.8, h = 0.4, B = 0.15) plus the lesson's "
         "seeded uniform noise, and write t, q, qd, qdd, tau as CSV (or, with --encoder-counts, only t, "
-        "a quantised q and tau). The file is written atomically and never over an existing one without --force.",
+        "a quantised q and tau). Times are duration*i/(samples-1): any two of --samples, --rate and --duration "
+        "fix the third, and three that disagree are refused. The file is written atomically and never over an "
+        "existing one without --force.",
     )
     parser.add_argument("--motion", type=motion_name, default=DEFAULT_SETTINGS.motion,
                         metavar="{" + ",".join(ALL_MOTIONS) + "}",
