@@ -38,7 +38,13 @@ SIGN_REQUIREMENTS = {"I": "I > 0", "h": "h ≥ 0", "B": "B ≥ 0"}
 def regressor(q, qd, qdd) -> np.ndarray:
     """Stack regressor rows [qdd, g*cos(q), qd], shape (N, 3), for states of shape (N,)."""
     q, qd, qdd = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (q, qd, qdd)))
-    return np.column_stack([qdd.ravel(), G * np.cos(q.ravel()), qd.ravel()])
+    # Column-major: each column is written contiguously, and the solver's
+    # column-major working copy is then a straight scaled copy.
+    rows = np.empty((q.size, 3), order="F")
+    rows[:, 0] = qdd.ravel()
+    np.multiply(G, np.cos(q.ravel()), out=rows[:, 1])
+    rows[:, 2] = qd.ravel()
+    return rows
 
 
 def sign_failures(theta) -> tuple[str, ...]:
