@@ -1,6 +1,9 @@
 """Reading CSV joint logs: columns, comments, units, chunking, progress, cancelling and every bad-file message."""
 
+import json
 import math
+import subprocess
+import sys
 import tracemalloc
 
 import numpy as np
@@ -8,6 +11,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+from jointid import csvlog
 from jointid.csvlog import LoadCancelled, LogError, load_log, read_table
 from jointid.derivatives import differentiate
 
@@ -261,3 +265,110 @@ def test_missing_empty_and_directory_paths(tmp_path):
     ):
         with pytest.raises(LogError, match=problem):
             load_log(path)
+
+
+# pandas' C reader parses clean chunks; numpy.loadtxt and the line-by-line diagnosis handle the rest.
+
+TRICKY_NUMBERS = [
+    "0.1", "0.2", "0.30000000000000004", "-0.0", "-0", "0", "+0.0", "1", "-1", "+1", ".5", "-.5", "5.", "1e5",
+    "1E5", "1e+05", "1e-05", "-1.5E-300", "2.2250738585072014e-308", "2.2250738585072011e-308", "4.9e-324",
+    "5e-324", "2.4703282292062327e-324", "2.4703282292062328e-324", "1e-400", "-1e-400", "1.7976931348623157e308",
+    "1.7976931348623158e308", "9007199254740993", "9223372036854775807", "18446744073709551617",
+    "123456789012345678901234567890", "0.00000000000001953", "00012.500", "3.14159265358979323846264338327950288",
+    "0.1000000000000000055511151231257827021181583404541015625", "1.00000000000000011102230246251565404236316680908203125",
+    "4.35679771e-01", "-6.0221408e+23", "1e22", "1e23", "8.98846567431158e307", "-1e-5000",
+]
+
+
+def tricky_corpus(seed=5, rows=3000):
+    """Cells as float() reads them: the fixed list above plus random doubles written many ways."""
+    rng = np.random.default_rng(seed)
+    bits = rng.integers(0, 2**63, size=rows * 5, dtype=np.int64).view(np.float64)
+    cells = list(TRICKY_NUMBERS)
+    for i, x in enumerate(bits):
+        if not np.isfinite(x):
+            x = rng.normal()
+        cells.append(("%.17g", "%.15g", "%r", "%.25e", "%.3f", "%d")[i % 6] % (float(x) if i % 6 != 5 else int(rng.integers(-(10**15), 10**15))))
+    cells = cells[: len(cells) // 4 * 4]
+    return np.array(cells, dtype=object).reshape(-1, 4)
+
+
+def test_values_are_bit_identical_to_float_of_the_text_with_or_without_pandas(tmp_path, monkeypatch):
+    cells = tricky_corpus()
+    lines = ["q,qd,note,qdd,tau"] + [f"{a},{b},x{i},{c},{d}" for i, (a, b, c, d) in enumerate(cells)]
+    path = write(tmp_path, "\n".join(lines) + "\n")
+    expected = np.vectorize(float, otypes=[float])(cells)
+    fast = read_table(path)
+    monkeypatch.setattr(csvlog, "_pandas_read_csv", lambda: None)
+    slow = read_table(path)
+    for j, name in enumerate(("q", "qd", "qdd", "tau")):
+        assert fast.columns[name].view(np.uint64).tolist() == expected[:, j].view(np.uint64).tolist()
+        assert slow.columns[name].view(np.uint64).tolist() == expected[:, j].view(np.uint64).tolist()
+
+
+def test_clean_chunks_take_pandas_and_the_rest_take_loadtxt(tmp_path, monkeypatch):
+    taken = []
+    original = csvlog._ChunkReader._fast
+    monkeypatch.setattr(csvlog._ChunkReader, "_fast", lambda self, data: taken.append(original(self, data)) or taken[-1])
+    read_table(write(tmp_path, FULL))
+    assert taken and taken[-1] is not None
+    taken.clear()
+    read_table(write(tmp_path, "t,q,qd,qdd,tau,mode\n0,1,2,3,4,run\n1,1,2,3,4,run\n", "text.csv"))
+    assert taken == [None]  # an 'u' could be part of 'true', which only pandas reads as a number
+
+
+# Cells pandas' reader takes as numbers but numpy.loadtxt does not (found by fuzzing the two).
+PANDAS_ONLY = ["true", "FALSE", "TrUe", "3e 2", "+8e\t1", "8E\x0b0", "1\x0c"]
+
+
+@pytest.mark.parametrize("cell", PANDAS_ONLY)
+def test_cells_only_pandas_would_read_are_still_not_numbers(tmp_path, cell):
+    path = tmp_path / "bad.csv"
+    path.write_bytes(f"t,q,qd,qdd,tau\n0,0,0,0,1\n1,0,{cell},0,1\n".encode())
+    try:
+        loadtxt_reads_it = np.loadtxt(path, delimiter=",", skiprows=1).shape == (2, 5)
+    except ValueError:
+        loadtxt_reads_it = False
+    if loadtxt_reads_it:  # e.g. trailing whitespace: both agree, and so must we
+        assert float(read_table(path).columns["qd"][1]) == float(cell)
+        return
+    with pytest.raises(LogError) as caught:
+        read_table(path)
+    assert (caught.value.row, caught.value.column) == (3, "3 (qd)")
+    assert "is not a number" in caught.value.problem
+
+
+@settings(max_examples=200, deadline=None)
+@given(
+    cells=st.lists(
+        st.text(alphabet="0123456789.eE+-_ \t\r\x0bxinfatyrulsINFATYRULS\"'#", min_size=0, max_size=8),
+        min_size=1,
+        max_size=6,
+    )
+)
+def test_with_or_without_pandas_the_same_values_or_the_same_error(tmp_path_factory, cells):
+    folder = tmp_path_factory.mktemp("p")
+    rows = ["t,q,qd,qdd,tau", "0,0,0,0,1"] + [f"{i + 1},0,{cell},0,1" for i, cell in enumerate(cells)]
+    path = folder / "log.csv"
+    path.write_bytes("\n".join(rows).encode() + b"\n")
+
+    def outcome():
+        try:
+            table = read_table(path)
+        except LogError as error:
+            return str(error)
+        return [table.columns[n].view(np.uint64).tolist() for n in ("t", "q", "qd", "qdd", "tau")]
+
+    fast = outcome()
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(csvlog, "_pandas_read_csv", lambda: None)
+        assert outcome() == fast
+
+
+def test_import_jointid_loads_no_pandas():
+    code = (
+        "import json, sys; import jointid, jointid.csvlog, jointid.experiment, jointid.report, jointid.cli; "
+        "print(json.dumps(sorted(m for m in sys.modules if m.split('.')[0] in {'pandas', 'pyarrow'})))"
+    )
+    output = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert json.loads(output.stdout) == []
