@@ -3,10 +3,12 @@
 from __future__ import annotations
 
 from functools import lru_cache
+from pathlib import Path
 from typing import Iterable
 
 from textual.app import App, ComposeResult, SystemCommand
 from textual.binding import Binding
+from textual.content import Content
 from textual.containers import Horizontal, Vertical
 from textual.reactive import reactive, var
 from textual.screen import Screen
@@ -21,6 +23,7 @@ from jointid.settings import DEFAULT_SETTINGS, SEED_LIMITS, Settings
 
 from .charts import TorqueChart, heldout_chart, training_chart
 from .commands import TourCommands
+from .fitting import FittingLine
 from .precision import precision
 from .readouts import ReadoutPanel
 from .stepper import StepRange, Stepper
@@ -142,7 +145,7 @@ class MainScreen(Screen):
             with Vertical(id="charts"):
                 yield TorqueChart(id="training-chart")
                 yield TorqueChart(id="heldout-chart")
-        yield Static("", id="status", markup=False)
+        yield FittingLine(id="status")
         yield Static("", id="too-small", markup=False)
         yield Footer()
 
@@ -176,7 +179,7 @@ class MainScreen(Screen):
         self.query_one("#training-chart", TorqueChart).show(training_chart(result))
         self.query_one("#heldout-chart", TorqueChart).show(heldout_chart(result))
         self.query_one(ReadoutPanel).show(readouts(result), precision(result))
-        self.query_one("#status", Static).update(result.message)
+        self.query_one("#status", FittingLine).show((Content(result.message),))
 
     def apply_settings(self, settings: Settings) -> None:
         """Set all four controls at once (reset, tour stops, start-up)."""
@@ -240,7 +243,7 @@ class MainScreen(Screen):
 class JointIdApp(App):
     """The jointid terminal explorer."""
 
-    CSS_PATH = "app.tcss"
+    CSS_PATH = Path(__file__).with_name("app.tcss")  # absolute, so subclasses elsewhere find it
     TITLE = "jointid"
     SUB_TITLE = "Does the motion reveal the parameters?"
     COMMANDS = App.COMMANDS | {TourCommands}

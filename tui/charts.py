@@ -9,16 +9,17 @@ from textual.app import ComposeResult
 from textual.color import Color
 from textual.containers import Vertical
 from textual.content import Content
-from textual_plotext import PlotextPlot
 
 from jointid.fit import FitResult, format_number
 
 from .fitting import FittingLine
+from .plot import TorquePlot
 
 DOT_MARKER = "●"
 """Marker of measured/true torques; differs in shape from the line so it reads without colour."""
 LINE_MARKER = "braille"
-"""Marker of the fitted prediction line (fine braille dots)."""
+"""Marker of the fitted prediction line: fine braille dots. Half blocks ("hd") build in
+about 2 ms a chart instead of 4 ms but draw a line as thick as the data; readability wins."""
 LEGEND_LINE = "⠒⠒"
 """How the fitted line looks in the legend."""
 
@@ -113,7 +114,7 @@ class TorqueChart(Vertical):
         height: 1fr;
         min-height: 6;
     }
-    TorqueChart > PlotextPlot {
+    TorqueChart > TorquePlot {
         height: 1fr;
     }
     TorqueChart > .chart--summary {
@@ -134,7 +135,7 @@ class TorqueChart(Vertical):
     def compose(self) -> ComposeResult:
         """The heading with the legend, the plot, and the summary line."""
         yield FittingLine(classes="chart--heading")
-        yield PlotextPlot()
+        yield TorquePlot()
         yield FittingLine(classes="chart--summary")
 
     def on_mount(self) -> None:
@@ -163,7 +164,7 @@ class TorqueChart(Vertical):
         data = self.data
         if data is None or not self.is_mounted:
             return
-        plot = self.query_one(PlotextPlot)
+        plot = self.query_one(TorquePlot)
         plt = plot.plt
         plt.clear_data()
         plt.clear_figure()
@@ -184,4 +185,4 @@ class TorqueChart(Vertical):
             plt.plot(data.t, data.line, marker=LINE_MARKER, color=self._theme_rgb("accent"))
         plt.scatter(data.t, data.dots, marker=DOT_MARKER, color=self._theme_rgb("primary"))
         self.draws += 1
-        plot.refresh()
+        plot.changed()

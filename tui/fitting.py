@@ -1,4 +1,4 @@
-"""A one-line text that picks the longest of its variants that fits the width."""
+"""Text that picks the longest of its variants that fits the width, and wraps the last resort."""
 
 from __future__ import annotations
 
@@ -19,20 +19,30 @@ class FittingLine(Widget):
     }
     """
 
-    def __init__(self, *, classes: str | None = None) -> None:
+    def __init__(self, *, id: str | None = None, classes: str | None = None) -> None:
         """Create an empty line.
 
         Args:
+            id: Widget id.
             classes: CSS classes.
         """
-        super().__init__(classes=classes)
+        super().__init__(id=id, classes=classes)
         self.variants: tuple[Content, ...] = (Content(""),)
 
     def show(self, variants: tuple[Content, ...]) -> None:
         """Display new variants, longest first."""
-        if variants != self.variants:
-            self.variants = variants
-            self.refresh(layout=True)
+        if variants == self.variants:
+            return
+        width = self.content_region.width
+        old_height = self.line_count(width)
+        self.variants = variants
+        # A relayout of the whole screen costs more than the rest of a key press; only ask
+        # for one when this text's height really changed.
+        self.refresh(layout=not width or self.line_count(width) != old_height)
+
+    def line_count(self, width: int) -> int:
+        """Lines the shown variant takes at a given width."""
+        return len(self.pick(width).wrap(width)) if width > 0 else 1
 
     def pick(self, width: int) -> Content:
         """The variant shown at a given width."""

@@ -46,16 +46,29 @@ class ReadoutPanel(Widget):
         """
         super().__init__(id=id)
         self.items: tuple[Readout, ...] = ()
+        self._lines: list[Content] = []
+        self._lines_key: tuple | None = None
         self.precision: Precision | None = None
 
     def show(self, items: tuple[Readout, ...], precision: Precision | None = None) -> None:
         """Display new readouts and precision notes (value objects, so equal ones skip the refresh)."""
-        if (items, precision) != (self.items, self.precision):
-            self.items, self.precision = items, precision
-            self.refresh(layout=True)
+        if (items, precision) == (self.items, self.precision):
+            return
+        width = self.content_region.width
+        old_height = len(self.lines(width))
+        self.items, self.precision = items, precision
+        # A relayout of the whole screen costs more than the rest of a key press; only ask
+        # for one when a note line appeared or went.
+        self.refresh(layout=not width or len(self.lines(width)) != old_height)
 
     def lines(self, width: int) -> list[Content]:
-        """The panel's lines for a given width."""
+        """The panel's lines for a given width (layout and render both ask; build once)."""
+        if self._lines_key != (self.items, self.precision, width):
+            self._lines = self._build_lines(width)
+            self._lines_key = (self.items, self.precision, width)
+        return self._lines
+
+    def _build_lines(self, width: int) -> list[Content]:
         lines = []
         for item in self.items:
             line = Content(item.label.ljust(LABEL_WIDTH))

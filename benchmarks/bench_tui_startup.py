@@ -1,0 +1,73 @@
+"""Start-up to first complete frame: the explorer against a minimal one-PlotextPlot Textual app.
+
+Run: .venv/bin/python benchmarks/bench_tui_startup.py
+
+Each app starts as a fresh Python process, headless at 120x40, draws its first
+complete frame (for the explorer: the fit, readouts and both charts) and exits
+straight after that frame. The wall time from launching the process to its
+exit is measured, alternating the two apps, several rounds; the medians and
+their ratio are printed. Goal: ratio <= 1.3.
+"""
+
+from __future__ import annotations
+
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+ROUNDS = 9
+
+EXPLORER = """
+from tui.app import JointIdApp
+
+class FirstFrame(JointIdApp):
+    def on_ready(self):
+        self.call_after_refresh(self.exit)
+
+FirstFrame().run(headless=True, size=(120, 40))
+"""
+
+MINIMAL = """
+from textual.app import App
+from textual_plotext import PlotextPlot
+
+class Minimal(App):
+    def compose(self):
+        yield PlotextPlot()
+
+    def on_mount(self):
+        plt = self.query_one(PlotextPlot).plt
+        plt.scatter([0, 1, 2, 3], [1, 3, 2, 4])
+        plt.title("minimal")
+
+    def on_ready(self):
+        self.call_after_refresh(self.exit)
+
+Minimal().run(headless=True, size=(120, 40))
+"""
+
+
+def launch(code: str) -> float:
+    """Seconds from starting a fresh interpreter on `code` to its exit."""
+    start = time.perf_counter()
+    subprocess.run([sys.executable, "-c", code], cwd=ROOT, check=True)
+    return time.perf_counter() - start
+
+
+def main() -> None:
+    launch(MINIMAL), launch(EXPLORER)  # warm the OS file cache for both
+    explorer, minimal = [], []
+    for _ in range(ROUNDS):
+        minimal.append(launch(MINIMAL))
+        explorer.append(launch(EXPLORER))
+    m_explorer, m_minimal = statistics.median(explorer), statistics.median(minimal)
+    print(f"minimal PlotextPlot app: median {m_minimal * 1000:.0f} ms over {ROUNDS} runs")
+    print(f"jointid explorer:        median {m_explorer * 1000:.0f} ms over {ROUNDS} runs")
+    print(f"ratio {m_explorer / m_minimal:.2f} (goal <= 1.30)")
+
+
+if __name__ == "__main__":
+    main()

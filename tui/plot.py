@@ -1,0 +1,76 @@
+"""A PlotextPlot that renders plotext's character matrix straight to strips, once per change."""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+from plotext import _utility as plotext_utility
+from rich.segment import Segment
+from rich.style import Style
+from rich.text import Text
+from textual.strip import Strip
+from textual_plotext import PlotextPlot
+
+
+@lru_cache(maxsize=512)
+def cell_style(foreground, style, background) -> Style:
+    """The Rich style of one plotext cell, decoded from exactly the ANSI code plotext would print."""
+    ansi = plotext_utility.colors_to_ansi(foreground, style, background)
+    text = Text.from_ansi(f"{ansi}x{plotext_utility.ansi_end}")
+    return Style.combine(span.style for span in text.spans) if text.spans else Style()
+
+
+class TorquePlot(PlotextPlot):
+    """PlotextPlot with a cached line renderer.
+
+    The stock widget prints the figure to an ANSI string and parses it back on
+    every render, about 8 ms per chart at 120x40; a key press redraws two
+    charts, so that alone would miss a 60 Hz frame. Here the figure's matrix
+    of characters and colours becomes strips directly, and only when the data,
+    the size or the theme changed.
+    """
+
+    def __init__(self) -> None:
+        """Create an empty plot."""
+        super().__init__()
+        self._version = 0
+        self._strips: list[Strip] = []
+        self._strips_key: tuple | None = None
+
+    def changed(self) -> None:
+        """Mark the figure as changed (new data or colours) and schedule a repaint."""
+        self._version += 1
+        self.refresh()
+
+    def _build_strips(self) -> list[Strip]:
+        width, height = self.size
+        key = (width, height, self._version, self.app.theme)
+        if key == self._strips_key:
+            return self._strips
+        plot = self._plot
+        plot.plotsize(width, height)
+        plot._set_size(width, height)  # as PlotextPlot.render does; see its comment
+        plot.theme(self._get_plotext_theme_name(self.app.theme))
+        plot._set_sizes()
+        plot._build_matrix()
+        matrix = plot.monitor.matrix
+        strips = []
+        for row in reversed(matrix.Rows):  # plotext's row 0 is the bottom line
+            markers, colours = matrix.marker[row], list(zip(matrix.fullground[row], matrix.style[row],
+                                                            matrix.background[row]))
+            segments, start = [], 0
+            for col in range(1, len(markers) + 1):
+                if col == len(markers) or colours[col] != colours[start]:
+                    segments.append(Segment("".join(markers[start:col]), cell_style(*colours[start])))
+                    start = col
+            strips.append(Strip(segments, width))
+        self._strips, self._strips_key = strips, key
+        return strips
+
+    def render_line(self, y: int) -> Strip:
+        """One line of the figure (Textual's line API), built once per change."""
+        width, height = self.size
+        if width <= 0 or height <= 0:
+            return Strip.blank(max(width, 0))
+        strips = self._build_strips()
+        return strips[y] if 0 <= y < len(strips) else Strip.blank(width)
