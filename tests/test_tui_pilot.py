@@ -339,3 +339,27 @@ def test_no_input_ends_up_with_a_stale_value_after_push_down():
         assert_shows(screen, TOUR[2])
 
     run(scenario)
+
+
+@pytest.mark.parametrize(
+    "argv, phrase",
+    [(["--noise", "2"], "--noise is from 0.00 to 1.00 N m"), (["--samples", "500"], "--samples is from 2 to 240")],
+)
+def test_command_line_refuses_values_outside_the_explorer_ranges(argv, phrase, capsys):
+    """Values `jointid fit` accepts but the controls cannot show: one line, exit 2, no app."""
+    from jointid.cli import main
+
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert phrase in err and "jointid fit" in err and err.count("\n") == 1
+
+
+def test_command_line_opens_the_explorer_at_the_given_settings(monkeypatch):
+    """`jointid --motion slow --noise 0.2` builds the app with exactly those settings."""
+    from jointid.cli import main
+    import tui.app
+
+    opened = []
+    monkeypatch.setattr(tui.app.JointIdApp, "run", lambda self: opened.append(self.initial_settings))
+    assert main(["--motion", "slow", "--noise", "0.2", "--samples", "30", "--seed", "3"]) == 0
+    assert opened == [Settings(motion="slow", noise=0.2, samples=30, seed=3)]
