@@ -57,6 +57,11 @@ class ChartData:
             pairs.append((self.line, other.line))
         return all(np.array_equal(a, b) for a, b in pairs)
 
+    def key(self) -> tuple:
+        """A hashable value that is equal exactly when two charts draw the same figure."""
+        line = None if self.line is None else self.line.tobytes()
+        return (self.titles, self.t.tobytes(), self.dots.tobytes(), line)
+
     def headings(self) -> tuple[Content, ...]:
         """Title and legend on one line, longest first (the legend never hides data here)."""
         markup = "[b]$title[/b]  [$primary]$dot[/] $dots"
@@ -138,10 +143,6 @@ class TorqueChart(Vertical):
         yield TorquePlot()
         yield FittingLine(classes="chart--summary")
 
-    def on_mount(self) -> None:
-        """Redraw with the new colours whenever the theme changes."""
-        self.app.theme_changed_signal.subscribe(self, lambda _theme: self._draw())
-
     @property
     def summary(self) -> str:
         """The summary text as displayed at the current width."""
@@ -154,18 +155,16 @@ class TorqueChart(Vertical):
         self.data = data
         self.query_one(".chart--heading", FittingLine).show(data.headings())
         self.query_one(".chart--summary", FittingLine).show(tuple(map(Content, data.summaries)))
-        self._draw()
+        self.draws += 1
+        self.query_one(TorquePlot).show_figure(data.key(), self._draw)
 
     def _theme_rgb(self, variable: str) -> tuple[int, int, int]:
         # plotext needs concrete colours; take them from the theme so they follow it.
         return Color.parse(self.app.theme_variables[variable]).rgb
 
-    def _draw(self) -> None:
+    def _draw(self, plt) -> None:
+        """Set up the plotext figure for the current data (the plot calls this when it builds)."""
         data = self.data
-        if data is None or not self.is_mounted:
-            return
-        plot = self.query_one(TorquePlot)
-        plt = plot.plt
         plt.clear_data()
         plt.clear_figure()
         plt.xlabel("Time (s)")
@@ -184,5 +183,3 @@ class TorqueChart(Vertical):
         if data.line is not None:
             plt.plot(data.t, data.line, marker=LINE_MARKER, color=self._theme_rgb("accent"))
         plt.scatter(data.t, data.dots, marker=DOT_MARKER, color=self._theme_rgb("primary"))
-        self.draws += 1
-        plot.changed()

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+from collections import OrderedDict
 from functools import lru_cache
+from typing import Callable, Hashable
 
 from plotext import _utility as plotext_utility
 from rich.segment import Segment
@@ -27,27 +29,52 @@ class TorquePlot(PlotextPlot):
     every render, about 8 ms per chart at 120x40; a key press redraws two
     charts, so that alone would miss a 60 Hz frame. Here the figure's matrix
     of characters and colours becomes strips directly, and only when the data,
-    the size or the theme changed.
+    the size or the theme changed; recent figures are kept, so stepping back or
+    returning to a tour stop costs nothing.
     """
+
+    CACHE_SIZE = 64
+    """Figures kept per plot: stepping back and forth or touring revisits recent ones."""
 
     def __init__(self) -> None:
         """Create an empty plot."""
         super().__init__()
-        self._version = 0
+        self._figure_key: Hashable = None
+        self._draw_figure: Callable | None = None
         self._strips: list[Strip] = []
         self._strips_key: tuple | None = None
+        self._cache: OrderedDict[tuple, list[Strip]] = OrderedDict()
 
-    def changed(self) -> None:
-        """Mark the figure as changed (new data or colours) and schedule a repaint."""
-        self._version += 1
+    def show_figure(self, key: Hashable, draw: Callable) -> None:
+        """Show the figure that `draw(plt)` sets up; `key` is equal for equal figures.
+
+        The figure is built lazily at the next paint, and reused from the cache
+        when the same key, size and theme were drawn before.
+        """
+        self._figure_key, self._draw_figure = key, draw
         self.refresh()
 
     def _build_strips(self) -> list[Strip]:
         width, height = self.size
-        key = (width, height, self._version, self.app.theme)
+        # The theme is in the key: the figure's colours come from its variables.
+        key = (width, height, self.app.theme, self._figure_key)
         if key == self._strips_key:
             return self._strips
+        strips = self._cache.get(key)
+        if strips is None:
+            strips = self._render_figure(width, height)
+            self._cache[key] = strips
+            if len(self._cache) > self.CACHE_SIZE:
+                self._cache.popitem(last=False)
+        else:
+            self._cache.move_to_end(key)
+        self._strips, self._strips_key = strips, key
+        return strips
+
+    def _render_figure(self, width: int, height: int) -> list[Strip]:
         plot = self._plot
+        if self._draw_figure is not None:
+            self._draw_figure(plot)
         plot.plotsize(width, height)
         plot._set_size(width, height)  # as PlotextPlot.render does; see its comment
         plot.theme(self._get_plotext_theme_name(self.app.theme))
@@ -56,15 +83,14 @@ class TorquePlot(PlotextPlot):
         matrix = plot.monitor.matrix
         strips = []
         for row in reversed(matrix.Rows):  # plotext's row 0 is the bottom line
-            markers, colours = matrix.marker[row], list(zip(matrix.fullground[row], matrix.style[row],
-                                                            matrix.background[row]))
+            markers = matrix.marker[row]
+            colours = list(zip(matrix.fullground[row], matrix.style[row], matrix.background[row]))
             segments, start = [], 0
             for col in range(1, len(markers) + 1):
                 if col == len(markers) or colours[col] != colours[start]:
                     segments.append(Segment("".join(markers[start:col]), cell_style(*colours[start])))
                     start = col
             strips.append(Strip(segments, width))
-        self._strips, self._strips_key = strips, key
         return strips
 
     def render_line(self, y: int) -> Strip:
