@@ -74,7 +74,9 @@ class Stepper(Input):
     """A numeric setting that steps with Left/Right (Shift: big step) and accepts typed values.
 
     Typed text is committed with Enter or when focus leaves; invalid text is
-    refused with a notification and the previous value is kept.
+    refused with a notification and the previous value is kept. A new value is
+    posted upward as `Committed`; the owner, holding the one copy of the state,
+    shows it by calling `show_value`.
     """
 
     DEFAULT_CSS = """
@@ -168,7 +170,11 @@ class Stepper(Input):
         self._commit(value)
 
     def _commit(self, value: float) -> None:
-        changed = value != self.number
-        self.show_value(value)
-        if changed:
-            self.post_message(self.Committed(self, value))
+        if value == self.number:
+            self.show_value(value)  # tidy the text, e.g. typed "0.5" back to "0.50"
+            return
+        # Remember the value at once so fast repeats step from it, but leave the text to the
+        # screen's push-down: repainting here first would spend a frame on this field alone
+        # and make the fully updated screen wait for the next one.
+        self.number = value
+        self.post_message(self.Committed(self, value))

@@ -171,6 +171,7 @@ class SweepScreen(Screen):
         """A new seed count: sweep again (an exclusive worker drops the one still running)."""
         message.stop()
         self.seed_count = int(message.value)
+        message.stepper.show_value(self.seed_count)  # the stepper shows what its owner holds
         self.action_run()
 
     def action_run(self) -> None:
