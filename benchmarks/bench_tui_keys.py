@@ -52,6 +52,8 @@ ROUND = [
 """(widget to focus, keys pressed there), repeated until 200 presses."""
 
 stamps = {"watched": 0.0, "watches": 0, "chart_builds": 0}
+slowest: list[tuple[float, str]] = []
+"""(latency ms, control and key) of every timed press, to name the slow ones."""
 frames: list[float] = []
 """End times of every screen refresh since the current key was posted."""
 
@@ -131,6 +133,7 @@ async def measure() -> tuple[list[float], int, int, int]:
                     changed += 1
                     done = min(t for t in frames if t >= stamps["watched"])
                     latencies.append((done - start) * 1000)
+                    slowest.append(((done - start) * 1000, f"{selector} {key}"))
     return latencies, changed, stamps["chart_builds"], unchanged
 
 
@@ -141,6 +144,8 @@ def main() -> None:
           f"{unchanged} hit a range end")
     print(f"key -> updated screen: median {statistics.median(latencies):.1f} ms, "
           f"p95 {percentile(latencies, 0.95):.1f} ms, max {max(latencies):.1f} ms")
+    worst = ", ".join(f"{where} {ms:.0f} ms" for ms, where in sorted(slowest, reverse=True)[:5])
+    print(f"slowest: {worst}")
     print("goal: median <= 16.7 ms, p95 <= 33 ms")
 
 
