@@ -372,16 +372,7 @@ class _ChunkReader:
 
     def _widths_ok(self, data: bytes) -> bool:
         """True when every line has as many cells as the header (loadtxt checks this itself without usecols)."""
-        if self.usecols is None:
-            return True
-        buffer = np.frombuffer(data, dtype=np.uint8)
-        ends = np.flatnonzero(buffer == ord("\n"))
-        if not data.endswith(b"\n"):
-            ends = np.append(ends, len(buffer))
-        commas = np.searchsorted(np.flatnonzero(buffer == ord(",")), ends)
-        per_line = np.diff(commas, prepend=0)
-        blank = np.diff(ends, prepend=-1) <= 2  # empty lines, "\r\n" included, have no cells
-        return bool(np.all((per_line == self.width - 1) | blank))
+        return self.usecols is None or self._data_rows(data) is not None
 
     def _diagnose(self, texts: list[bytes], lines: list[int]) -> None:
         """Find the first bad row in a chunk that failed to parse, and raise LogError for it."""
