@@ -55,37 +55,27 @@ def finite_float(text: str) -> float:
 def add_settings_arguments(parser: argparse.ArgumentParser) -> None:
     """Add --motion, --noise, --samples and --seed with the lesson's defaults."""
     defaults = DEFAULT_SETTINGS
-    parser.add_argument(
-        "--motion",
-        type=setting_type("motion"),
-        default=defaults.motion,
-        metavar="{" + ",".join(TRAINING_MOTIONS) + "}",
-        help="training motion: rich (two sines), slow (one small slow sine) or holds "
-        f"(q = qd = qdd = 0); default {defaults.motion}",
-    )
-    parser.add_argument(
-        "--noise",
-        type=setting_type("noise"),
-        default=defaults.noise,
-        metavar="X",
-        help="bound of the uniform training-torque noise, 0 to 100 N m; "
-        f"default {defaults.noise:.2f}",
-    )
-    parser.add_argument(
-        "--samples",
-        type=setting_type("samples"),
-        default=defaults.samples,
-        metavar="N",
-        help="training samples over 0..8 s, 2 to 10000000; "
-        f"default {defaults.samples}",
-    )
-    parser.add_argument(
-        "--seed",
-        type=setting_type("seed"),
-        default=defaults.seed,
-        metavar="S",
-        help=f"noise seed, 0 to 4294967295; default {defaults.seed}",
-    )
+    flags = {
+        "motion": (
+            "{" + ",".join(TRAINING_MOTIONS) + "}",
+            "training motion: rich (two sines), slow (one small slow sine) or holds "
+            f"(q = qd = qdd = 0); default {defaults.motion}",
+        ),
+        "noise": (
+            "X",
+            f"bound of the uniform training-torque noise, 0 to 100 N m; default {defaults.noise:.2f}",
+        ),
+        "samples": ("N", f"training samples over 0..8 s, 2 to 10000000; default {defaults.samples}"),
+        "seed": ("S", f"noise seed, 0 to 4294967295; default {defaults.seed}"),
+    }
+    for field, (metavar, help_text) in flags.items():
+        parser.add_argument(
+            f"--{field}",
+            type=setting_type(field),
+            default=getattr(defaults, field),
+            metavar=metavar,
+            help=help_text,
+        )
 
 
 def settings_from(args: argparse.Namespace) -> Settings:
