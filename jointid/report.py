@@ -103,7 +103,10 @@ def uncertainty_to_dict(result: FitResult) -> dict:
     uncertainty = result.uncertainty
     return {
         "std_error": per_parameter(uncertainty and uncertainty.std_error),
-        "expected_std_error": per_parameter(uncertainty and uncertainty.expected_std_error),
+        # The issues' schema: null, not an object of nulls, when no noise bound is known (logs).
+        "expected_std_error": (
+            None if result.noise_bound is None else per_parameter(uncertainty and uncertainty.expected_std_error)
+        ),
         "relative_std_pct": per_parameter(uncertainty and uncertainty.relative_std_pct),
         "interval95": per_parameter(uncertainty and uncertainty.interval95),
         "verdicts": per_parameter(uncertainty and uncertainty.verdicts),
