@@ -5,7 +5,7 @@ from __future__ import annotations
 import asyncio
 from pathlib import Path
 
-from jointid.settings import Settings
+from jointid.settings import DEFAULT_SETTINGS, Settings
 from tui.app import JointIdApp, MainScreen
 from tui.commands import TOUR
 from tui.readouts import ReadoutPanel
@@ -28,9 +28,9 @@ READOUT_SIZE = (120, 40)
 """Terminal size at which pinned readouts are read off the app."""
 
 
-def make_app(settings: Settings | None = None) -> JointIdApp:
-    """An explorer with the fixed snapshot theme."""
-    app = JointIdApp() if settings is None else JointIdApp(settings)
+def make_app(settings: Settings | None = None, logs=None) -> JointIdApp:
+    """An explorer with the fixed snapshot theme (on a loaded log, tui.log_source.LoadedLogs, if given)."""
+    app = JointIdApp(DEFAULT_SETTINGS if settings is None else settings, logs)
     app.theme = THEME
     return app
 

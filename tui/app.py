@@ -25,6 +25,9 @@ from jointid.settings import DEFAULT_SETTINGS, SEED_LIMITS, Settings
 from .charts import TorqueChart, heldout_chart, training_chart
 from .commands import TourCommands
 from .fitting import FittingLine
+from .log_mode import LogMode
+from .log_source import LoadedLogs
+from .marks import MotionButton  # also used by the open dialog's role choice
 from .precision import precision
 from .readouts import ReadoutPanel
 from .stepper import StepRange, Stepper
@@ -71,17 +74,8 @@ def known_parameters_text() -> str:
     )
 
 
-class MotionButton(RadioButton):
-    """A radio button whose mark is empty when off, so the choice reads without colour (NO_COLOR)."""
-
-    @property
-    def BUTTON_INNER(self) -> str:  # noqa: N802 - overrides Textual's class constant
-        """The mark inside the button: a dot only when this motion is chosen."""
-        return "●" if self.value else " "
-
-
-class MainScreen(Screen):
-    """Controls, charts and readouts; the only place the four settings live."""
+class MainScreen(LogMode, Screen):
+    """Controls, charts and readouts; the only place the four settings (and a loaded log) live."""
 
     BINDINGS = [
         *(
@@ -101,6 +95,13 @@ class MainScreen(Screen):
         Binding("m", "matrix", "Matrix", priority=True,
                 tooltip="Cross-excitation: fit each motion, predict every motion"),
         Binding("e", "residuals", "Residuals", tooltip="Training residuals against t, q, qd, qdd"),
+        # Joint logs (tui/log_mode.py). c is active only while a log is shown (check_action).
+        Binding("ctrl+o", "open_log", "Open log", priority=True,
+                tooltip="Load a CSV joint log as training or held-out data"),
+        Binding("c", "close_log", "Close log",
+                tooltip="Leave the log and return to the synthetic experiment"),
+        Binding("ctrl+s", "export", "Export", priority=True,
+                tooltip="Save the fit as JSON and the screen as SVG into a folder"),
     ]
 
     HORIZONTAL_BREAKPOINTS = [(0, "-narrow"), (110, "-wide")]
@@ -112,15 +113,19 @@ class MainScreen(Screen):
     seed: reactive[int] = reactive(DEFAULT_SETTINGS.seed, init=False)
     settings: var[Settings] = var(DEFAULT_SETTINGS, init=False)
     """Derived from the four reactives; its watcher is the one place results are computed."""
+    logs: var[LoadedLogs | None] = var(None, init=False)
+    """A loaded log and its fit; while set, it is shown instead of the settings' experiment."""
 
-    def __init__(self, settings: Settings = DEFAULT_SETTINGS) -> None:
+    def __init__(self, settings: Settings = DEFAULT_SETTINGS, logs: LoadedLogs | None = None) -> None:
         """Create the screen.
 
         Args:
             settings: Settings to open at.
+            logs: A loaded log to show first (`jointid --csv`).
         """
         super().__init__()
         self._initial = settings
+        self._initial_logs = logs
         self.result: FitResult | None = None
 
     def compose(self) -> ComposeResult:
@@ -133,6 +138,7 @@ class MainScreen(Screen):
                 with RadioSet(id="motion"):
                     for name, motion in TRAINING_MOTIONS.items():
                         yield MotionButton(motion.label, id=f"motion-{name}")
+                    yield MotionButton("Log", id="motion-log")  # shown only while a log is
                 for steps in STEP_RANGES:
                     with Horizontal(classes="field"):
                         yield Label(FIELD_LABELS[steps.field], classes="field--label")
@@ -141,6 +147,7 @@ class MainScreen(Screen):
                 with Horizontal(id="reset-row"):
                     yield Button("Reset", id="reset", compact=True)
                     yield Static(STEPPER_HINT, id="stepper-hint", markup=False)
+                yield Static("", id="log-note", markup=False)
                 yield Static(known_parameters_text(), id="known", markup=False)
                 yield ReadoutPanel(id="readouts")
             with Vertical(id="charts"):
@@ -153,6 +160,8 @@ class MainScreen(Screen):
     def on_mount(self) -> None:
         """Show the initial settings (set here so the single watcher does the first update)."""
         self.apply_settings(self._initial)
+        if self._initial_logs is not None:
+            self.logs = self._initial_logs
 
     def on_resize(self) -> None:
         """Swap the layout for a plain message when the terminal is too small to read."""
@@ -172,6 +181,8 @@ class MainScreen(Screen):
 
     def watch_settings(self, settings: Settings) -> None:
         """Recompute the fit and push it down to every view (the one watcher)."""
+        if self.logs is not None:  # the log is shown; the settings wait until it is closed
+            return
         result = cached_experiment(settings)
         self.result = result
         self.query_one(f"#motion-{settings.motion}", RadioButton).value = True
@@ -183,7 +194,8 @@ class MainScreen(Screen):
         self.query_one("#status", FittingLine).show((Content(result.message),))
 
     def apply_settings(self, settings: Settings) -> None:
-        """Set all four controls at once (reset, tour stops, start-up)."""
+        """Set all four controls at once (reset, tour stops, start-up); leaves a log."""
+        self.close_log()
         self.motion, self.noise = settings.motion, settings.noise
         self.samples, self.seed = settings.samples, settings.seed
         # Assigning equal values does not fire the computed watcher; force the first push.
@@ -195,8 +207,11 @@ class MainScreen(Screen):
         setattr(self, message.stepper.field, message.value)
 
     def on_radio_set_changed(self, message: RadioSet.Changed) -> None:
-        """The motion radio set changed."""
-        self.motion = message.pressed.id.removeprefix("motion-")
+        """The motion radio set changed (pressing the log's own entry changes nothing)."""
+        # A pushed value's message can arrive after a newer push (opening on a log): only
+        # the button still pressed is a choice, else the stale one would close the log.
+        if message.pressed is message.radio_set.pressed_button and message.pressed.id != "motion-log":
+            self.action_motion(message.pressed.id.removeprefix("motion-"))
 
     def on_button_pressed(self, message: Button.Pressed) -> None:
         """The Reset button."""
@@ -204,7 +219,8 @@ class MainScreen(Screen):
             self.action_reset()
 
     def action_motion(self, name: str) -> None:
-        """Select a training motion."""
+        """Select a training motion (leaving a log)."""
+        self.close_log()
         self.motion = name
 
     def action_reset(self) -> None:
@@ -220,12 +236,16 @@ class MainScreen(Screen):
     # The views are imported when first opened, which keeps start-up fast.
     def action_sweep(self) -> None:
         """Open the seed-sweep view for the current settings."""
+        if self.needs_synthetic("The seed sweep"):
+            return
         from .sweep_screen import SweepScreen
 
         self.app.push_screen(SweepScreen(self.settings))
 
     def action_matrix(self) -> None:
         """Open the cross-excitation view for the current noise, samples and seed."""
+        if self.needs_synthetic("The cross-excitation matrix"):
+            return
         from .matrix_screen import MatrixScreen
 
         self.app.push_screen(MatrixScreen(self.settings))
@@ -234,7 +254,8 @@ class MainScreen(Screen):
         """Open the residual view of the current fit."""
         from .residual_screen import ResidualScreen
 
-        self.app.push_screen(ResidualScreen(self.settings, self.result))
+        source = None if self.logs is None else f"log {self.logs.name}"
+        self.app.push_screen(ResidualScreen(self.settings, self.result, source=source))
 
     async def action_quit(self) -> None:
         """Leave the explorer."""
@@ -249,18 +270,20 @@ class JointIdApp(App):
     SUB_TITLE = "Does the motion reveal the parameters?"
     COMMANDS = App.COMMANDS | {TourCommands}
 
-    def __init__(self, settings: Settings = DEFAULT_SETTINGS) -> None:
+    def __init__(self, settings: Settings = DEFAULT_SETTINGS, logs: LoadedLogs | None = None) -> None:
         """Create the app.
 
         Args:
             settings: Settings to open at.
+            logs: A loaded log to open on (`jointid --csv`).
         """
         super().__init__()
         self.initial_settings = settings
+        self.initial_logs = logs
 
     def get_default_screen(self) -> Screen:
         """The main screen at the initial settings."""
-        return MainScreen(self.initial_settings)
+        return MainScreen(self.initial_settings, self.initial_logs)
 
     def on_ready(self) -> None:
         """Exempt everything built so far from garbage collection scans.

@@ -36,6 +36,7 @@ class ChartData:
         dots_label: Legend text for the dots.
         line_label: Legend text for the line.
         summaries: The one-line text summary, longest first, for people who cannot see the chart.
+        x_label: The x axis label (a log without times is plotted against sample index).
     """
 
     titles: tuple[str, ...]
@@ -45,10 +46,13 @@ class ChartData:
     dots_label: str
     line_label: str
     summaries: tuple[str, ...]
+    x_label: str = "Time (s)"
 
     def same_as(self, other: ChartData | None) -> bool:
         """True when other would draw exactly the same chart (arrays compared by value)."""
-        if other is None or (self.titles, self.summaries) != (other.titles, other.summaries):
+        if other is None or (self.titles, self.summaries, self.x_label) != (
+            other.titles, other.summaries, other.x_label
+        ):
             return False
         if (self.line is None) != (other.line is None):
             return False
@@ -60,7 +64,7 @@ class ChartData:
     def key(self) -> tuple:
         """A hashable value that is equal exactly when two charts draw the same figure."""
         line = None if self.line is None else self.line.tobytes()
-        return (self.titles, self.t.tobytes(), self.dots.tobytes(), line)
+        return (self.titles, self.x_label, self.t.tobytes(), self.dots.tobytes(), line)
 
     def headings(self) -> tuple[Content, ...]:
         """Title and legend on one line, longest first (the legend never hides data here)."""
@@ -167,7 +171,7 @@ class TorqueChart(Vertical):
         data = self.data
         plt.clear_data()
         plt.clear_figure()
-        plt.xlabel("Time (s)")
+        plt.xlabel(data.x_label)
         plt.ylabel("Torque (N m)")
         # No top or right frame line: a row saved is a row of data at 80x24.
         plt.xaxes(True, False)

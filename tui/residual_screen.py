@@ -51,20 +51,22 @@ class ResidualScreen(Screen):
 
     axis: reactive[str] = reactive("t", init=False)
 
-    def __init__(self, settings: Settings, result: FitResult) -> None:
+    def __init__(self, settings: Settings, result: FitResult, *, source: str | None = None) -> None:
         """Create the view.
 
         Args:
             settings: The experiment the fit came from (shown in the title).
             result: The fit whose training residuals are shown.
+            source: What the fit came from when not the settings, e.g. "log train.csv".
         """
         super().__init__()
         self.settings = settings
+        self.source = source or settings_line(settings)
         self.data = residual_data(result)
 
     def compose(self) -> ComposeResult:
         """Title, scatter chart, summary, note, footer."""
-        yield Static(f"Residuals: {settings_line(self.settings)}", id="residual-title", markup=False)
+        yield Static(f"Residuals: {self.source}", id="residual-title", markup=False)
         yield SmallPlot(id="residual-plot")
         yield Static("", id="residual-summary", markup=False)
         yield Static("", id="residual-note", markup=False)

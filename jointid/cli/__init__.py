@@ -11,6 +11,7 @@ import sys
 
 from . import explorer_command, fit_command, matrix_command, simulate_command, sweep_command, torque_command
 from .arguments import OneLineParser, UserError, add_settings_arguments
+from .log_fit import add_log_arguments
 
 SUBCOMMANDS = (fit_command, torque_command, sweep_command, matrix_command, simulate_command)
 """Modules that define the subcommands, in help order."""
@@ -20,13 +21,16 @@ def build_parser() -> OneLineParser:
     """The top-level parser with every subcommand attached."""
     parser = OneLineParser(
         prog="jointid",
+        # Whole option names only here: with --heldout, torque's --h would be read as an ambiguous prefix.
+        allow_abbrev=False,
         description=(
             "Identify a rotating joint's inertia I, gravity mass moment h and viscous damping B "
             "from motion and torque: tau = I*qdd + h*g*cos(q) + B*qd. "
-            "With no subcommand, open the terminal explorer at the given settings."
+            "With no subcommand, open the terminal explorer at the given settings, or on a --csv log."
         ),
     )
     add_settings_arguments(parser)
+    add_log_arguments(parser)
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=OneLineParser)
     for module in SUBCOMMANDS:
         module.add_parser(subparsers)

@@ -1,13 +1,16 @@
-"""`jointid` with no subcommand: the terminal explorer."""
+"""`jointid` with no subcommand: the terminal explorer, on synthetic settings or on a --csv log."""
 
 from __future__ import annotations
 
 from .arguments import UserError, settings_from
+from .log_fit import load_logs, with_default_settings
 
 
 def run(args) -> int:
-    """Open the explorer at the settings given by the flags; 0 on a normal exit."""
-    settings = settings_from(args)
+    """Open the explorer at the settings given by the flags, or on the --csv log; 0 on a normal exit."""
+    # A bad log is one line on stderr and status 2 before the app starts, as for `jointid fit --csv`.
+    logs = load_logs(args) if args.csv is not None else None
+    settings = settings_from(with_default_settings(args) if logs is None else _defaults(args))
     # The explorer's controls cover narrower ranges than the core; say so rather than clamp.
     from tui.app import NOISE_RANGE, SAMPLES_RANGE  # lazy: `import jointid` never loads textual
 
@@ -19,6 +22,14 @@ def run(args) -> int:
                 f"Use `jointid fit --{steps.field} {steps.format(value)}` for larger values."
             )
     from tui.app import JointIdApp
+    from tui.log_source import fit_logs
 
-    JointIdApp(settings).run()
+    JointIdApp(settings, None if logs is None else fit_logs(*logs)).run()
     return 0
+
+
+def _defaults(args):
+    """The synthetic defaults behind a log (load_logs has refused any setting flag already)."""
+    for name in ("window", "order", "heldout", "degrees"):
+        setattr(args, name, None)
+    return with_default_settings(args)

@@ -12,7 +12,7 @@ from __future__ import annotations
 import argparse
 import json
 
-from ..csvlog import LogError, load_log
+from ..csvlog import JointLog, LogError, load_log
 from ..derivatives import DEFAULT_ORDER, DEFAULT_WINDOW
 from ..fit import fit_joint
 from ..report import log_fit_document, readouts_text, uncertainty_text
@@ -71,8 +71,8 @@ def with_default_settings(args: argparse.Namespace) -> argparse.Namespace:
     return args
 
 
-def run_log_fit(args: argparse.Namespace) -> int:
-    """Load the training (and held-out) log, fit, and print text or JSON; exit status 0."""
+def load_logs(args: argparse.Namespace) -> tuple[JointLog, JointLog | None]:
+    """The --csv and --heldout logs, after checking the options; UserError (one line) on any problem."""
     given = [f"--{name}" for name in SETTING_FLAGS if getattr(args, name) is not None]
     if given:
         raise UserError(f"synthetic settings ({', '.join(given)}) cannot apply to a --csv log; drop them")
@@ -89,6 +89,12 @@ def run_log_fit(args: argparse.Namespace) -> int:
         )
     except LogError as error:
         raise UserError(str(error)) from None
+    return training, heldout
+
+
+def run_log_fit(args: argparse.Namespace) -> int:
+    """Load the training (and held-out) log, fit, and print text or JSON; exit status 0."""
+    training, heldout = load_logs(args)
     result = fit_joint(training.data, None if heldout is None else heldout.data, heldout_is_noiseless=False)
     if args.json:
         print(json.dumps(log_fit_document(result, training, heldout), indent=2))

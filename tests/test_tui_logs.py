@@ -1,0 +1,307 @@
+"""Joint logs in the explorer: loading (and cancelling) in a worker, held-out logs, bad files, export."""
+
+from __future__ import annotations
+
+import asyncio
+import functools
+import json
+
+import pytest
+from textual.widgets import Input, RadioButton
+
+from jointid.cli import main
+from jointid.csvlog import LogError, load_log
+from jointid.fit import fit_joint
+from jointid.report import readouts
+from test_cli_csv import CORPUS, HEADER, good_rows
+from tui import log_source
+from tui.app import MainScreen
+from tui.log_mode import FROM_LOG
+from tui.log_source import HELDOUT, LoadRequest, ordinal
+from tui.readouts import ReadoutPanel
+from tui.stepper import Stepper
+from tui_support import displayed_readouts, make_app
+
+SIZE = (120, 40)
+
+
+def synchronous(test):
+    """Run an async test body with asyncio.run (the suite has no async plugin); fixtures still apply."""
+
+    @functools.wraps(test)
+    def run(*args, **kwargs):
+        return asyncio.run(test(*args, **kwargs))
+
+    return run
+
+
+@pytest.fixture
+def logs(tmp_path):
+    """A noisy rich-motion training log and a test-motion held-out log, written by `jointid simulate`."""
+    train, test = tmp_path / "train.csv", tmp_path / "test.csv"
+    assert main(["simulate", "--noise", "0.1", "--samples", "600", "--out", str(train)]) == 0
+    assert main(["simulate", "--motion", "test", "--noise", "0.05", "--seed", "3", "--samples", "200",
+                 "--out", str(test)]) == 0
+    return train, test
+
+
+async def load(pilot, path, role="training", degrees=False):
+    """Load a file as the Ctrl+O dialog would, and wait until the worker's outcome is shown."""
+    pilot.app.screen.start_loading(LoadRequest(str(path), role, degrees))
+    await pilot.app.workers.wait_for_complete()
+    await pilot.pause()
+
+
+def main_screen(app) -> MainScreen:
+    """The explorer's main screen (under any dialog)."""
+    return next(s for s in app.screen_stack if isinstance(s, MainScreen))
+
+
+@synchronous
+async def test_a_loaded_log_shows_the_cores_fit_of_the_same_file(logs, capsys):
+    train, _ = logs
+    capsys.readouterr()
+    app = make_app()
+    async with app.run_test(size=SIZE) as pilot:
+        await load(pilot, train)
+        screen = main_screen(app)
+        expected = fit_joint(load_log(train).data)
+        assert screen.query_one(ReadoutPanel).items == readouts(expected)
+        assert screen.result.training.count == 600
+        assert "No held-out data" in str(screen.query_one("#status").render())
+        assert not screen.query_one("#heldout-chart").display  # no held-out log: its chart gives way
+
+
+@synchronous
+async def test_the_heldout_log_is_predicted_against_its_measured_torques(logs, capsys):
+    train, test = logs
+    app = make_app()
+    async with app.run_test(size=SIZE) as pilot:
+        await load(pilot, train)
+        await load(pilot, test, HELDOUT)
+        screen = main_screen(app)
+        expected = fit_joint(load_log(train).data, load_log(test).data, heldout_is_noiseless=False)
+        assert screen.query_one(ReadoutPanel).items == readouts(expected)
+        assert screen.result.heldout_rmse == pytest.approx(expected.heldout_rmse, rel=0, abs=0)
+        assert "against measured torques" in str(screen.query_one("#status").render())
+        assert "every 5th of 600 samples shown" in screen.query_one("#training-chart").data.summaries[0]
+
+
+@synchronous
+async def test_a_heldout_log_needs_a_training_log_first(logs):
+    _, test = logs
+    app = make_app()
+    async with app.run_test(size=SIZE) as pilot:
+        before = displayed_readouts(app.screen)
+        await load(pilot, test, HELDOUT)
+        assert app.screen.logs is None and displayed_readouts(app.screen) == before
+        assert [n.severity for n in app._notifications] == ["error"]
+
+
+@synchronous
+async def test_synthetic_controls_are_off_with_the_reason_and_come_back(logs):
+    train, _ = logs
+    app = make_app()
+    async with app.run_test(size=SIZE) as pilot:
+        synthetic = displayed_readouts(app.screen)
+        await load(pilot, train)
+        screen = app.screen
+        steppers = list(screen.query(Stepper))
+        assert all(s.disabled and s.value == FROM_LOG for s in steppers)
+        note = str(screen.query_one("#log-note").render())
+        assert note.startswith("From log: train.csv, 600 samples fitted") and "1/2/3 or c" in note
+        button = screen.query_one("#motion-log", RadioButton)
+        assert button.value and button.display and str(button.label) == "Log: train.csv"
+        await pilot.press("c")  # back to the synthetic experiment, as it was
+        assert screen.logs is None and not screen.query_one("#motion-log").display
+        assert displayed_readouts(screen) == synthetic
+        assert [s.value for s in steppers] == ["0.00", "24", "7"] and not any(s.disabled for s in steppers)
+        await load(pilot, train)
+        await pilot.press("2")  # a motion key leaves the log too
+        assert screen.logs is None and screen.settings.motion == "slow"
+
+
+@synchronous
+async def test_views_of_synthetic_settings_say_they_need_one(logs):
+    train, _ = logs
+    app = make_app()
+    async with app.run_test(size=SIZE) as pilot:
+        await load(pilot, train)
+        await pilot.press("s")
+        await pilot.press("m")
+        assert isinstance(app.screen, MainScreen)
+        assert sum("needs a synthetic experiment" in n.message for n in app._notifications) == 2
+        await pilot.press("e")  # the residuals of the log's fit
+        assert str(app.screen.query_one("#residual-title").render()) == "Residuals: log train.csv"
+
+
+@synchronous
+async def test_escape_cancels_loading_and_keeps_the_current_state(tmp_path, monkeypatch):
+    train = tmp_path / "long.csv"
+    assert main(["simulate", "--samples", "20000", "--out", str(train)]) == 0
+    # Tiny chunks make the load long enough to cancel part-way.
+    monkeypatch.setattr(log_source, "load_log", functools.partial(load_log, chunk_bytes=64))
+    app = make_app()
+    async with app.run_test(size=SIZE) as pilot:
+        before = displayed_readouts(app.screen)
+        app.screen.start_loading(LoadRequest(str(train)))
+        await pilot.pause()
+        assert type(app.screen).__name__ == "LoadingScreen"
+        await pilot.press("escape")
+        await app.workers.wait_for_complete()
+        await pilot.pause()
+        assert isinstance(app.screen, MainScreen) and app.screen.logs is None
+        assert displayed_readouts(app.screen) == before
+        assert [n.message for n in app._notifications] == ["Loading cancelled; nothing changed."]
+
+
+BAD_FILES = sorted(CORPUS) + ["absent.csv", "a_directory"]
+
+
+def write_bad(folder, name):
+    """One malformed file of the command line's corpus (or a missing file, or a folder)."""
+    path = folder / name
+    if name == "a_directory":
+        path.mkdir()
+    elif name in CORPUS:
+        path.write_bytes(CORPUS[name].encode("latin-1"))
+    return path
+
+
+@pytest.mark.parametrize("role", ["training", HELDOUT])
+@synchronous
+async def test_bad_files_leave_everything_as_it_was(tmp_path, role):
+    good = tmp_path / "good.csv"
+    good.write_text("\n".join([HEADER, *good_rows(300)]) + "\n")
+    bad_folder = tmp_path / "bad"
+    bad_folder.mkdir()
+    app = make_app()
+    async with app.run_test(size=SIZE) as pilot:
+        await load(pilot, good)
+        screen = app.screen
+        logs, before = screen.logs, displayed_readouts(screen)
+        charts = [screen.query_one(f"#{c}-chart").data for c in ("training", "heldout")]
+        for name in BAD_FILES:
+            path = write_bad(bad_folder, name)
+            with pytest.raises(LogError) as expected:
+                load_log(path)
+            app.clear_notifications()
+            await load(pilot, path, role)
+            assert screen.logs is logs and displayed_readouts(screen) == before, name
+            assert [screen.query_one(f"#{c}-chart").data for c in ("training", "heldout")] == charts
+            assert [(n.message, n.severity) for n in app._notifications] == [(str(expected.value), "error")], name
+        assert screen.settings == make_app().initial_settings
+
+
+@synchronous
+async def test_a_bad_file_over_synthetic_data_keeps_the_settings(tmp_path):
+    app = make_app()
+    async with app.run_test(size=SIZE) as pilot:
+        await pilot.press("2")
+        before = displayed_readouts(app.screen)
+        await load(pilot, write_bad(tmp_path, "nan.csv"))
+        assert app.screen.logs is None and app.screen.settings.motion == "slow"
+        assert displayed_readouts(app.screen) == before
+
+
+async def export(pilot, folder):
+    """Ctrl+S, type the folder, Enter."""
+    await pilot.press("ctrl+s")
+    field = pilot.app.screen.query_one("#export-folder", Input)
+    field.value = str(folder)
+    await pilot.press("enter")
+    await pilot.pause()
+
+
+def cli_json(capsys, *argv):
+    """What `jointid fit ... --json` prints, parsed."""
+    capsys.readouterr()
+    assert main(["fit", *map(str, argv), "--json"]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+@synchronous
+async def test_export_writes_the_command_lines_json_and_an_svg_and_never_overwrites(logs, tmp_path, capsys):
+    train, test = logs
+    folder = tmp_path / "out"
+    folder.mkdir()
+    (folder / "train-fit.json").write_text("precious\n")
+    app = make_app()
+    async with app.run_test(size=SIZE) as pilot:
+        await load(pilot, train)
+        await load(pilot, test, HELDOUT)
+        await export(pilot, folder)
+        await export(pilot, folder)
+        await export(pilot, tmp_path / "missing")
+    assert (folder / "train-fit.json").read_text() == "precious\n"
+    expected = cli_json(capsys, "--csv", train, "--heldout", test)
+    for stem in ("train-fit-2", "train-fit-3"):
+        assert json.loads((folder / f"{stem}.json").read_text()) == expected
+        assert (folder / f"{stem}.svg").read_text().startswith("<svg")
+    assert sorted(p.name for p in folder.iterdir()) == [
+        "train-fit-2.json", "train-fit-2.svg", "train-fit-3.json", "train-fit-3.svg", "train-fit.json"]
+    messages = [n.message for n in app._notifications]
+    assert f"Wrote {folder / 'train-fit-2.json'} and {folder / 'train-fit-2.svg'}" in messages
+    assert f"{tmp_path / 'missing'}: not a folder" in messages
+
+
+@synchronous
+async def test_export_of_a_synthetic_experiment_matches_fit_json(tmp_path, capsys):
+    app = make_app()
+    async with app.run_test(size=SIZE) as pilot:
+        await pilot.press("2")
+        await export(pilot, tmp_path)
+    expected = cli_json(capsys, "--motion", "slow")
+    assert json.loads((tmp_path / "jointid-slow-0.00-24-7.json").read_text()) == expected
+
+
+@synchronous
+async def test_the_open_dialog_is_usable_by_keyboard(logs, monkeypatch):
+    train, _ = logs
+    monkeypatch.chdir(train.parent)
+    app = make_app()
+    async with app.run_test(size=SIZE) as pilot:
+        await pilot.press("ctrl+o")
+        field = app.screen.query_one("#open-path", Input)
+        assert field.has_focus and field.value == f"{train.parent}/"
+        await pilot.press(*"train.csv", "enter")
+        await app.workers.wait_for_complete()
+        await pilot.pause()
+        assert main_screen(app).logs.name == "train.csv"
+        await pilot.press("ctrl+o", "escape")
+        assert isinstance(app.screen, MainScreen)
+
+
+def test_the_command_line_opens_the_explorer_on_a_log(logs, monkeypatch):
+    train, test = logs
+    opened = {}
+
+    def fake_run(app):
+        opened["logs"] = app.initial_logs
+
+    monkeypatch.setattr("tui.app.JointIdApp.run", fake_run)
+    assert main(["--csv", str(train), "--heldout", str(test)]) == 0
+    assert opened["logs"].training.path == str(train) and opened["logs"].heldout.path == str(test)
+
+
+@pytest.mark.parametrize("argv, words", [
+    (["--csv", "absent.csv"], "absent.csv: cannot open"),
+    (["--csv", "bad.csv"], "bad.csv, row 7, column 3 (qd): NaN is not a measurement"),
+    (["--csv", "bad.csv", "--seed", "3"], "cannot apply to a --csv log"),
+    (["--heldout", "bad.csv"], "--heldout: only for fitting a log"),
+])
+def test_a_bad_log_on_the_command_line_is_one_line_before_the_app(tmp_path, monkeypatch, capsys, argv, words):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "bad.csv").write_text(CORPUS["nan.csv"])
+    monkeypatch.setattr("tui.app.JointIdApp.run", lambda app: pytest.fail("the app started"))
+    assert main(argv) == 2
+    captured = capsys.readouterr()
+    assert captured.out == "" and len(captured.err.splitlines()) == 1 and words in captured.err
+
+
+def test_ordinals():
+    assert [ordinal(n) for n in (2, 3, 4, 11, 12, 13, 21, 112)] == ["2nd", "3rd", "4th", "11th", "12th", "13th", "21st", "112th"]
+
+
+def test_log_charts_are_thinned_to_the_width():
+    assert [log_source.thin_stride(n, 80) for n in (10, 80, 81, 160, 161, 1_000_000)] == [1, 1, 2, 2, 3, 12500]

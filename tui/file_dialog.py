@@ -1,0 +1,120 @@
+"""The Ctrl+O dialog: a path field, a folder tree, the log's role and its angle unit, all by keyboard."""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from textual.app import ComposeResult
+from textual.binding import Binding
+from textual.containers import Horizontal, Vertical
+from textual.screen import ModalScreen
+from textual.widgets import DirectoryTree, Input, Label, RadioSet, Static
+
+from .marks import ClearCheckbox, MotionButton
+
+from .log_source import HELDOUT, TRAINING, LoadRequest
+
+
+class OpenLogScreen(ModalScreen[LoadRequest | None]):
+    """Choose a CSV log: type a path and press Enter, or pick a file in the tree."""
+
+    DEFAULT_CSS = """
+    OpenLogScreen {
+        align: center middle;
+    }
+    OpenLogScreen > Vertical {
+        width: 90%;
+        max-width: 100;
+        height: 90%;
+        border: round $primary;
+        border-title-align: left;
+        padding: 0 1;
+    }
+    OpenLogScreen Input {
+        margin-bottom: 1;
+    }
+    OpenLogScreen #open-options {
+        height: auto;
+    }
+    OpenLogScreen RadioSet {
+        width: 20;
+        height: auto;
+        margin-right: 2;
+    }
+    OpenLogScreen RadioSet > MotionButton {
+        width: 20;
+    }
+    OpenLogScreen ClearCheckbox {
+        width: auto;
+    }
+    OpenLogScreen DirectoryTree {
+        height: 1fr;
+        border: none;
+    }
+    OpenLogScreen .dialog--hint {
+        height: auto;
+        color: $text-muted;
+    }
+    """
+
+    BINDINGS = [Binding("escape", "cancel", "Cancel", tooltip="Close without loading")]
+
+    def __init__(self, folder: str | os.PathLike | None = None, *, heldout_allowed: bool = False) -> None:
+        """Create the dialog.
+
+        Args:
+            folder: Folder the tree starts in (default: the current directory).
+            heldout_allowed: True when a training log is loaded, so a held-out log can be chosen.
+        """
+        super().__init__()
+        self.folder = Path(folder or os.getcwd())
+        self.heldout_allowed = heldout_allowed
+
+    def compose(self) -> ComposeResult:
+        """Path field, role and degrees options, hint, folder tree."""
+        with Vertical() as box:
+            box.border_title = "Open a joint log (CSV)"
+            yield Label("Path (Enter opens it):")
+            yield Input(value=f"{self.folder}{os.sep}", id="open-path", compact=True)
+            with Horizontal(id="open-options"):
+                with RadioSet(id="open-role", compact=True):
+                    yield MotionButton("Training log", value=True, id=f"role-{TRAINING}")
+                    yield MotionButton("Held-out log", id=f"role-{HELDOUT}",
+                                      disabled=not self.heldout_allowed)
+                yield ClearCheckbox("Angles in degrees", id="open-degrees", compact=True)
+            yield Static(
+                "Tab moves between the path, the options and the tree; in the tree Enter opens "
+                "a folder or loads a file. Escape cancels."
+                + ("" if self.heldout_allowed else " A held-out log needs a training log first."),
+                classes="dialog--hint", markup=False,
+            )
+            yield DirectoryTree(self.folder, id="open-tree")
+
+    def on_mount(self) -> None:
+        """Start in the path field with the cursor at its end."""
+        field = self.query_one("#open-path", Input)
+        field.focus()
+        field.cursor_position = len(field.value)
+
+    def request(self, path: str) -> LoadRequest:
+        """The load request for a path with the chosen role and unit."""
+        pressed = self.query_one("#open-role", RadioSet).pressed_button
+        role = HELDOUT if pressed is not None and pressed.id == f"role-{HELDOUT}" else TRAINING
+        return LoadRequest(os.path.expanduser(path.strip()), role, self.query_one("#open-degrees", ClearCheckbox).value)
+
+    def on_input_submitted(self, message: Input.Submitted) -> None:
+        """Enter in the path field: a folder opens in the tree, anything else is loaded (errors come later)."""
+        path = os.path.expanduser(message.value.strip())
+        if os.path.isdir(path):
+            self.query_one(DirectoryTree).path = path
+            return
+        self.dismiss(self.request(path))
+
+    def on_directory_tree_file_selected(self, message: DirectoryTree.FileSelected) -> None:
+        """A file chosen in the tree is loaded."""
+        self.dismiss(self.request(str(message.path)))
+
+    def action_cancel(self) -> None:
+        """Close without loading."""
+        self.dismiss(None)

@@ -1,0 +1,63 @@
+"""The progress dialog shown while a log loads; Escape asks the loader to stop."""
+
+from __future__ import annotations
+
+import os
+import threading
+
+from textual.app import ComposeResult
+from textual.binding import Binding
+from textual.containers import Vertical
+from textual.screen import ModalScreen
+from textual.widgets import Label, ProgressBar, Static
+
+
+class LoadingScreen(ModalScreen[None]):
+    """A progress bar over the explorer while a worker reads a log; the explorer stays as it was."""
+
+    DEFAULT_CSS = """
+    LoadingScreen {
+        align: center middle;
+    }
+    LoadingScreen > Vertical {
+        width: 60;
+        height: auto;
+        border: round $primary;
+        padding: 0 1;
+    }
+    LoadingScreen Label, LoadingScreen Static {
+        width: 1fr;
+    }
+    LoadingScreen Static {
+        color: $text-muted;
+    }
+    """
+
+    BINDINGS = [Binding("escape", "cancel", "Cancel loading", tooltip="Stop reading the log; keep the current data")]
+
+    def __init__(self, path: str) -> None:
+        """Create the dialog.
+
+        Args:
+            path: The file being read.
+        """
+        super().__init__()
+        self.path = path
+        self.cancelled = threading.Event()
+        """Set by Escape; the loader checks it between chunks."""
+
+    def compose(self) -> ComposeResult:
+        """File name, progress bar, hint."""
+        with Vertical():
+            yield Label(f"Loading {os.path.basename(self.path)}", markup=False)
+            yield ProgressBar(total=None, show_eta=False, id="load-progress")
+            yield Static("Escape cancels; the current data stay.", markup=False)
+
+    def advance(self, done: int, total: int) -> None:
+        """Show bytes read so far (called on the main thread)."""
+        self.query_one(ProgressBar).update(total=max(total, 1), progress=done)
+
+    def action_cancel(self) -> None:
+        """Ask the loader to stop at its next chunk."""
+        self.cancelled.set()
+        self.query_one(Static).update("Cancelling…")
