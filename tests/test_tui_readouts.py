@@ -12,17 +12,19 @@ import asyncio
 
 import pytest
 
-from tui_support import CANONICAL_STATES, READOUTS_DIR, read_displayed
+from tui_support import READOUTS_DIR, pinned_readouts, read_displayed
+
+PINNED = pinned_readouts()
 
 
-@pytest.mark.parametrize("name", sorted(CANONICAL_STATES))
+@pytest.mark.parametrize("name", sorted(PINNED))
 def test_displayed_readouts_match_pinned_text(name):
-    """The app shows exactly the pinned readout lines and status sentence."""
+    """The app shows exactly the pinned readout lines and status sentence (lab labels and compact rows)."""
     pinned = (READOUTS_DIR / f"{name}.txt").read_text(encoding="utf-8")
-    assert asyncio.run(read_displayed(CANONICAL_STATES[name])) == pinned
+    assert asyncio.run(read_displayed(*PINNED[name])) == pinned
 
 
 def test_every_pinned_file_belongs_to_a_state():
     """No orphaned readout file lingers after a state is renamed or removed."""
     pinned = {path.stem for path in READOUTS_DIR.glob("*.txt")}
-    assert pinned == set(CANONICAL_STATES)
+    assert pinned == set(PINNED)

@@ -83,6 +83,15 @@ def test_holds_readouts_name_the_identifiable_subset_and_why_the_rest_is_free():
     assert "Condition number           infinite" in shown
 
 
+@pytest.mark.parametrize("state", sorted(CANONICAL_STATES))
+def test_every_readout_fits_80x24_without_scrolling(state):
+    async def scenario(pilot, app):
+        side, panel = app.screen.query_one("#side"), app.screen.query_one(ReadoutPanel)
+        return side.max_scroll_y, panel.region.bottom <= side.region.bottom, panel.compact
+
+    assert run(scenario, CANONICAL_STATES[state], size=(80, 24)) == (0, True, True)
+
+
 # --- keys, bindings, palette --------------------------------------------------------
 
 

@@ -24,8 +24,18 @@ CANONICAL_STATES = {
 READOUTS_DIR = Path(__file__).resolve().parent.parent / "snapshots" / "readouts"
 """Pinned readout texts, one file per canonical state."""
 
-READOUT_SIZE = (120, 40)
-"""Terminal size at which pinned readouts are read off the app."""
+READOUT_SIZES = {"": (120, 40), "@80x24": (80, 24)}
+"""Terminal sizes at which pinned readouts are read off the app, by file-name suffix
+(120x40 shows the lab's labels, 80x24 the compact rows)."""
+
+
+def pinned_readouts() -> dict[str, tuple[Settings, tuple[int, int]]]:
+    """Every pinned readout file's stem, with the state and terminal size it is read at."""
+    return {
+        name + suffix: (settings, size)
+        for name, settings in CANONICAL_STATES.items()
+        for suffix, size in READOUT_SIZES.items()
+    }
 
 
 def make_app(settings: Settings | None = None, logs=None) -> JointIdApp:
@@ -43,10 +53,10 @@ def displayed_readouts(screen: MainScreen) -> str:
     return "\n".join(lines) + "\n\n" + status + "\n"
 
 
-async def read_displayed(settings: Settings) -> str:
-    """Open the app at settings and return its displayed readouts."""
+async def read_displayed(settings: Settings, size: tuple[int, int] = READOUT_SIZES[""]) -> str:
+    """Open the app at settings and terminal size and return its displayed readouts."""
     app = make_app(settings)
-    async with app.run_test(size=READOUT_SIZE) as pilot:
+    async with app.run_test(size=size) as pilot:
         await pilot.pause()
         return displayed_readouts(app.screen)
 
@@ -54,8 +64,8 @@ async def read_displayed(settings: Settings) -> str:
 def regenerate_readouts() -> None:
     """Rewrite every pinned readout file from the app (run on purpose, then review the diff)."""
     READOUTS_DIR.mkdir(parents=True, exist_ok=True)
-    for name, settings in CANONICAL_STATES.items():
-        text = asyncio.run(read_displayed(settings))
+    for name, (settings, size) in pinned_readouts().items():
+        text = asyncio.run(read_displayed(settings, size))
         (READOUTS_DIR / f"{name}.txt").write_text(text, encoding="utf-8")
         print(f"wrote {name}.txt")
 

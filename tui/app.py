@@ -53,9 +53,13 @@ STEPPER_HINT = "←/→ step, Shift+←/→ more, or type"
 
 MIN_SIZE = (70, 22)
 """Smallest (width, height) the layout stays readable at; below it the screen asks for more."""
+COMPACT_BELOW = (110, 32)
+"""Narrower or shorter than this (width, height), readouts and known parameters use compact rows."""
 
 MOTION_KEYS = {"1": ("rich", "Rich"), "2": ("slow", "Slow"), "3": ("holds", "Holds")}
-"""Global keys that select a training motion, with the footer's short name."""
+"""Global keys that select a training motion, with the palette's short name."""
+MOTION_GROUP = Binding.Group("Motion")
+"""The motion keys share one footer entry."""
 
 
 @lru_cache(maxsize=128)
@@ -64,9 +68,16 @@ def cached_experiment(settings: Settings) -> FitResult:
     return run_experiment(settings)
 
 
-def known_parameters_text() -> str:
-    """The synthetic joint's true parameters and conventions, as shown beside the controls."""
+def known_parameters_text(compact: bool = False) -> str:
+    """The synthetic joint's true parameters and conventions, as shown beside the controls.
+
+    Compact: two lines of at most 38 columns, which also give the units of the
+    compact readout rows.
+    """
     inertia, mass_moment, damping = (float(v) for v in TRUE_PARAMETERS)
+    if compact:
+        return (f"Known: I {inertia:g} kg m², h {mass_moment:g} kg m, g {G:g}\n"
+                f"B {damping:g} N m s/rad; q from +x, ccw")
     return (
         f"Known joint: I = {inertia:g} kg m², h = {mass_moment:g} kg m, "
         f"B = {damping:g} N m s/rad, g = {G:g} m/s²; "
@@ -79,7 +90,8 @@ class MainScreen(LogMode, Screen):
 
     BINDINGS = [
         *(
-            Binding(key, f"motion('{name}')", short,
+            # One footer entry, "1 2 3 Motion", so 80 columns have room for the views' keys.
+            Binding(key, f"motion('{name}')", short, group=MOTION_GROUP,
                     tooltip=f"Train on {TRAINING_MOTIONS[name].label.lower()}")
             for key, (name, short) in MOTION_KEYS.items()
         ),
@@ -104,8 +116,8 @@ class MainScreen(LogMode, Screen):
                 tooltip="Save the fit as JSON and the screen as SVG into a folder"),
     ]
 
-    HORIZONTAL_BREAKPOINTS = [(0, "-narrow"), (110, "-wide")]
-    VERTICAL_BREAKPOINTS = [(0, "-short"), (32, "-tall")]
+    HORIZONTAL_BREAKPOINTS = [(0, "-narrow"), (COMPACT_BELOW[0], "-wide")]
+    VERTICAL_BREAKPOINTS = [(0, "-short"), (COMPACT_BELOW[1], "-tall")]
 
     motion: reactive[str] = reactive(DEFAULT_SETTINGS.motion, init=False)
     noise: reactive[float] = reactive(DEFAULT_SETTINGS.noise, init=False)
@@ -164,8 +176,14 @@ class MainScreen(LogMode, Screen):
             self.logs = self._initial_logs
 
     def on_resize(self) -> None:
-        """Swap the layout for a plain message when the terminal is too small to read."""
+        """Compact rows on small terminals; a plain message when the terminal is too small to read."""
         width, height = self.size
+        compact = width < COMPACT_BELOW[0] or height < COMPACT_BELOW[1]
+        if compact != self.has_class("-compact"):
+            self.set_class(compact, "-compact")
+            self.query_one("#known", Static).update(known_parameters_text(compact))
+            self.query_one(ReadoutPanel).set_compact(compact)
+            self.query_one(Footer).compact = compact
         too_small = width < MIN_SIZE[0] or height < MIN_SIZE[1]
         self.set_class(too_small, "-too-small")
         if too_small:

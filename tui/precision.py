@@ -25,11 +25,16 @@ VERDICT_STYLES = {WELL_DETERMINED: "$text-success", WEAK: "$text-warning", NOT_D
 
 @dataclass(frozen=True)
 class PrecisionNote:
-    """One parameter's line: the text before the verdict, and the verdict ('' for none)."""
+    """One parameter's line: the text before the verdict, the verdict ('' for none), and the compact row's text.
+
+    `short` is a small terminal's whole row for a parameter without a value
+    (rank-deficient fits); '' when the row shows the value.
+    """
 
     key: str
     text: str
     verdict: str = ""
+    short: str = ""
 
 
 @dataclass(frozen=True)
@@ -38,6 +43,8 @@ class Precision:
 
     notes: tuple[PrecisionNote, ...]
     closing: tuple[tuple[str, str], ...]
+    compact_closing: str = ""
+    """The condition number and its caveat on one line, for small terminals."""
 
 
 def parameter_notes(result: FitResult) -> tuple[PrecisionNote, ...]:
@@ -48,11 +55,14 @@ def parameter_notes(result: FitResult) -> tuple[PrecisionNote, ...]:
         notes = []
         for index, name in enumerate(PARAMETER_NAMES):
             if name in subset.values:
-                notes.append(PrecisionNote(name, f"{name} = {format_number(subset.values[name])}, determined alone"))
+                alone = f"{name} = {format_number(subset.values[name])}"
+                notes.append(PrecisionNote(name, f"{alone}, determined alone", short=f"{alone} determined alone"))
             elif subset.zero_columns[index]:
-                notes.append(PrecisionNote(name, f"not determined: {ZERO_COLUMN_REASONS[name]}"))
+                reason = ZERO_COLUMN_REASONS[name]
+                notes.append(PrecisionNote(name, f"not determined: {reason}", short=f"{name} unavailable: {reason}"))
             else:
-                notes.append(PrecisionNote(name, "cannot be separated from the others"))
+                notes.append(PrecisionNote(name, "cannot be separated from the others",
+                                           short=f"{name} unavailable: not separable"))
         return tuple(notes)
     errors = uncertainty.verdict_std_error
     if errors is None:
@@ -76,9 +86,17 @@ def closing_lines(result: FitResult) -> tuple[tuple[str, str], ...]:
     return tuple(lines)
 
 
+def compact_closing_line(result: FitResult) -> str:
+    """The condition number and its caveat in one short line."""
+    condition = result.condition_number
+    if not math.isfinite(condition):
+        return "Cond. number ∞: columns dependent"
+    return f"Cond. number {condition:.2f}, modest ≠ accurate"
+
+
 def precision(result: FitResult) -> Precision:
     """The precision notes and closing lines of a fit."""
-    return Precision(parameter_notes(result), closing_lines(result))
+    return Precision(parameter_notes(result), closing_lines(result), compact_closing_line(result))
 
 
 def note_lines(precision: Precision | None, key: str, width: int) -> list[Content]:
@@ -91,9 +109,14 @@ def note_lines(precision: Precision | None, key: str, width: int) -> list[Conten
             continue
         line = Content(INDENT + note.text)
         if note.verdict:
-            line += Content("  ") + Content.from_markup(f"[{VERDICT_STYLES[note.verdict]}]$v[/]", v=note.verdict)
+            line += Content("  ") + verdict_content(note.verdict)
         lines.append(line)
     return lines
+
+
+def verdict_content(verdict: str) -> Content:
+    """A verdict in its theme colour (the words alone carry the meaning, for NO_COLOR)."""
+    return Content.from_markup(f"[{VERDICT_STYLES[verdict]}]$v[/]", v=verdict)
 
 
 def closing_content(precision: Precision | None, label_width: int) -> list[Content]:

@@ -8,10 +8,14 @@ from textual.widget import Widget
 from jointid.model import SIGN_REQUIREMENTS
 from jointid.report import Readout
 
-from .precision import Precision, closing_content, note_lines
+from .precision import Precision, PrecisionNote, closing_content, note_lines, verdict_content
 
 LABEL_WIDTH = 27
 """Columns reserved for a readout label ("Fitted damping (N m s/rad)" and a space)."""
+COMPACT_LABEL_WIDTH = 26
+"""Columns for a label in compact rows ("Acceleration RMS (rad/s²)" and a space)."""
+COMPACT_VALUE_WIDTH = 9
+"""Columns a compact parameter value is right-aligned in ("-1.607788"), so the ± line up."""
 
 
 def failure_note(readout: Readout) -> str:
@@ -19,11 +23,35 @@ def failure_note(readout: Readout) -> str:
     return f"{SIGN_REQUIREMENTS[readout.key]} fails"
 
 
+def compact_parameter_lines(item: Readout, note: PrecisionNote, width: int) -> list[Content]:
+    """A parameter's compact row: symbol, value ± standard error and verdict, wrapped only if too wide."""
+    if note.short and not item.sign_failure:  # no value: what the data still say about it
+        return [Content(note.short)]
+    value = item.text.rjust(COMPACT_VALUE_WIDTH)
+    head = Content(f"{item.key} ") + (
+        Content.from_markup("[bold $text-error]$v[/]", v=value) if item.sign_failure else Content(value)
+    )
+    tail = Content(note.text)
+    if note.verdict:
+        tail += Content(" ") + verdict_content(note.verdict)
+    row = head + Content(" ") + tail
+    lines = [row] if row.cell_length <= width else [head, Content("  ") + tail]
+    if item.sign_failure:
+        failed = Content.from_markup("[bold $text-error]✗ $note[/]", note=failure_note(item))
+        if lines[0].cell_length + 2 + failed.cell_length <= width:
+            lines[0] += Content("  ") + failed
+        else:
+            lines.insert(1, Content("  ") + failed)
+    return lines
+
+
 class ReadoutPanel(Widget):
     """Eight labelled readouts; a sign failure is shown unclipped in the error colour.
 
     When the panel is too narrow to name the failed requirement on the value's
-    line, the note goes on a line of its own under the value.
+    line, the note goes on a line of its own under the value. Compact (small
+    terminals): one row per parameter, `I  -1.607788 ± 5.425077 not determined`,
+    and the condition number on one line; the known-parameters line gives the units.
     """
 
     DEFAULT_CSS = """
@@ -49,6 +77,13 @@ class ReadoutPanel(Widget):
         self._lines: list[Content] = []
         self._lines_key: tuple | None = None
         self.precision: Precision | None = None
+        self.compact = False
+
+    def set_compact(self, compact: bool) -> None:
+        """Switch between the lab's labelled lines and one row per parameter (the screen decides by size)."""
+        if compact != self.compact:
+            self.compact = compact
+            self.refresh(layout=True)
 
     def show(self, items: tuple[Readout, ...], precision: Precision | None = None) -> None:
         """Display new readouts and precision notes (value objects, so equal ones skip the refresh)."""
@@ -63,10 +98,24 @@ class ReadoutPanel(Widget):
 
     def lines(self, width: int) -> list[Content]:
         """The panel's lines for a given width (layout and render both ask; build once)."""
-        if self._lines_key != (self.items, self.precision, width):
-            self._lines = self._build_lines(width)
-            self._lines_key = (self.items, self.precision, width)
+        key = (self.items, self.precision, width, self.compact)
+        if self._lines_key != key:
+            self._lines = self._build_compact(width) if self.compact else self._build_lines(width)
+            self._lines_key = key
         return self._lines
+
+    def _build_compact(self, width: int) -> list[Content]:
+        notes = {} if self.precision is None else {note.key: note for note in self.precision.notes}
+        lines = []
+        for item in self.items:
+            note = notes.get(item.key)
+            if note is None:  # rank and the RMS readouts keep their labels
+                lines.append(Content(item.label.ljust(COMPACT_LABEL_WIDTH) + item.text))
+            else:
+                lines.extend(compact_parameter_lines(item, note, width))
+        if self.precision is not None and self.precision.compact_closing:
+            lines.append(Content(self.precision.compact_closing))
+        return lines
 
     def _build_lines(self, width: int) -> list[Content]:
         lines = []
