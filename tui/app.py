@@ -5,7 +5,7 @@ from __future__ import annotations
 import gc
 from functools import lru_cache
 from pathlib import Path
-from typing import Iterable
+from typing import TYPE_CHECKING, Iterable
 
 from textual.app import App, ComposeResult, SystemCommand
 from textual.binding import Binding
@@ -13,7 +13,7 @@ from textual.content import Content
 from textual.containers import Horizontal, Vertical
 from textual.reactive import reactive, var
 from textual.screen import Screen
-from textual.widgets import Button, Footer, Header, Label, RadioButton, RadioSet, Static
+from textual.widgets import Button, Header, Label, RadioButton, RadioSet, Static
 
 from jointid.experiment import run_experiment
 from jointid.fit import FitResult
@@ -25,12 +25,15 @@ from jointid.settings import DEFAULT_SETTINGS, SEED_LIMITS, Settings
 from .charts import TorqueChart, heldout_chart, training_chart
 from .commands import TourCommands
 from .fitting import FittingLine
+from .footer import KeyFooter
 from .log_mode import LogMode
-from .log_source import LoadedLogs
 from .marks import MotionButton  # also used by the open dialog's role choice
 from .precision import precision
 from .readouts import ReadoutPanel
 from .stepper import StepRange, Stepper
+
+if TYPE_CHECKING:  # the log reader is imported only when a log is opened
+    from .log_source import LoadedLogs
 
 NOISE_RANGE = StepRange("noise", 0.0, 1.0, 0.01, 0.1, decimals=2, unit="N m")
 """The explorer's noise control: 0.00 to 1.00 N m (the core allows more; `jointid fit` takes it)."""
@@ -60,6 +63,15 @@ MOTION_KEYS = {"1": ("rich", "Rich"), "2": ("slow", "Slow"), "3": ("holds", "Hol
 """Global keys that select a training motion, with the palette's short name."""
 MOTION_GROUP = Binding.Group("Motion")
 """The motion keys share one footer entry."""
+
+
+def size_classes(width: int, height: int) -> dict[str, bool]:
+    """The screen's size classes: -narrow/-wide, -short/-tall, -compact when either is small, -too-small."""
+    narrow, short = width < COMPACT_BELOW[0], height < COMPACT_BELOW[1]
+    return {
+        "-narrow": narrow, "-wide": not narrow, "-short": short, "-tall": not short,
+        "-compact": narrow or short, "-too-small": width < MIN_SIZE[0] or height < MIN_SIZE[1],
+    }
 
 
 @lru_cache(maxsize=128)
@@ -116,8 +128,6 @@ class MainScreen(LogMode, Screen):
                 tooltip="Save the fit as JSON and the screen as SVG into a folder"),
     ]
 
-    HORIZONTAL_BREAKPOINTS = [(0, "-narrow"), (COMPACT_BELOW[0], "-wide")]
-    VERTICAL_BREAKPOINTS = [(0, "-short"), (COMPACT_BELOW[1], "-tall")]
 
     motion: reactive[str] = reactive(DEFAULT_SETTINGS.motion, init=False)
     noise: reactive[float] = reactive(DEFAULT_SETTINGS.noise, init=False)
@@ -142,6 +152,9 @@ class MainScreen(LogMode, Screen):
 
     def compose(self) -> ComposeResult:
         """Side panel with controls and readouts, chart column, too-small message, footer."""
+        # Size classes before the children are styled, so the first resize restyles nothing.
+        self.update_classes(size_classes(*self.app.size))
+        compact = self.has_class("-compact")
         yield Header(icon="≡")
         with Horizontal(id="main"):
             with Vertical(id="side"):
@@ -160,14 +173,14 @@ class MainScreen(LogMode, Screen):
                     yield Button("Reset", id="reset", compact=True)
                     yield Static(STEPPER_HINT, id="stepper-hint", markup=False)
                 yield Static("", id="log-note", markup=False)
-                yield Static(known_parameters_text(), id="known", markup=False)
-                yield ReadoutPanel(id="readouts")
+                yield Static(known_parameters_text(compact), id="known", markup=False)
+                yield ReadoutPanel(id="readouts", compact=compact)
             with Vertical(id="charts"):
                 yield TorqueChart(id="training-chart")
                 yield TorqueChart(id="heldout-chart")
         yield FittingLine(id="status")
         yield Static("", id="too-small", markup=False)
-        yield Footer()
+        yield KeyFooter()
 
     def on_mount(self) -> None:
         """Show the initial settings (set here so the single watcher does the first update)."""
@@ -178,15 +191,13 @@ class MainScreen(LogMode, Screen):
     def on_resize(self) -> None:
         """Compact rows on small terminals; a plain message when the terminal is too small to read."""
         width, height = self.size
-        compact = width < COMPACT_BELOW[0] or height < COMPACT_BELOW[1]
+        classes = size_classes(width, height)
+        compact = classes["-compact"]
         if compact != self.has_class("-compact"):
-            self.set_class(compact, "-compact")
             self.query_one("#known", Static).update(known_parameters_text(compact))
             self.query_one(ReadoutPanel).set_compact(compact)
-            self.query_one(Footer).compact = compact
-        too_small = width < MIN_SIZE[0] or height < MIN_SIZE[1]
-        self.set_class(too_small, "-too-small")
-        if too_small:
+        self.update_classes(classes)  # restyles the screen only when a class changes
+        if classes["-too-small"]:
             self.query_one("#too-small", Static).update(
                 f"Please enlarge the terminal.\n\n"
                 f"The jointid explorer needs at least {MIN_SIZE[0]} x {MIN_SIZE[1]} characters; "

@@ -4,24 +4,25 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from textual import work
 from textual.content import Content
 from textual.widgets import Input, RadioButton, Static
 
-from jointid.csvlog import LoadCancelled
-from jointid.export import ExportError
 from jointid.report import fit_document, readouts
 
 from .charts import TorqueChart
-from .export import ExportScreen, write_export
-from .file_dialog import OpenLogScreen
 from .fitting import FittingLine
-from .loading import LoadingScreen
-from .log_source import LoadedLogs, LoadRequest, load_request, log_heldout_chart, log_training_chart
 from .precision import precision
 from .readouts import ReadoutPanel
 from .stepper import Stepper
+
+# The log reader, file dialog, progress dialog and export are imported when first used:
+# the explorer's first frame needs none of them (about 15 ms of start-up).
+if TYPE_CHECKING:
+    from .loading import LoadingScreen
+    from .log_source import LoadedLogs, LoadRequest
 
 FROM_LOG = "from log"
 """Text of the noise, samples and seed fields while a log is shown."""
@@ -47,6 +48,8 @@ class LogMode:
         if logs is None:
             self.watch_settings(self.settings)
             return
+        from .log_source import log_heldout_chart, log_training_chart
+
         self.result = logs.result
         button = self.query_one("#motion-log", RadioButton)
         button.label = f"Log: {logs.name}"
@@ -90,6 +93,8 @@ class LogMode:
 
     def action_open_log(self) -> None:
         """Choose a training or held-out log to load."""
+        from .file_dialog import OpenLogScreen
+
         folder = os.path.dirname(os.path.abspath(self.logs.training.path)) if self.logs else None
         self.app.push_screen(OpenLogScreen(folder, heldout_allowed=self.logs is not None), self.start_loading)
 
@@ -97,6 +102,8 @@ class LogMode:
         """Load a chosen file in a worker behind a progress dialog."""
         if request is None:
             return
+        from .loading import LoadingScreen
+
         dialog = LoadingScreen(request.path)
         self.app.push_screen(dialog)
         self.load_worker(request, self.logs, dialog)
@@ -104,6 +111,10 @@ class LogMode:
     @work(thread=True, exclusive=True, group="log-load")
     def load_worker(self, request: LoadRequest, current: LoadedLogs | None, dialog: LoadingScreen) -> None:
         """Read and fit the log off the main thread; the outcome is applied on the main thread."""
+        from jointid.csvlog import LoadCancelled
+
+        from .log_source import load_request
+
         app = self.app
         try:
             logs = load_request(request, current, lambda done, total: app.call_from_thread(dialog.advance, done, total),
@@ -137,6 +148,8 @@ class LogMode:
 
     def action_export(self) -> None:
         """Export the fit as JSON and the screen as SVG into a chosen folder."""
+        from .export import ExportScreen
+
         svg = self.app.export_screenshot()  # before the dialog covers the screen
         stem, document = self.export_content()
         self.app.push_screen(ExportScreen(stem), lambda folder: self.write_export(folder, stem, document, svg))
@@ -145,6 +158,10 @@ class LogMode:
         """Write the export pair and say where, or say why not."""
         if folder is None:
             return
+        from jointid.export import ExportError
+
+        from .export import write_export
+
         try:
             json_path, svg_path = write_export(folder, stem, document, svg)
         except ExportError as error:

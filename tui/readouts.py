@@ -66,18 +66,19 @@ class ReadoutPanel(Widget):
     # Focusable so Tab scrolls a short terminal's side panel down to every readout.
     can_focus = True
 
-    def __init__(self, *, id: str | None = None) -> None:
+    def __init__(self, *, id: str | None = None, compact: bool = False) -> None:
         """Create an empty panel.
 
         Args:
             id: Widget id.
+            compact: Start with one row per parameter (small terminals).
         """
         super().__init__(id=id)
         self.items: tuple[Readout, ...] = ()
         self._lines: list[Content] = []
         self._lines_key: tuple | None = None
         self.precision: Precision | None = None
-        self.compact = False
+        self.compact = compact
 
     def set_compact(self, compact: bool) -> None:
         """Switch between the lab's labelled lines and one row per parameter (the screen decides by size)."""
