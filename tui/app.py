@@ -7,6 +7,7 @@ from functools import lru_cache
 from pathlib import Path
 from typing import TYPE_CHECKING, Iterable
 
+from textual import events
 from textual.app import App, ComposeResult, SystemCommand
 from textual.binding import Binding
 from textual.content import Content
@@ -58,6 +59,17 @@ MIN_SIZE = (70, 22)
 """Smallest (width, height) the layout stays readable at; below it the screen asks for more."""
 COMPACT_BELOW = (110, 32)
 """Narrower or shorter than this (width, height), readouts and known parameters use compact rows."""
+
+STATUS_LINES = 4
+"""Rows the status sentence always takes: most fits' sentences wrap to at most four lines,
+at 80 columns as at 120, so a key press changes its text but not the screen's layout."""
+
+FULL_COLLECTION_EVERY = 10_000
+"""Young-generation collections between full garbage collections while keys keep coming
+(Python's default is 10; a full collection takes 20 to 70 ms here, three key presses' worth):
+in practice they run in pauses (`IDLE_COLLECTION_AFTER`); this only bounds endless typing."""
+IDLE_COLLECTION_AFTER = 1.0
+"""Seconds without a key press after which a pending full collection runs."""
 
 MOTION_KEYS = {"1": ("rich", "Rich"), "2": ("slow", "Slow"), "3": ("holds", "Holds")}
 """Global keys that select a training motion, with the palette's short name."""
@@ -178,7 +190,7 @@ class MainScreen(LogMode, Screen):
             with Vertical(id="charts"):
                 yield TorqueChart(id="training-chart")
                 yield TorqueChart(id="heldout-chart")
-        yield FittingLine(id="status")
+        yield FittingLine(id="status", min_lines=STATUS_LINES)
         yield Static("", id="too-small", markup=False)
         yield KeyFooter()
 
@@ -320,8 +332,25 @@ class JointIdApp(App):
         Textual, numpy and plotext leave a large heap of objects that live as
         long as the app; every full collection walked all of them, 30 to 90 ms,
         a few times a minute while keys were pressed. Frozen, they are skipped.
+        What the app builds later (cached figures and fits, Textual's caches)
+        still made each full collection cost 20 to 70 ms, one in ten key presses:
+        full collections wait for a pause in the typing instead (`collect_when_idle`).
         """
         gc.freeze()
+        young, middle, _ = gc.get_threshold()
+        gc.set_threshold(young, middle, FULL_COLLECTION_EVERY)
+        self._idle_collection = self.set_interval(IDLE_COLLECTION_AFTER, self.collect_when_idle)
+
+    def on_event(self, event: events.Event):
+        """Every key press postpones the idle-time garbage collection."""
+        if isinstance(event, events.Key) and hasattr(self, "_idle_collection"):
+            self._idle_collection.reset()
+        return super().on_event(event)
+
+    def collect_when_idle(self) -> None:
+        """Run the full garbage collection Python would have run by now, while no key is pressed."""
+        if gc.get_count()[2] >= gc.get_threshold()[1]:  # as many young collections as its default
+            gc.collect()
 
     def get_system_commands(self, screen: Screen) -> Iterable[SystemCommand]:
         """Textual's commands plus every key binding with a tooltip, so nothing needs a key."""

@@ -10,7 +10,9 @@ class FittingLine(Widget):
     """One line of text with shorter variants for narrow terminals.
 
     The longest variant that fits the current width is shown; when none fits,
-    the shortest one wraps rather than being cut off.
+    the shortest one wraps rather than being cut off. `min_lines` rows are
+    always taken, so texts of up to that many lines keep the widget's height
+    and a new text repaints only this widget instead of relayouting the screen.
     """
 
     DEFAULT_CSS = """
@@ -19,30 +21,40 @@ class FittingLine(Widget):
     }
     """
 
-    def __init__(self, *, id: str | None = None, classes: str | None = None) -> None:
+    def __init__(self, *, id: str | None = None, classes: str | None = None, min_lines: int = 1) -> None:
         """Create an empty line.
 
         Args:
             id: Widget id.
             classes: CSS classes.
+            min_lines: Rows reserved whatever the text (blank below a shorter one).
         """
         super().__init__(id=id, classes=classes)
         self.variants: tuple[Content, ...] = (Content(""),)
+        self.min_lines = min_lines
 
     def show(self, variants: tuple[Content, ...]) -> None:
         """Display new variants, longest first."""
         if variants == self.variants:
             return
         width = self.content_region.width
-        old_height = self.line_count(width)
+        old_height = self.height_at(width)
         self.variants = variants
         # A relayout of the whole screen costs more than the rest of a key press; only ask
-        # for one when this text's height really changed.
-        self.refresh(layout=not width or self.line_count(width) != old_height)
+        # for one when this widget's height really changed.
+        self.refresh(layout=not width or self.height_at(width) != old_height)
 
     def line_count(self, width: int) -> int:
         """Lines the shown variant takes at a given width."""
         return len(self.pick(width).wrap(width)) if width > 0 else 1
+
+    def height_at(self, width: int) -> int:
+        """Rows taken at a given width: the text's lines, at least `min_lines`."""
+        return max(self.line_count(width), self.min_lines)
+
+    def get_content_height(self, container, viewport, width: int) -> int:
+        """The text's lines at this width, at least `min_lines`."""
+        return self.height_at(width)
 
     def pick(self, width: int) -> Content:
         """The variant shown at a given width."""

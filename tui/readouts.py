@@ -16,6 +16,11 @@ COMPACT_LABEL_WIDTH = 26
 """Columns for a label in compact rows ("Acceleration RMS (rad/s²)" and a space)."""
 COMPACT_VALUE_WIDTH = 9
 """Columns a compact parameter value is right-aligned in ("-1.607788"), so the ± line up."""
+RESERVED_FAILURE_LINES = 2
+"""Rows kept for sign-failure notes on lines of their own, blank while no sign fails (slow
+motion with much noise breaks two requirements, I > 0 and B ≥ 0)."""
+COMPACT_RESERVED_FAILURE_LINES = 1
+"""Compact rows kept for sign-failure notes: 80x24 has room for one."""
 
 
 def failure_note(readout: Readout) -> str:
@@ -91,11 +96,28 @@ class ReadoutPanel(Widget):
         if (items, precision) == (self.items, self.precision):
             return
         width = self.content_region.width
-        old_height = len(self.lines(width))
+        old_height = self.rows(width)
         self.items, self.precision = items, precision
-        # A relayout of the whole screen costs more than the rest of a key press; only ask
-        # for one when a note line appeared or went.
-        self.refresh(layout=not width or len(self.lines(width)) != old_height)
+        # A relayout of the whole screen costs more than the rest of a key press; the rows
+        # are reserved so that one is needed only when the panel really grows or shrinks.
+        self.refresh(layout=not width or self.rows(width) != old_height)
+
+    def reserved_rows(self) -> int:
+        """Rows every fit fills at most in the current mode, so key presses keep the panel's height.
+
+        Each readout's row, the precision line under each parameter (full mode),
+        the sign-failure lines, and the closing lines (three in full mode, one compact).
+        """
+        if not self.items:
+            return 0
+        parameters = 0 if self.precision is None else len(self.precision.notes)
+        if self.compact:
+            return len(self.items) + COMPACT_RESERVED_FAILURE_LINES + 1
+        return len(self.items) + parameters + RESERVED_FAILURE_LINES + 3
+
+    def rows(self, width: int) -> int:
+        """The panel's height at a width: its lines, or the reserved rows if more."""
+        return max(len(self.lines(width)), self.reserved_rows())
 
     def lines(self, width: int) -> list[Content]:
         """The panel's lines for a given width (layout and render both ask; build once)."""
@@ -143,5 +165,5 @@ class ReadoutPanel(Widget):
         return Content("\n").join(self.lines(self.size.width))
 
     def get_content_height(self, container, viewport, width: int) -> int:
-        """One line per readout plus any note lines that the width pushes down."""
-        return len(self.lines(width))
+        """The reserved rows, or more when the width pushes extra note lines down."""
+        return self.rows(width)

@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from textual.binding import Binding
+from textual.geometry import Size
 from textual.message import Message
 from textual.widgets import Input
 
@@ -137,6 +138,14 @@ class Stepper(Input):
         if self.value != text:
             with self.prevent(Input.Changed):
                 self.value = text
+
+    def _watch_value(self, value: str) -> None:
+        # Input sets its virtual size through the reactive, whose layout flag relayouts the
+        # whole screen whenever the number's width changes (Reset from seed 107 to 7): the
+        # field's own width is fixed, so a repaint of the field is enough.
+        self.set_reactive(Input.virtual_size, Size(self.content_width, 1))
+        self._suggestion = ""
+        self.refresh()
 
     def action_step(self, direction: int, big: bool = False) -> None:
         """Step the committed value by one small or big step, clamped to the range."""
