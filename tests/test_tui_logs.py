@@ -305,3 +305,17 @@ def test_ordinals():
 
 def test_log_charts_are_thinned_to_the_width():
     assert [log_source.thin_stride(n, 80) for n in (10, 80, 81, 160, 161, 1_000_000)] == [1, 1, 2, 2, 3, 12500]
+
+
+@synchronous
+async def test_a_log_with_its_heldout_fits_80x24_without_scrolling(logs):
+    train, test = logs
+    app = make_app()
+    async with app.run_test(size=(80, 24)) as pilot:
+        await load(pilot, train)
+        await load(pilot, test, HELDOUT)
+        screen = app.screen
+        side, panel = screen.query_one("#side"), screen.query_one(ReadoutPanel)
+        assert screen.logs.heldout is not None
+        assert side.max_scroll_y == 0 and panel.region.bottom <= side.region.bottom
+        assert str(screen.query_one("#log-note").render()) == "From log: c or 1/2/3 for synthetic"

@@ -205,10 +205,13 @@ class MainScreen(LogMode, Screen):
         width, height = self.size
         classes = size_classes(width, height)
         compact = classes["-compact"]
-        if compact != self.has_class("-compact"):
+        switched = compact != self.has_class("-compact")
+        if switched:
             self.query_one("#known", Static).update(known_parameters_text(compact))
             self.query_one(ReadoutPanel).set_compact(compact)
         self.update_classes(classes)  # restyles the screen only when a class changes
+        if switched:
+            self.show_log_note()  # reads the new -compact class
         if classes["-too-small"]:
             self.query_one("#too-small", Static).update(
                 f"Please enlarge the terminal.\n\n"

@@ -28,8 +28,14 @@ FROM_LOG = "from log"
 """Text of the noise, samples and seed fields while a log is shown."""
 
 
-def log_note(logs: LoadedLogs) -> str:
-    """Why the synthetic controls are off, and how to get them back."""
+COMPACT_LOG_NOTE = "From log: c or 1/2/3 for synthetic"
+"""The note on small terminals, one line (the help gives the rest)."""
+
+
+def log_note(logs: LoadedLogs, compact: bool = False) -> str:
+    """Why the synthetic controls are off, and how to get them back (one short line when compact)."""
+    if compact:
+        return COMPACT_LOG_NOTE
     heldout = f", held-out {os.path.basename(logs.heldout.path)}" if logs.heldout is not None else ""
     return (f"From log: {logs.name}{heldout}, {logs.result.training.count} samples fitted; "
             "noise, samples and seed do not apply. 1/2/3 or c: back to synthetic.")
@@ -57,7 +63,7 @@ class LogMode:
         for stepper in self.query(Stepper):
             with stepper.prevent(Input.Changed):
                 stepper.value = FROM_LOG
-        self.query_one("#log-note", Static).update(log_note(logs))
+        self.show_log_note()
         columns = max(self.app.size.width, 80)  # a chart is never wider than the terminal
         self.query_one("#training-chart", TorqueChart).show(log_training_chart(logs, columns))
         heldout = log_heldout_chart(logs, columns)
@@ -66,6 +72,11 @@ class LogMode:
         self.query_one(ReadoutPanel).show(readouts(logs.result), precision(logs.result))
         status = " ".join((logs.result.message, *(n if n.endswith(".") else f"{n}." for n in logs.notes())))
         self.query_one("#status", FittingLine).show((Content(status),))
+
+    def show_log_note(self) -> None:
+        """The note on the off controls, one line on compact screens (80x24 has no room for more)."""
+        if self.logs is not None:
+            self.query_one("#log-note", Static).update(log_note(self.logs, self.has_class("-compact")))
 
     def check_action(self, action: str, parameters: tuple) -> bool | None:
         """Close log exists only while a log is shown (hidden from the footer otherwise)."""
