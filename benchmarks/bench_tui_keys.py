@@ -30,7 +30,7 @@ from textual import events  # noqa: E402
 from textual.screen import Screen  # noqa: E402
 
 from tui.app import JointIdApp, MainScreen  # noqa: E402
-from tui.plot import TorquePlot  # noqa: E402
+from tui.torque_plot import TorquePlot  # noqa: E402
 
 PRESSES = 200
 SIZE = (120, 40)

@@ -15,7 +15,7 @@ from jointid.sweep import SweepCancelled, run_sweep
 from tui import sweep_screen
 from tui.app import MainScreen
 from tui.matrix_screen import MatrixScreen, matrix_table
-from tui.plots import SmallPlot
+from tui.small_plots import SmallPlot
 from tui.readouts import ReadoutPanel
 from tui.residual_screen import AXIS_KEYS, ResidualScreen
 from tui.stepper import Stepper

@@ -13,7 +13,7 @@ from textual.content import Content
 from jointid.fit import FitResult, format_number
 
 from .fitting import FittingLine
-from .plot import TorquePlot
+from .torque_plot import TorquePlot
 
 DOT_MARKER = "●"
 """Marker of measured/true torques; differs in shape from the line so it reads without colour."""

@@ -12,7 +12,7 @@ from jointid.fit import FitResult, format_number
 from jointid.residuals import AXES, AXIS_LABELS, ResidualData, residual_data
 from jointid.settings import Settings
 
-from .plots import ScatterData, SmallPlot
+from .small_plots import ScatterData, SmallPlot
 from .sweep_screen import settings_line
 
 AXIS_KEYS = {axis: str(number) for number, axis in enumerate(AXES, start=1)}

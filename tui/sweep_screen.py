@@ -19,7 +19,7 @@ from jointid.motions import TRAINING_MOTIONS
 from jointid.settings import Settings, SettingsError
 from jointid.sweep import DEFAULT_SEED_COUNT, SweepCancelled, SweepResult, run_sweep
 
-from .plots import HistogramData, SmallPlot
+from .small_plots import HistogramData, SmallPlot
 from .stepper import StepRange, Stepper
 from .tables import text_table
 
