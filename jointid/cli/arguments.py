@@ -52,6 +52,30 @@ def finite_float(text: str) -> float:
     return value
 
 
+def positive_number(text: str) -> float:
+    """An argparse type for a finite number greater than zero."""
+    value = finite_float(text)
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"must be a finite number greater than 0; got {text!r}")
+    return value
+
+
+def whole_number(low: int, high: int | None = None):
+    """An argparse type for an integer of at least `low` (and at most `high`, when given)."""
+    allowed = f"at least {low}" if high is None else f"from {low} to {high:,}"
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text.strip())
+        except ValueError:
+            value = None
+        if value is None or value < low or (high is not None and value > high):
+            raise argparse.ArgumentTypeError(f"must be a whole number {allowed}; got {text!r}")
+        return value
+
+    return parse
+
+
 def add_settings_arguments(parser: argparse.ArgumentParser) -> None:
     """Add --motion, --noise, --samples and --seed with the lesson's defaults."""
     defaults = DEFAULT_SETTINGS

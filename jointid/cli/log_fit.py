@@ -17,28 +17,13 @@ from ..derivatives import DEFAULT_ORDER, DEFAULT_WINDOW
 from ..fit import fit_joint
 from ..report import log_fit_document, readouts_text, uncertainty_text
 from ..settings import DEFAULT_SETTINGS
-from .arguments import UserError
+from .arguments import UserError, whole_number
 
 SETTING_FLAGS = ("motion", "noise", "samples", "seed")
 """Synthetic-experiment options that a log fit rejects."""
 
 LOG_ONLY_FLAGS = ("heldout", "degrees", "window", "order")
 """Options that mean something only with --csv."""
-
-
-def whole_number(low: int):
-    """An argparse type for an integer of at least `low`."""
-
-    def parse(text: str) -> int:
-        try:
-            value = int(text.strip())
-        except ValueError:
-            value = None
-        if value is None or value < low:
-            raise argparse.ArgumentTypeError(f"must be a whole number, at least {low}; got {text!r}")
-        return value
-
-    return parse
 
 
 def add_log_arguments(parser: argparse.ArgumentParser) -> None:

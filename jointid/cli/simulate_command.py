@@ -17,8 +17,7 @@ from ..model import PARAMETER_NAMES, TRUE_PARAMETERS, predict_torque
 from ..motions import ALL_MOTIONS, DURATION
 from ..noise import torque_noise
 from ..settings import DEFAULT_SETTINGS, SettingsError, check_setting
-from .arguments import UserError, setting_type
-from .log_fit import whole_number
+from .arguments import UserError, positive_number, setting_type, whole_number
 
 NAME = "simulate"
 
@@ -32,17 +31,6 @@ def motion_name(text: str) -> str:
     if name not in ALL_MOTIONS:
         raise argparse.ArgumentTypeError(f"must be one of {', '.join(ALL_MOTIONS)}; got {text!r}")
     return name
-
-
-def positive_number(text: str) -> float:
-    """An argparse type for a finite number greater than zero."""
-    try:
-        value = float(text)
-    except ValueError:
-        value = math.nan
-    if not (math.isfinite(value) and value > 0):
-        raise argparse.ArgumentTypeError(f"must be a finite number greater than 0; got {text!r}")
-    return value
 
 
 def add_parser(subparsers) -> None:

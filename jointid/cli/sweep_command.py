@@ -10,7 +10,7 @@ from ..model import PARAMETER_NAMES
 from ..report import per_parameter
 from ..sweep import DEFAULT_SEED_COUNT, QUANTITIES, SEED_COUNT_LIMITS, SweepResult, run_sweep
 from ..uncertainty import finite_or_none
-from .arguments import add_settings_arguments, settings_from
+from .arguments import add_settings_arguments, settings_from, whole_number
 
 NAME = "sweep"
 
@@ -22,18 +22,6 @@ QUANTITY_LABELS = {
     "heldout_rmse": "Held-out RMSE (N m)",
 }
 """Row labels with units."""
-
-
-def seed_count(text: str) -> int:
-    """An argparse type for the number of seeds, SEED_COUNT_LIMITS inclusive."""
-    low, high = SEED_COUNT_LIMITS
-    try:
-        value = int(text.strip())
-    except ValueError:
-        value = None
-    if value is None or not low <= value <= high:
-        raise argparse.ArgumentTypeError(f"must be a whole number from {low} to {high:,}; got {text!r}")
-    return value
 
 
 def add_parser(subparsers) -> None:
@@ -50,7 +38,7 @@ def add_parser(subparsers) -> None:
     low, high = SEED_COUNT_LIMITS
     parser.add_argument(
         "--seeds",
-        type=seed_count,
+        type=whole_number(*SEED_COUNT_LIMITS),
         default=DEFAULT_SEED_COUNT,
         metavar="K",
         help=f"number of seeds, {low} to {high:,}; default {DEFAULT_SEED_COUNT}",
