@@ -12,7 +12,9 @@ def run(args) -> int:
     logs = load_logs(args) if args.csv is not None else None
     settings = settings_from(with_default_settings(args) if logs is None else _defaults(args))
     # The explorer's controls cover narrower ranges than the core; say so rather than clamp.
-    from tui.app import NOISE_RANGE, SAMPLES_RANGE  # lazy: `import jointid` never loads textual
+    # Imported here, not at the top: `import jointid` must never load textual.
+    from tui.app import NOISE_RANGE, SAMPLES_RANGE, JointIdApp
+    from tui.log_source import fit_logs
 
     for steps in (NOISE_RANGE, SAMPLES_RANGE):
         value = getattr(settings, steps.field)
@@ -21,9 +23,6 @@ def run(args) -> int:
                 f"the explorer's --{steps.field} is {steps.describe()}; got {steps.format(value)}. "
                 f"Use `jointid fit --{steps.field} {steps.format(value)}` for larger values."
             )
-    from tui.app import JointIdApp
-    from tui.log_source import fit_logs
-
     JointIdApp(settings, None if logs is None else fit_logs(*logs)).run()
     return 0
 
