@@ -10,6 +10,7 @@ from textual.widgets import Button, Input, RadioSet
 
 from jointid.experiment import run_experiment
 from jointid.report import readouts
+from jointid.motions import TRAINING_MOTIONS
 from jointid.settings import DEFAULT_SETTINGS, SEED_LIMITS, Settings
 from tui.app import MIN_SIZE, MOTION_KEYS, NOISE_RANGE, SAMPLES_RANGE, SEED_RANGE, MainScreen
 from tui.charts import TorqueChart
@@ -98,6 +99,38 @@ def test_radio_set_selects_motion_with_arrows_and_enter():
         await pilot.press("down", "enter")
         await pilot.pause()
         assert_shows(screen, replace(DEFAULT_SETTINGS, motion="slow"))
+
+    run(scenario)
+
+
+def pressed_motion_buttons(screen) -> list[str]:
+    return [button.id for button in screen.query("#motion RadioButton") if button.value]
+
+
+@pytest.mark.parametrize("how", ["enter", "space", "click"])
+def test_motion_list_presses_exactly_the_chosen_button(how):
+    async def scenario(pilot, screen):
+        screen.query_one(RadioSet).focus()
+        for motion in ("holds", "slow", "rich"):
+            if how == "click":
+                await pilot.click(f"#motion-{motion}")
+            else:
+                while screen.query_one(RadioSet)._selected != list(TRAINING_MOTIONS).index(motion):
+                    await pilot.press("down")
+                await pilot.press(how)
+            await pilot.pause()
+            assert pressed_motion_buttons(screen) == [f"motion-{motion}"]
+            assert_shows(screen, replace(DEFAULT_SETTINGS, motion=motion))
+
+    run(scenario)
+
+
+def test_clicking_the_pressed_motion_keeps_it_pressed():
+    async def scenario(pilot, screen):
+        await pilot.click("#motion-rich")
+        await pilot.pause()
+        assert pressed_motion_buttons(screen) == ["motion-rich"]
+        assert_shows(screen, DEFAULT_SETTINGS)
 
     run(scenario)
 
@@ -208,7 +241,7 @@ def test_escape_discards_typing():
     run(scenario)
 
 
-@pytest.mark.parametrize("how", ["key", "button"])
+@pytest.mark.parametrize("how", ["key", "button", "click"])
 def test_reset_restores_all_four_controls(how):
     start = Settings(motion="holds", noise=0.73, samples=99, seed=1234)
 
@@ -217,9 +250,11 @@ def test_reset_restores_all_four_controls(how):
         if how == "key":
             await focus(pilot, screen, "seed")  # r works even from a number field
             await pilot.press("r")
-        else:
+        elif how == "button":
             screen.query_one("#reset", Button).focus()
             await pilot.press("enter")
+        else:
+            await pilot.click("#reset")
         await pilot.pause()
         assert_shows(screen, DEFAULT_SETTINGS)
 

@@ -14,7 +14,7 @@ from textual.content import Content
 from textual.containers import Horizontal, Vertical
 from textual.reactive import reactive, var
 from textual.screen import Screen
-from textual.widgets import Button, Header, Label, RadioButton, RadioSet, Static
+from textual.widgets import Header, Label, Static
 
 from jointid.experiment import run_experiment
 from jointid.fit import FitResult
@@ -25,6 +25,7 @@ from jointid.settings import DEFAULT_SETTINGS, SEED_LIMITS, Settings
 
 from .charts import TorqueChart, heldout_chart, training_chart
 from .commands import TourCommands
+from .direct_controls import ActionButton, ChoiceList
 from .fitting import FittingLine
 from .footer import KeyFooter
 from .log_mode import LogMode
@@ -141,10 +142,13 @@ class MainScreen(LogMode, Screen):
     ]
 
 
-    motion: reactive[str] = reactive(DEFAULT_SETTINGS.motion, init=False)
-    noise: reactive[float] = reactive(DEFAULT_SETTINGS.noise, init=False)
-    samples: reactive[int] = reactive(DEFAULT_SETTINGS.samples, init=False)
-    seed: reactive[int] = reactive(DEFAULT_SETTINGS.seed, init=False)
+    # var, not reactive: a reactive repaints its owner, here the whole screen (a full-screen
+    # render, ~12 ms at 120x40, on every key press); the settings watcher refreshes exactly
+    # the widgets whose content changed.
+    motion: var[str] = var(DEFAULT_SETTINGS.motion, init=False)
+    noise: var[float] = var(DEFAULT_SETTINGS.noise, init=False)
+    samples: var[int] = var(DEFAULT_SETTINGS.samples, init=False)
+    seed: var[int] = var(DEFAULT_SETTINGS.seed, init=False)
     settings: var[Settings] = var(DEFAULT_SETTINGS, init=False)
     """Derived from the four reactives; its watcher is the one place results are computed."""
     logs: var[LoadedLogs | None] = var(None, init=False)
@@ -172,17 +176,18 @@ class MainScreen(LogMode, Screen):
             with Vertical(id="side"):
                 # No button starts pressed: the first settings push presses one, which
                 # also moves the set's highlight to it.
-                with RadioSet(id="motion"):
-                    for name, motion in TRAINING_MOTIONS.items():
-                        yield MotionButton(motion.label, id=f"motion-{name}")
-                    yield MotionButton("Log", id="motion-log")  # shown only while a log is
+                yield ChoiceList(
+                    *(MotionButton(motion.label, id=f"motion-{name}") for name, motion in TRAINING_MOTIONS.items()),
+                    MotionButton("Log", id="motion-log"),  # shown only while a log is
+                    on_choose=self.choose_motion, id="motion",
+                )
                 for steps in STEP_RANGES:
                     with Horizontal(classes="field"):
                         yield Label(FIELD_LABELS[steps.field], classes="field--label")
                         yield Stepper(steps, getattr(self._initial, steps.field), id=steps.field)
                 # After the fields, so Tab visits motion, noise, samples, seed, then Reset.
                 with Horizontal(id="reset-row"):
-                    yield Button("Reset", id="reset", compact=True)
+                    yield ActionButton("Reset", on_press=self.action_reset, id="reset")
                     yield Static(STEPPER_HINT, id="stepper-hint", markup=False)
                 yield Static("", id="log-note", markup=False)
                 yield Static(known_parameters_text(compact), id="known", markup=False)
@@ -229,7 +234,7 @@ class MainScreen(LogMode, Screen):
             return
         result = cached_experiment(settings)
         self.result = result
-        self.query_one(f"#motion-{settings.motion}", RadioButton).value = True
+        self.query_one("#motion", ChoiceList).show_pressed(f"motion-{settings.motion}")
         for stepper in self.query(Stepper):
             stepper.show_value(getattr(settings, stepper.field))
         self.query_one("#training-chart", TorqueChart).show(training_chart(result))
@@ -250,17 +255,10 @@ class MainScreen(LogMode, Screen):
         """A numeric control committed a value: store it in the matching reactive."""
         setattr(self, message.stepper.field, message.value)
 
-    def on_radio_set_changed(self, message: RadioSet.Changed) -> None:
-        """The motion radio set changed (pressing the log's own entry changes nothing)."""
-        # A pushed value's message can arrive after a newer push (opening on a log): only
-        # the button still pressed is a choice, else the stale one would close the log.
-        if message.pressed is message.radio_set.pressed_button and message.pressed.id != "motion-log":
-            self.action_motion(message.pressed.id.removeprefix("motion-"))
-
-    def on_button_pressed(self, message: Button.Pressed) -> None:
-        """The Reset button."""
-        if message.button.id == "reset":
-            self.action_reset()
+    def choose_motion(self, button_id: str) -> None:
+        """The motion list's choice (choosing the log's own entry changes nothing)."""
+        if button_id != "motion-log":
+            self.action_motion(button_id.removeprefix("motion-"))
 
     def action_motion(self, name: str) -> None:
         """Select a training motion (leaving a log)."""

@@ -13,6 +13,7 @@ from textual.widgets import Input, RadioButton, Static
 from jointid.report import fit_document, readouts
 
 from .charts import TorqueChart
+from .direct_controls import ChoiceList
 from .fitting import FittingLine
 from .precision import precision
 from .readouts import ReadoutPanel
@@ -57,9 +58,8 @@ class LogMode:
         from .log_source import log_heldout_chart, log_training_chart
 
         self.result = logs.result
-        button = self.query_one("#motion-log", RadioButton)
-        button.label = f"Log: {logs.name}"
-        button.value = True
+        self.query_one("#motion-log", RadioButton).label = f"Log: {logs.name}"
+        self.query_one("#motion", ChoiceList).show_pressed("motion-log")
         for stepper in self.query(Stepper):
             with stepper.prevent(Input.Changed):
                 stepper.value = FROM_LOG
