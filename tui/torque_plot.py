@@ -13,6 +13,10 @@ from rich.text import Text
 from textual.strip import Strip
 from textual_plotext import PlotextPlot
 
+from . import plotext_speedups
+
+plotext_speedups.install()
+
 
 @lru_cache(maxsize=512)
 def cell_style(foreground, style, background) -> Style:

@@ -1,0 +1,99 @@
+"""Faster drop-ins for three plotext 5.3.2 internals, so a torque chart builds in half the time.
+
+A key press rebuilds both torque charts, and plotext's build took about 3.4 ms
+a chart at 74x14, a fifth of a 60 Hz frame each. Most of that was spent in
+three helpers written for generality rather than speed:
+
+- `_utility.hd_group` groups the braille line's points into cells: it built a
+  list of lists per point and flattened each with a recursive `join`;
+- `_utility.join` flattens nested lists by recursion with a list per element;
+- `matrix_class.set_matrices` coloured every cell of a fresh matrix through a
+  lambda call and two range lookups.
+
+The versions here compute the same values in plain loops and slices (1.5 ms a
+chart, 56 % less). `tests/test_plotext_speedups.py` builds many random figures
+with and without them and requires every character and colour to be equal.
+They are installed only on the plotext version they were written against;
+any other version keeps its own code.
+"""
+
+from __future__ import annotations
+
+import math
+
+import plotext
+from plotext import _matrix as plotext_matrix
+from plotext import _utility as plotext_utility
+
+PLOTEXT_VERSION = "5.3.2"
+"""The plotext release whose internals these replace exactly."""
+
+ORIGINALS = {
+    "hd_group": plotext_utility.hd_group,
+    "join": plotext_utility.join,
+    "set_matrices": plotext_matrix.matrix_class.set_matrices,
+}
+"""plotext's own functions, kept to fall back on and to compare against in tests."""
+
+
+def hd_group(x, y, xf, yf):
+    """plotext's hd_group: the cells high-resolution markers fall in, and each cell's dot pattern.
+
+    Returns the cells' x and y (in order of first appearance) and per cell a
+    tuple of 0/1 over its sub-dots, top row first. Mixed marker resolutions in
+    one signal (never drawn here) go to plotext's own version.
+    """
+    if not x or min(xf) != max(xf) or min(yf) != max(yf):
+        return ORIGINALS["hd_group"](x, y, xf, yf)
+    columns, rows = xf[0], yf[0]
+    numerical = plotext_utility.numerical
+    cells: dict[tuple, list[int]] = {}
+    for xi, yi in zip(x, y):
+        x_ok, y_ok = numerical(xi), numerical(yi)
+        key = (xi // columns if x_ok else xi, yi // rows if y_ok else yi)
+        dots = cells.get(key)
+        if dots is None:
+            dots = cells[key] = [0] * (columns * rows)
+        if x_ok and y_ok:
+            dots[(rows - 1 - math.floor(yi % rows)) * columns + math.floor(xi % columns)] = 1
+    return [key[0] for key in cells], [key[1] for key in cells], [tuple(dots) for dots in cells.values()]
+
+
+def join(data):
+    """plotext's join: flatten nested lists (only `list`, as plotext does) into one list."""
+    flat = []
+    for item in data:
+        if type(item) == list:  # noqa: E721 - exactly plotext's test: tuples are not flattened
+            flat.extend(join(item))
+        else:
+            flat.append(item)
+    return flat
+
+
+def set_matrices(self) -> None:
+    """plotext's matrix_class.set_matrices: blank markers, no colours, the canvas background inside its area."""
+    space, no_color = plotext_utility.space, plotext_utility.no_color
+    cols = self.cols
+    canvas_row = [self.canvas_color if col in self.Cols_canvas else self.axes_color for col in self.Cols]
+    outside_row = [self.axes_color] * cols
+    self.marker = [[space] * cols for _ in self.Rows]
+    self.fullground = [[no_color] * cols for _ in self.Rows]
+    self.background = [list(canvas_row if row in self.Rows_canvas else outside_row) for row in self.Rows]
+    self.style = [[no_color] * cols for _ in self.Rows]
+
+
+def install() -> bool:
+    """Put the fast versions in place if plotext is the release they match; True if installed."""
+    if getattr(plotext, "__version__", None) != PLOTEXT_VERSION:
+        return False
+    plotext_utility.hd_group = hd_group
+    plotext_utility.join = join
+    plotext_matrix.matrix_class.set_matrices = set_matrices
+    return True
+
+
+def uninstall() -> None:
+    """Restore plotext's own functions (tests compare both)."""
+    plotext_utility.hd_group = ORIGINALS["hd_group"]
+    plotext_utility.join = ORIGINALS["join"]
+    plotext_matrix.matrix_class.set_matrices = ORIGINALS["set_matrices"]
