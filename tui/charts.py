@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 from textual.app import ComposeResult
@@ -68,14 +69,21 @@ class ChartData:
 
     def headings(self) -> tuple[Content, ...]:
         """Title and legend on one line, longest first (the legend never hides data here)."""
-        markup = "[b]$title[/b]  [$primary]$dot[/] $dots"
-        if self.line is not None:
-            markup += "  [$accent]$line[/] $line_label"
-        return tuple(
-            Content.from_markup(markup, title=title, dot=DOT_MARKER, dots=self.dots_label,
-                                line=LEGEND_LINE, line_label=self.line_label)
-            for title in self.titles
-        )
+        line_label = None if self.line is None else self.line_label
+        return heading_variants(self.titles, self.dots_label, line_label)
+
+
+@lru_cache(maxsize=64)
+def heading_variants(titles: tuple[str, ...], dots_label: str, line_label: str | None) -> tuple[Content, ...]:
+    """A chart's heading for each title, with the legend; parsed once (a few per chart, reused every press)."""
+    markup = "[b]$title[/b]  [$primary]$dot[/] $dots"
+    if line_label is not None:
+        markup += "  [$accent]$line[/] $line_label"
+    return tuple(
+        Content.from_markup(markup, title=title, dot=DOT_MARKER, dots=dots_label,
+                            line=LEGEND_LINE, line_label=line_label or "")
+        for title in titles
+    )
 
 
 def _chart(result: FitResult, data, predictions, rmse, titles, dots_label, line_label,

@@ -32,6 +32,8 @@ class FittingLine(Widget):
         super().__init__(id=id, classes=classes)
         self.variants: tuple[Content, ...] = (Content(""),)
         self.min_lines = min_lines
+        self._heights: dict[int, int] = {}
+        """Rows at each width asked for, for the shown variants (wrapping a long text costs ~50 µs)."""
 
     def show(self, variants: tuple[Content, ...]) -> None:
         """Display new variants, longest first."""
@@ -40,6 +42,7 @@ class FittingLine(Widget):
         width = self.content_region.width
         old_height = self.height_at(width)
         self.variants = variants
+        self._heights = {}
         # A relayout of the whole screen costs more than the rest of a key press; only ask
         # for one when this widget's height really changed.
         self.refresh(layout=not width or self.height_at(width) != old_height)
@@ -50,7 +53,10 @@ class FittingLine(Widget):
 
     def height_at(self, width: int) -> int:
         """Rows taken at a given width: the text's lines, at least `min_lines`."""
-        return max(self.line_count(width), self.min_lines)
+        height = self._heights.get(width)
+        if height is None:
+            height = self._heights[width] = max(self.line_count(width), self.min_lines)
+        return height
 
     def get_content_height(self, container, viewport, width: int) -> int:
         """The text's lines at this width, at least `min_lines`."""
