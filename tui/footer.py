@@ -1,33 +1,148 @@
-"""The key footer, built only when the keys it shows change."""
+"""The key footer: the keys that work now, on one line drawn by one widget."""
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from itertools import groupby
+
+from textual.app import App
+from textual.content import Content
 from textual.screen import Screen
-from textual.widgets import Footer
+from textual.widget import Widget
 
 
-class KeyFooter(Footer):
-    """Textual's footer, always compact, rebuilt only when the keys it would show change.
+@dataclass(frozen=True)
+class KeyEntry:
+    """One footer item: its key or keys as displayed, what they do, and whether they work now."""
 
-    Textual rebuilds the footer on every bindings signal (each focus change, each
-    screen resume), and a compact switch restyles every key twice; at start-up
-    that was about 100 ms of identical rebuilds before the first complete frame.
+    keys: str
+    description: str
+    enabled: bool = True
+
+
+def key_entries(screen: Screen, app: App) -> tuple[tuple[KeyEntry, ...], KeyEntry | None]:
+    """The shown bindings of the focused widget and its screen, and the command palette's key.
+
+    As in Textual's footer: one entry per action (its first key), and bindings of
+    one group with more than one action share an entry, "1 2 3 Motion".
+    """
+    active = screen.active_bindings
+    by_action: dict[str, tuple] = {}
+    for _, binding, enabled, _ in active.values():
+        if binding.show:
+            by_action.setdefault(binding.action, (binding, enabled))
+    entries = []
+    for group, members in groupby(by_action.values(), lambda member: member[0].group):
+        members = list(members)
+        if group is not None and len(members) > 1:
+            keys = " ".join(app.get_key_display(binding) for binding, _ in members)
+            entries.append(KeyEntry(keys, group.description, any(enabled for _, enabled in members)))
+        else:
+            entries.extend(KeyEntry(app.get_key_display(binding), binding.description, enabled)
+                           for binding, enabled in members)
+    palette = None
+    if app.ENABLE_COMMAND_PALETTE and app.COMMAND_PALETTE_BINDING in active:
+        _, binding, enabled, _ = active[app.COMMAND_PALETTE_BINDING]
+        palette = KeyEntry(app.get_key_display(binding), binding.description, enabled)
+    return tuple(entries), palette
+
+
+def entry_content(entry: KeyEntry, gap: str) -> Content:
+    """A key in the footer's key colour, then its description (a group's keys always get a space)."""
+    gap = " " if " " in entry.keys else gap
+    content = Content.from_markup("[b $footer-key-foreground]$keys[/]", keys=entry.keys)
+    if entry.description:
+        content += Content(gap + entry.description)
+    return content if entry.enabled else content.stylize("dim")
+
+
+ARRANGEMENTS = (("  ", " ", "full"), (" ", " ", "full"), (" ", "", "full"), (" ", "", "key"), (" ", "", None))
+"""(between entries, between key and description, the palette shown in full, as its key or not
+at all), roomiest first; the last fits every main-screen key in 80 columns."""
+
+
+def footer_line(entries: tuple[KeyEntry, ...], palette: KeyEntry | None, width: int) -> Content:
+    """The roomiest arrangement that fits the width, the palette's key at the right end.
+
+    When even the tightest is too wide, the keys that fit and "…"; help and the
+    palette list every key.
+    """
+    for separator, gap, palette_shown in ARRANGEMENTS:
+        right = Content("")
+        if palette is not None and palette_shown is not None:
+            shown = palette if palette_shown == "full" else KeyEntry(palette.keys, "", palette.enabled)
+            right = Content.from_markup("[dim]│[/] ") + entry_content(shown, gap)
+        room = width - right.cell_length - 1  # a space before the palette
+        line = Content(separator).join(entry_content(entry, gap) for entry in entries)
+        if line.cell_length <= room:
+            break
+    else:
+        kept = []
+        for entry in entries:
+            if Content(separator).join([*kept, entry_content(entry, gap), Content("…")]).cell_length > room:
+                break
+            kept.append(entry_content(entry, gap))
+        line = Content(separator).join([*kept, Content("…")])
+    return line + Content(" " * (width - line.cell_length - right.cell_length)) + right
+
+
+class KeyFooter(Widget):
+    """The keys that work now, in one widget: Textual's footer mounts one widget per key.
+
+    Textual's footer rebuilt its dozen key widgets on every focus change that
+    changed the keys (a number field hides 1 2 3 and e, which it takes as
+    typing); that relayout landed on the next key press, and the widgets
+    cost start-up time. This one re-renders a line of text. Below the width
+    of every key, it tightens the spacing, then shows the keys that fit and "…".
     """
 
+    DEFAULT_CSS = """
+    KeyFooter {
+        dock: bottom;
+        height: 1;
+        padding: 0 1;
+        background: $footer-background;
+        color: $footer-description-foreground;
+    }
+    """
+
+    ALLOW_SELECT = False
+
     def __init__(self) -> None:
-        """Create a compact footer."""
-        super().__init__(compact=True)
-        self._shown: tuple | None = None
+        """Create an empty footer; it fills when the screen reports its bindings."""
+        super().__init__()
+        self.entries: tuple[KeyEntry, ...] = ()
+        self.palette: KeyEntry | None = None
+        self._line: tuple[int, Content] | None = None
+        """(width, line) last rendered; the footer repaints with every frame that reaches it."""
+
+    def on_mount(self) -> None:
+        """Follow the screen's bindings (they change with focus and with check_action)."""
+        self.screen.bindings_updated_signal.subscribe(self, self.bindings_changed)
+        self.bindings_changed(self.screen)
+
+    def on_unmount(self) -> None:
+        """Stop following the screen's bindings."""
+        self.screen.bindings_updated_signal.unsubscribe(self)
 
     def bindings_changed(self, screen: Screen) -> None:
-        """Rebuild only if the keys, their descriptions or their enabled state differ from the shown ones."""
-        if screen.app.app_focus and screen is self.screen:
-            shown = tuple(
-                (binding.key, binding.description, binding.group, enabled)
-                for _, binding, enabled, _ in screen.active_bindings.values()
-                if binding.show
-            )
-            if shown == self._shown and self._bindings_ready:
-                return
-            self._shown = shown
-        super().bindings_changed(screen)
+        """Redraw only if the keys, their descriptions or their enabled state changed."""
+        if screen is not self.screen or not self.app.app_focus:
+            return
+        entries, palette = key_entries(screen, self.app)
+        if (entries, palette) != (self.entries, self.palette):
+            self.entries, self.palette = entries, palette
+            self._line = None
+            self.refresh()
+
+    @property
+    def text(self) -> str:
+        """The footer as shown at its current width, without styles (for tests)."""
+        return self.render().plain
+
+    def render(self) -> Content:
+        """The keys arranged for the current width."""
+        width = self.content_size.width
+        if self._line is None or self._line[0] != width:
+            self._line = (width, footer_line(self.entries, self.palette, width))
+        return self._line[1]

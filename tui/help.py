@@ -8,8 +8,9 @@ from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.containers import VerticalScroll
 from textual.screen import Screen
-from textual.widgets import Footer, Markdown
+from textual.widgets import Markdown
 
+from .footer import KeyFooter
 from .stepper import Stepper
 
 HELP_FILE = Path(__file__).with_name("help.md")
@@ -56,7 +57,7 @@ class HelpScreen(Screen):
         with VerticalScroll() as scroll:
             scroll.border_title = "Help"
             yield Markdown(help_markdown())
-        yield Footer()
+        yield KeyFooter()
 
     def on_mount(self) -> None:
         """Focus the scroll view so the arrow keys scroll at once."""

@@ -5,7 +5,7 @@ from __future__ import annotations
 from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.screen import Screen
-from textual.widgets import Footer, Static
+from textual.widgets import Static
 
 from jointid.cross_excitation import CrossExcitationTable, cross_excitation
 from jointid.fit import format_number
@@ -13,6 +13,7 @@ from jointid.motions import ALL_MOTIONS, VALIDATION_SAMPLES
 from jointid.report import UNAVAILABLE
 from jointid.settings import Settings
 
+from .footer import KeyFooter
 from .tables import text_table
 
 TRAINING_MARK = "*"
@@ -89,7 +90,7 @@ class MatrixScreen(Screen):
         yield Static(matrix_table(self.table), id="matrix-table", markup=False)
         yield Static(matrix_notes(self.table), id="matrix-notes", markup=False)
         yield Static(EXPLANATION, id="matrix-explanation", markup=False)
-        yield Footer()
+        yield KeyFooter()
 
     def action_back(self) -> None:
         """Return to the explorer."""

@@ -6,12 +6,13 @@ from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.reactive import reactive
 from textual.screen import Screen
-from textual.widgets import Footer, Static
+from textual.widgets import Static
 
 from jointid.fit import FitResult, format_number
 from jointid.residuals import AXES, AXIS_LABELS, ResidualData, residual_data
 from jointid.settings import Settings
 
+from .footer import KeyFooter
 from .small_plots import ScatterData, SmallPlot
 from .sweep_screen import settings_line
 
@@ -70,7 +71,7 @@ class ResidualScreen(Screen):
         yield SmallPlot(id="residual-plot")
         yield Static("", id="residual-summary", markup=False)
         yield Static("", id="residual-note", markup=False)
-        yield Footer()
+        yield KeyFooter()
 
     def on_mount(self) -> None:
         """Draw the first axis."""

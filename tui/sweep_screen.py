@@ -10,7 +10,7 @@ from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.containers import Horizontal
 from textual.screen import Screen
-from textual.widgets import Footer, Label, ProgressBar, Static
+from textual.widgets import Label, ProgressBar, Static
 from textual.worker import Worker, WorkerState, get_current_worker
 
 from jointid.fit import format_number
@@ -19,6 +19,7 @@ from jointid.motions import TRAINING_MOTIONS
 from jointid.settings import Settings, SettingsError
 from jointid.sweep import DEFAULT_SEED_COUNT, SweepCancelled, SweepResult, run_sweep
 
+from .footer import KeyFooter
 from .small_plots import HistogramData, SmallPlot
 from .stepper import StepRange, Stepper
 from .tables import text_table
@@ -160,7 +161,7 @@ class SweepScreen(Screen):
                 yield SmallPlot(id=f"histogram-{name}", classes="histogram")
         yield Static("", id="sweep-table", markup=False)
         yield Static("", id="sweep-summary", markup=False)
-        yield Footer()
+        yield KeyFooter()
 
     def on_mount(self) -> None:
         """Start the first sweep with the seed-count field focused."""
