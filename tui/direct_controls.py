@@ -34,6 +34,8 @@ class ChoiceList(RadioSet):
 
     def show_pressed(self, button_id: str) -> None:
         """Press the button with this id and release the others, now, without messages."""
+        if self._pressed_button is not None and self._pressed_button.id == button_id:
+            return
         buttons = list(self.query(RadioButton))
         with self.prevent(RadioButton.Changed):
             for button in buttons:
