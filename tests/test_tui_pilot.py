@@ -6,7 +6,7 @@ import asyncio
 from dataclasses import replace
 
 import pytest
-from textual.widgets import Button, Input, RadioSet
+from textual.widgets import Input, RadioSet
 
 from jointid.experiment import run_experiment
 from jointid.report import readouts
@@ -251,7 +251,7 @@ def test_reset_restores_all_four_controls(how):
             await focus(pilot, screen, "seed")  # r works even from a number field
             await pilot.press("r")
         elif how == "button":
-            screen.query_one("#reset", Button).focus()
+            screen.query_one("#reset").focus()
             await pilot.press("enter")
         else:
             await pilot.click("#reset")

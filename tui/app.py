@@ -14,7 +14,7 @@ from textual.content import Content
 from textual.containers import Horizontal, Vertical
 from textual.reactive import reactive, var
 from textual.screen import Screen
-from textual.widgets import Header, Label, Static
+from textual.widgets import Label, Static
 
 from jointid.experiment import run_experiment
 from jointid.fit import FitResult
@@ -171,7 +171,8 @@ class MainScreen(LogMode, Screen):
         # Size classes before the children are styled, so the first resize restyles nothing.
         self.update_classes(size_classes(*self.app.size))
         compact = self.has_class("-compact")
-        yield Header(icon="≡")
+        # A Static, not Textual's Header: one widget instead of four, the same line of text.
+        yield Static(self.app.format_title(self.app.title, self.app.sub_title), id="title")
         with Horizontal(id="main"):
             with Vertical(id="side"):
                 # No button starts pressed: the first settings push presses one, which

@@ -11,7 +11,10 @@ from __future__ import annotations
 
 from typing import Callable
 
-from textual.widgets import Button, RadioButton, RadioSet
+from textual.binding import Binding
+from textual.content import Content
+from textual.widget import Widget
+from textual.widgets import RadioButton, RadioSet
 
 
 class ChoiceList(RadioSet):
@@ -59,24 +62,69 @@ class ChoiceList(RadioSet):
                 event.radio_button.value = True
 
 
-class ActionButton(Button):
-    """A Button that calls its callback when pressed instead of posting Button.Pressed."""
+class ActionButton(Widget, can_focus=True):
+    """A one-line button that calls its callback when pressed (Enter, Space or a click).
+
+    Drawn like Textual's compact Button (bold on the surface colour, reversed
+    when focused, dimmed for a moment when pressed), without Button's 57 style
+    rules, which every widget of the screen was matched against at start-up.
+    """
+
+    DEFAULT_CSS = """
+    ActionButton {
+        width: auto;
+        height: 1;
+        padding: 0 1;
+        content-align: center middle;
+        text-style: bold;
+        color: $button-foreground;
+        background: $surface;
+        &:focus {
+            text-style: $button-focus-text-style;
+            background-tint: $foreground 5%;
+        }
+        &:hover {
+            background: $surface-darken-1;
+        }
+        &.-active {
+            tint: $background 30%;
+        }
+    }
+    """
+
+    BINDINGS = [Binding("enter,space", "press", "Press", show=False)]
+
+    ACTIVE_EFFECT_DURATION = 0.2
+    """Seconds the button looks pressed after a press."""
 
     def __init__(self, label: str, *, on_press: Callable[[], None], id: str | None = None) -> None:
-        """Create a compact button.
+        """Create the button.
 
         Args:
             label: The button's text.
-            on_press: Called when the button is pressed (Enter, Space or a click).
+            on_press: Called when the button is pressed.
             id: Widget id.
         """
-        super().__init__(label, id=id, compact=True)
+        super().__init__(id=id)
+        self.label = label
         self._on_press = on_press
 
-    def press(self) -> ActionButton:
-        """Flash the button and run the callback in this same handler."""
+    def render(self) -> Content:
+        """The label."""
+        return Content(self.label)
+
+    def on_click(self) -> None:
+        """A click presses the button."""
+        self.press()
+
+    def action_press(self) -> None:
+        """Enter or Space presses the button."""
+        self.press()
+
+    def press(self) -> None:
+        """Look pressed for a moment and run the callback in this same handler."""
         if self.disabled or not self.display:
-            return self
-        self._start_active_affect()
+            return
+        self.add_class("-active")
+        self.set_timer(self.ACTIVE_EFFECT_DURATION, lambda: self.remove_class("-active"))
         self._on_press()
-        return self

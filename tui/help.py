@@ -46,6 +46,8 @@ def help_markdown() -> str:
 class HelpScreen(Screen):
     """Scrollable help; Escape (or ?, q) closes it."""
 
+    CSS_PATH = Path(__file__).with_name("views.tcss")  # read when first opened, not at start-up
+
     BINDINGS = [
         Binding("escape", "close", "Close help"),
         Binding("question_mark", "close", "Close help", key_display="?", show=False),

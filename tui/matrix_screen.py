@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.screen import Screen
@@ -63,6 +65,8 @@ def matrix_notes(table: CrossExcitationTable) -> str:
 
 class MatrixScreen(Screen):
     """The cross-excitation table for the current noise, samples and seed."""
+
+    CSS_PATH = Path(__file__).with_name("views.tcss")  # read when first opened, not at start-up
 
     BINDINGS = [
         Binding("escape", "back", "Back", tooltip="Return to the explorer"),

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.reactive import reactive
@@ -41,6 +43,8 @@ def residual_summary(data: ResidualData, axis: str) -> str:
 
 class ResidualScreen(Screen):
     """Training residuals of the current fit against a switchable axis."""
+
+    CSS_PATH = Path(__file__).with_name("views.tcss")  # read when first opened, not at start-up
 
     BINDINGS = [
         Binding("escape", "back", "Back", tooltip="Return to the explorer"),

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import math
 from dataclasses import dataclass
 
@@ -125,6 +127,8 @@ def histograms(result: SweepResult) -> list[HistogramData]:
 
 class SweepScreen(Screen):
     """Seed sweep of the current experiment, run in a worker thread with progress and cancel."""
+
+    CSS_PATH = Path(__file__).with_name("views.tcss")  # read when first opened, not at start-up
 
     BINDINGS = [
         # Priority: the seed-count field has focus and would otherwise take Escape.
