@@ -12,6 +12,7 @@ system, all threads), which a shared machine disturbs less. Goal: ratio <= 1.3.
 
 from __future__ import annotations
 
+import os
 import resource
 import statistics
 import subprocess
@@ -58,10 +59,16 @@ def child_cpu() -> float:
     return usage.ru_utime + usage.ru_stime
 
 
+ENVIRONMENT = {name: value for name, value in os.environ.items() if name != "PYTHONDONTWRITEBYTECODE"}
+"""As on a user's machine, Python may cache compiled modules: the warm-up start writes them
+(pip compiled the libraries' already; jointid and tui are installed editable, from source).
+This machine sets PYTHONDONTWRITEBYTECODE, which would compile them afresh at every start."""
+
+
 def launch(code: str) -> tuple[float, float]:
     """Wall and CPU seconds of a fresh interpreter running `code` until it exits."""
     start, cpu = time.perf_counter(), child_cpu()
-    subprocess.run([sys.executable, "-c", code], cwd=ROOT, check=True)
+    subprocess.run([sys.executable, "-c", code], cwd=ROOT, env=ENVIRONMENT, check=True)
     return time.perf_counter() - start, child_cpu() - cpu
 
 
