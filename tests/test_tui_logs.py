@@ -7,7 +7,7 @@ import functools
 import json
 
 import pytest
-from textual.widgets import Input, RadioButton
+from textual.widgets import Input
 
 from jointid.cli import main
 from jointid.csvlog import LogError, load_log
@@ -16,6 +16,7 @@ from jointid.report import readouts
 from test_cli_csv import CORPUS, HEADER, good_rows
 from tui import log_source
 from tui.app import MainScreen
+from tui.direct_controls import ChoiceList
 from tui.log_mode import FROM_LOG
 from tui.log_source import HELDOUT, LoadRequest, ordinal
 from tui.readouts import ReadoutPanel
@@ -110,10 +111,11 @@ async def test_synthetic_controls_are_off_with_the_reason_and_come_back(logs):
         assert all(s.disabled and s.value == FROM_LOG for s in steppers)
         note = str(screen.query_one("#log-note").render())
         assert note.startswith("From log: train.csv, 600 samples fitted") and "1/2/3 or c" in note
-        button = screen.query_one("#motion-log", RadioButton)
-        assert button.value and button.display and str(button.label) == "Log: train.csv"
+        choices = screen.query_one(ChoiceList)
+        assert choices.pressed == "motion-log" and "motion-log" in choices.shown
+        assert choices.render().plain.splitlines()[-1].endswith(" Log: train.csv ")
         await pilot.press("c")  # back to the synthetic experiment, as it was
-        assert screen.logs is None and not screen.query_one("#motion-log").display
+        assert screen.logs is None and "motion-log" not in choices.shown
         assert displayed_readouts(screen) == synthetic
         assert [s.value for s in steppers] == ["0.00", "24", "7"] and not any(s.disabled for s in steppers)
         await load(pilot, train)

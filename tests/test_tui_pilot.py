@@ -6,7 +6,7 @@ import asyncio
 from dataclasses import replace
 
 import pytest
-from textual.widgets import Input, RadioSet
+from textual.widgets import Input
 
 from jointid.experiment import run_experiment
 from jointid.report import readouts
@@ -15,6 +15,7 @@ from jointid.settings import DEFAULT_SETTINGS, SEED_LIMITS, Settings
 from tui.app import MIN_SIZE, MOTION_KEYS, NOISE_RANGE, SAMPLES_RANGE, SEED_RANGE, MainScreen
 from tui.charts import TorqueChart
 from tui.commands import TOUR, tour_title
+from tui.direct_controls import ChoiceList
 from tui.readouts import ReadoutPanel
 from tui.stepper import Stepper
 from tui_support import make_app
@@ -43,8 +44,7 @@ def assert_shows(screen: MainScreen, settings: Settings) -> None:
     for item in expected:
         assert f"{item.label}" in shown and item.text in shown
     assert str(screen.query_one("#status").render()) == run_experiment(settings).message
-    radio = screen.query_one(RadioSet)
-    assert radio.pressed_button.id == f"motion-{settings.motion}"
+    assert screen.query_one(ChoiceList).pressed == f"motion-{settings.motion}"
     for stepper in screen.query(Stepper):
         assert stepper.number == getattr(settings, stepper.field)
         assert stepper.value == stepper.steps.format(getattr(settings, stepper.field))
@@ -95,7 +95,7 @@ def test_motion_keys_select_each_motion(key):
 
 def test_radio_set_selects_motion_with_arrows_and_enter():
     async def scenario(pilot, screen):
-        screen.query_one(RadioSet).focus()
+        screen.query_one(ChoiceList).focus()
         await pilot.press("down", "enter")
         await pilot.pause()
         assert_shows(screen, replace(DEFAULT_SETTINGS, motion="slow"))
@@ -104,18 +104,21 @@ def test_radio_set_selects_motion_with_arrows_and_enter():
 
 
 def pressed_motion_buttons(screen) -> list[str]:
-    return [button.id for button in screen.query("#motion RadioButton") if button.value]
+    """The options drawn with the pressed mark (the list's own record is checked by assert_shows)."""
+    choices = screen.query_one(ChoiceList)
+    lines = choices.render().plain.splitlines()
+    return [option for option, line in zip(choices.shown, lines) if line.startswith("▐" + ChoiceList.ON_MARK)]
 
 
 @pytest.mark.parametrize("how", ["enter", "space", "click"])
 def test_motion_list_presses_exactly_the_chosen_button(how):
     async def scenario(pilot, screen):
-        screen.query_one(RadioSet).focus()
+        screen.query_one(ChoiceList).focus()
         for motion in ("holds", "slow", "rich"):
             if how == "click":
-                await pilot.click(f"#motion-{motion}")
+                await pilot.click("#motion", offset=(4, list(TRAINING_MOTIONS).index(motion)))
             else:
-                while screen.query_one(RadioSet)._selected != list(TRAINING_MOTIONS).index(motion):
+                while screen.query_one(ChoiceList).highlighted != f"motion-{motion}":
                     await pilot.press("down")
                 await pilot.press(how)
             await pilot.pause()
@@ -127,7 +130,7 @@ def test_motion_list_presses_exactly_the_chosen_button(how):
 
 def test_clicking_the_pressed_motion_keeps_it_pressed():
     async def scenario(pilot, screen):
-        await pilot.click("#motion-rich")
+        await pilot.click("#motion", offset=(4, 0))
         await pilot.pause()
         assert pressed_motion_buttons(screen) == ["motion-rich"]
         assert_shows(screen, DEFAULT_SETTINGS)

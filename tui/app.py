@@ -29,7 +29,6 @@ from .direct_controls import ActionButton, ChoiceList
 from .fitting import FittingLine
 from .footer import KeyFooter
 from .log_mode import LogMode
-from .marks import MotionButton  # also used by the open dialog's role choice
 from .precision import precision
 from .readouts import ReadoutPanel
 from .stepper import StepRange, Stepper
@@ -178,9 +177,9 @@ class MainScreen(LogMode, Screen):
                 # No button starts pressed: the first settings push presses one, which
                 # also moves the set's highlight to it.
                 yield ChoiceList(
-                    *(MotionButton(motion.label, id=f"motion-{name}") for name, motion in TRAINING_MOTIONS.items()),
-                    MotionButton("Log", id="motion-log"),  # shown only while a log is
-                    on_choose=self.choose_motion, id="motion",
+                    [*((f"motion-{name}", motion.label) for name, motion in TRAINING_MOTIONS.items()),
+                     ("motion-log", "Log")],  # shown only while a log is
+                    on_choose=self.choose_motion, hidden=("motion-log",), id="motion",
                 )
                 for steps in STEP_RANGES:
                     with Horizontal(classes="field"):

@@ -11,55 +11,136 @@ from __future__ import annotations
 
 from typing import Callable
 
+from textual import events
 from textual.binding import Binding
 from textual.content import Content
+from textual.style import Style
 from textual.widget import Widget
-from textual.widgets import RadioButton, RadioSet
 
 
-class ChoiceList(RadioSet):
-    """A RadioSet that hands a chosen button's id straight to a callback.
+class ChoiceList(Widget, can_focus=True):
+    """A radio list drawn by one widget, that hands a chosen option's id straight to a callback.
 
-    The owner shows the current choice with `show_pressed` (which sends no
-    messages), so pressing, releasing and the owner's update happen together.
+    Looks and keys as Textual's compact RadioSet (Up/Down move the highlight,
+    Enter or Space choose, a click chooses the line), but it is one widget
+    instead of one per option, without RadioSet's and ToggleButton's 24 style
+    rules, and the owner shows the current choice with `show_pressed`, which
+    sends no messages. An option can be hidden (the log's entry, while no log is shown).
     """
 
-    def __init__(self, *buttons: RadioButton, on_choose: Callable[[str], None], id: str | None = None) -> None:
+    DEFAULT_CSS = """
+    ChoiceList {
+        height: auto;
+        width: 1fr;
+        background: $surface;
+        pointer: pointer;
+        &:focus {
+            background-tint: $foreground 5%;
+        }
+        & > .choice-list--button {
+            color: $panel-darken-2;
+            background: $panel;
+        }
+        & > .choice-list--button-on {
+            color: $text-success;
+            background: $panel;
+        }
+        & > .choice-list--highlight {
+            background: $block-cursor-blurred-background;
+        }
+        &:focus > .choice-list--highlight {
+            color: $block-cursor-foreground;
+            background: $block-cursor-background;
+            text-style: $block-cursor-text-style;
+        }
+    }
+    """
+
+    COMPONENT_CLASSES = {"choice-list--button", "choice-list--button-on", "choice-list--highlight"}
+
+    BINDINGS = [
+        Binding("down,right", "move(1)", "Next option", show=False),
+        Binding("up,left", "move(-1)", "Previous option", show=False),
+        Binding("enter,space", "choose", "Choose", show=False),
+    ]
+
+    ON_MARK = "●"
+    """The mark inside the pressed option's button; the others are blank, so it reads without colour."""
+
+    def __init__(self, options: list[tuple[str, str]], *, on_choose: Callable[[str], None],
+                 hidden: tuple[str, ...] = (), id: str | None = None) -> None:
         """Create the list.
 
         Args:
-            buttons: The radio buttons, each with an id.
-            on_choose: Called with the id of the button the user chose (Enter, Space or a click).
+            options: (id, label) of each option, in order.
+            on_choose: Called with the id of the option the user chose.
+            hidden: Ids of options not shown for now.
             id: Widget id.
         """
-        super().__init__(*buttons, id=id)
+        super().__init__(id=id)
+        self.labels = dict(options)
+        self.hidden = set(hidden)
+        self.pressed: str | None = None
+        self.highlighted: str = options[0][0]
         self._on_choose = on_choose
 
-    def show_pressed(self, button_id: str) -> None:
-        """Press the button with this id and release the others, now, without messages."""
-        if self._pressed_button is not None and self._pressed_button.id == button_id:
-            return
-        buttons = list(self.query(RadioButton))
-        with self.prevent(RadioButton.Changed):
-            for button in buttons:
-                button.value = button.id == button_id
-        pressed = next(button for button in buttons if button.id == button_id)
-        self._pressed_button = pressed
-        self._selected = self._nodes.index(pressed)  # the highlight follows, as in RadioSet
+    @property
+    def shown(self) -> list[str]:
+        """Ids of the options on screen, in order."""
+        return [option for option in self.labels if option not in self.hidden]
 
-    def action_toggle_button(self) -> None:
-        """Enter or Space: choose the highlighted button."""
-        if self._selected is not None:
-            self._on_choose(self._nodes[self._selected].id)
+    def show_pressed(self, option: str) -> None:
+        """Press this option and move the highlight to it, without messages."""
+        if option != self.pressed:
+            self.pressed = self.highlighted = option
+            self.refresh()
 
-    def _on_radio_button_changed(self, event: RadioButton.Changed) -> None:
-        """A click toggled a button: choose it, or undo a click that would release the pressed one."""
-        event.stop()
-        if event.radio_button.value:
-            self._on_choose(event.radio_button.id)
-        else:
-            with self.prevent(RadioButton.Changed):
-                event.radio_button.value = True
+    def set_option(self, option: str, label: str | None = None, shown: bool | None = None) -> None:
+        """Relabel an option, or show or hide it."""
+        if label is not None:
+            self.labels[option] = label
+        if shown:
+            self.hidden.discard(option)
+        elif shown is not None:
+            self.hidden.add(option)
+        self.refresh(layout=True)
+
+    def action_move(self, step: int) -> None:
+        """Move the highlight to the next or previous option shown, wrapping around."""
+        shown = self.shown
+        index = shown.index(self.highlighted) if self.highlighted in shown else 0
+        self.highlighted = shown[(index + step) % len(shown)]
+        self.refresh()
+
+    def action_choose(self) -> None:
+        """Enter or Space: choose the highlighted option."""
+        self._on_choose(self.highlighted)
+
+    def on_click(self, event: events.Click) -> None:
+        """A click chooses the option on its line."""
+        shown = self.shown
+        if 0 <= event.y < len(shown):
+            self.highlighted = shown[event.y]
+            self.refresh()
+            self._on_choose(self.highlighted)
+
+    def get_content_height(self, container, viewport, width: int) -> int:
+        """One line per option shown."""
+        return len(self.shown)
+
+    def render(self) -> Content:
+        """Each option as a radio button and its label; the highlighted label as a cursor."""
+        side = Style(foreground=self.get_visual_style("choice-list--button").background,
+                     background=self.background_colors[1])
+        lines = []
+        for option in self.shown:
+            on = option == self.pressed
+            button = self.get_visual_style("choice-list--button-on" if on else "choice-list--button")
+            label = Content(f" {self.labels[option]} ")
+            if option == self.highlighted:
+                label = label.stylize_before(self.get_visual_style("choice-list--highlight"))
+            lines.append(Content.assemble(("▐", side), (self.ON_MARK if on else " ", button), ("▌", side)) + label)
+        return Content("\n").join(lines)
 
 
 class ActionButton(Widget, can_focus=True):

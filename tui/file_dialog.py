@@ -11,7 +11,7 @@ from textual.containers import Horizontal, Vertical
 from textual.screen import ModalScreen
 from textual.widgets import DirectoryTree, Input, Label, RadioSet, Static
 
-from .marks import ClearCheckbox, MotionButton
+from .marks import ClearCheckbox, ClearRadioButton
 
 from .log_source import HELDOUT, TRAINING, LoadRequest
 
@@ -42,7 +42,7 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
         height: auto;
         margin-right: 2;
     }
-    OpenLogScreen RadioSet > MotionButton {
+    OpenLogScreen RadioSet > ClearRadioButton {
         width: 20;
     }
     OpenLogScreen ClearCheckbox {
@@ -79,8 +79,8 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
             yield Input(value=f"{self.folder}{os.sep}", id="open-path", compact=True)
             with Horizontal(id="open-options"):
                 with RadioSet(id="open-role", compact=True):
-                    yield MotionButton("Training log", value=True, id=f"role-{TRAINING}")
-                    yield MotionButton("Held-out log", id=f"role-{HELDOUT}",
+                    yield ClearRadioButton("Training log", value=True, id=f"role-{TRAINING}")
+                    yield ClearRadioButton("Held-out log", id=f"role-{HELDOUT}",
                                       disabled=not self.heldout_allowed)
                 yield ClearCheckbox("Angles in degrees", id="open-degrees", compact=True)
             yield Static(

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING
 
 from textual import work
 from textual.content import Content
-from textual.widgets import Input, RadioButton, Static
+from textual.widgets import Input, Static
 
 from jointid.report import fit_document, readouts
 
@@ -50,6 +50,8 @@ class LogMode:
         self.set_class(logs is not None, "-log")
         self.set_class(logs is not None and logs.heldout is None, "-no-heldout")
         self.refresh_bindings()  # Close log appears or goes
+        self.query_one("#motion", ChoiceList).set_option(
+            "motion-log", label=None if logs is None else f"Log: {logs.name}", shown=logs is not None)
         for stepper in self.query(Stepper):
             stepper.disabled = logs is not None
         if logs is None:
@@ -58,7 +60,6 @@ class LogMode:
         from .log_source import log_heldout_chart, log_training_chart
 
         self.result = logs.result
-        self.query_one("#motion-log", RadioButton).label = f"Log: {logs.name}"
         self.query_one("#motion", ChoiceList).show_pressed("motion-log")
         for stepper in self.query(Stepper):
             with stepper.prevent(Input.Changed):

@@ -17,7 +17,7 @@ class ClearMark:
         return self.ON_MARK if self.value else " "
 
 
-class MotionButton(ClearMark, RadioButton):
+class ClearRadioButton(ClearMark, RadioButton):
     """A radio button whose mark is empty when off, so the choice reads without colour."""
 
 
