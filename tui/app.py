@@ -14,7 +14,7 @@ from textual.content import Content
 from textual.containers import Horizontal, Vertical
 from textual.reactive import reactive, var
 from textual.screen import Screen
-from textual.widgets import Label, Static
+from textual.widgets import Static
 
 from jointid.experiment import run_experiment
 from jointid.fit import FitResult
@@ -183,7 +183,7 @@ class MainScreen(LogMode, Screen):
                 )
                 for steps in STEP_RANGES:
                     with Horizontal(classes="field"):
-                        yield Label(FIELD_LABELS[steps.field], classes="field--label")
+                        yield Static(FIELD_LABELS[steps.field], classes="field--label", markup=False)
                         yield Stepper(steps, getattr(self._initial, steps.field), id=steps.field)
                 # After the fields, so Tab visits motion, noise, samples, seed, then Reset.
                 with Horizontal(id="reset-row"):
