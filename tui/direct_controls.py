@@ -155,7 +155,6 @@ class ActionButton(Widget, can_focus=True):
     ActionButton {
         width: auto;
         height: 1;
-        padding: 0 1;
         content-align: center middle;
         text-style: bold;
         color: $button-foreground;
@@ -191,8 +190,8 @@ class ActionButton(Widget, can_focus=True):
         self._on_press = on_press
 
     def render(self) -> Content:
-        """The label."""
-        return Content(self.label)
+        """The label with a space each side (inside the focus highlight, as Button draws it)."""
+        return Content(f" {self.label} ")
 
     def on_click(self) -> None:
         """A click presses the button."""
