@@ -11,11 +11,12 @@ from textual.widgets import Input
 
 from jointid.cli import main
 from jointid.csvlog import LogError, load_log
+from jointid.derivatives import DEFAULT_ORDER, DEFAULT_WINDOW
 from jointid.fit import fit_joint
 from jointid.report import readouts
 from test_cli_csv import CORPUS, HEADER, good_rows
 from tui import log_source
-from tui.app import MainScreen
+from tui.app import JointIdApp, MainScreen
 from tui.direct_controls import ChoiceList
 from tui.log_mode import FROM_LOG
 from tui.log_source import HELDOUT, LoadRequest, ordinal
@@ -321,3 +322,29 @@ async def test_a_log_with_its_heldout_fits_80x24_without_scrolling(logs):
         assert screen.logs.heldout is not None
         assert side.max_scroll_y == 0 and panel.region.bottom <= side.region.bottom
         assert str(screen.query_one("#log-note").render()) == "From log: c or 1/2/3 for synthetic"
+
+
+@synchronous
+async def test_logs_opened_with_ctrl_o_are_differentiated_as_the_command_line_asked(tmp_path, monkeypatch):
+    """`jointid --csv a.csv --window 51 --order 2`: a log opened later uses window 51, order 2 too."""
+    angles_only = tmp_path / "encoder.csv"
+    assert main(["simulate", "--encoder-counts", "4096", "--rate", "1000", "--duration", "2",
+                 "--out", str(angles_only)]) == 0
+    monkeypatch.chdir(tmp_path)
+    app = JointIdApp(derivatives=(51, 2))
+    async with app.run_test(size=SIZE) as pilot:
+        await pilot.press("ctrl+o", *"encoder.csv", "enter")
+        await app.workers.wait_for_complete()
+        await pilot.pause()
+        estimate = main_screen(app).logs.training.derivatives
+        assert (estimate.window, estimate.order) == (51, 2)
+
+
+def test_the_command_line_hands_window_and_order_to_the_explorer(logs, monkeypatch):
+    train, _ = logs
+    opened = {}
+    monkeypatch.setattr("tui.app.JointIdApp.run", lambda app: opened.update(derivatives=app.derivatives))
+    assert main(["--csv", str(train), "--window", "101", "--order", "3"]) == 0
+    assert opened["derivatives"] == (101, 3)
+    assert main(["--csv", str(train)]) == 0
+    assert opened["derivatives"] == (DEFAULT_WINDOW, DEFAULT_ORDER)

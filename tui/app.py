@@ -16,6 +16,7 @@ from textual.reactive import reactive, var
 from textual.screen import Screen
 from textual.widgets import Static
 
+from jointid.derivatives import DEFAULT_ORDER, DEFAULT_WINDOW
 from jointid.experiment import run_experiment
 from jointid.fit import FitResult
 from jointid.model import G, TRUE_PARAMETERS
@@ -312,16 +313,20 @@ class JointIdApp(App):
     SUB_TITLE = "Does the motion reveal the parameters?"
     COMMANDS = App.COMMANDS | {TourCommands}
 
-    def __init__(self, settings: Settings = DEFAULT_SETTINGS, logs: LoadedLogs | None = None) -> None:
+    def __init__(self, settings: Settings = DEFAULT_SETTINGS, logs: LoadedLogs | None = None,
+                 derivatives: tuple[int, int] = (DEFAULT_WINDOW, DEFAULT_ORDER)) -> None:
         """Create the app.
 
         Args:
             settings: Settings to open at.
             logs: A loaded log to open on (`jointid --csv`).
+            derivatives: Savitzky-Golay window and order for logs without qd or qdd,
+                those opened later too (`jointid --window --order`).
         """
         super().__init__()
         self.initial_settings = settings
         self.initial_logs = logs
+        self.derivatives = derivatives
 
     def get_default_screen(self) -> Screen:
         """The main screen at the initial settings."""

@@ -11,8 +11,9 @@ from textual.containers import Horizontal, Vertical
 from textual.screen import ModalScreen
 from textual.widgets import DirectoryTree, Input, Label, RadioSet, Static
 
-from .marks import ClearCheckbox, ClearRadioButton
+from jointid.derivatives import DEFAULT_ORDER, DEFAULT_WINDOW
 
+from .marks import ClearCheckbox, ClearRadioButton
 from .log_source import HELDOUT, TRAINING, LoadRequest
 
 
@@ -60,16 +61,20 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
 
     BINDINGS = [Binding("escape", "cancel", "Cancel", tooltip="Close without loading")]
 
-    def __init__(self, folder: str | os.PathLike | None = None, *, heldout_allowed: bool = False) -> None:
+    def __init__(self, folder: str | os.PathLike | None = None, *, heldout_allowed: bool = False,
+                 derivatives: tuple[int, int] = (DEFAULT_WINDOW, DEFAULT_ORDER)) -> None:
         """Create the dialog.
 
         Args:
             folder: Folder the tree starts in (default: the current directory).
             heldout_allowed: True when a training log is loaded, so a held-out log can be chosen.
+            derivatives: Savitzky-Golay window and order for a log without qd or qdd
+                (the explorer's --window and --order).
         """
         super().__init__()
         self.folder = Path(folder or os.getcwd())
         self.heldout_allowed = heldout_allowed
+        self.derivatives = derivatives
 
     def compose(self) -> ComposeResult:
         """Path field, role and degrees options, hint, folder tree."""
@@ -101,7 +106,9 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
         """The load request for a path with the chosen role and unit."""
         pressed = self.query_one("#open-role", RadioSet).pressed_button
         role = HELDOUT if pressed is not None and pressed.id == f"role-{HELDOUT}" else TRAINING
-        return LoadRequest(os.path.expanduser(path.strip()), role, self.query_one("#open-degrees", ClearCheckbox).value)
+        window, order = self.derivatives
+        degrees = self.query_one("#open-degrees", ClearCheckbox).value
+        return LoadRequest(os.path.expanduser(path.strip()), role, degrees, window=window, order=order)
 
     def on_input_submitted(self, message: Input.Submitted) -> None:
         """Enter in the path field: a folder opens in the tree, anything else is loaded (errors come later)."""

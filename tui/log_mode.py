@@ -108,7 +108,8 @@ class LogMode:
         from .file_dialog import OpenLogScreen
 
         folder = os.path.dirname(os.path.abspath(self.logs.training.path)) if self.logs else None
-        self.app.push_screen(OpenLogScreen(folder, heldout_allowed=self.logs is not None), self.start_loading)
+        self.app.push_screen(OpenLogScreen(folder, heldout_allowed=self.logs is not None,
+                                           derivatives=self.app.derivatives), self.start_loading)
 
     def start_loading(self, request: LoadRequest | None) -> None:
         """Load a chosen file in a worker behind a progress dialog."""

@@ -11,6 +11,7 @@ import numpy as np
 
 from jointid.csvlog import JointLog, load_log
 from jointid.dataset import JointData
+from jointid.derivatives import DEFAULT_ORDER, DEFAULT_WINDOW
 from jointid.fit import FitResult, fit_joint, format_number
 from jointid.report import log_fit_document
 
@@ -22,11 +23,15 @@ TRAINING, HELDOUT = "training", "heldout"
 
 @dataclass(frozen=True)
 class LoadRequest:
-    """Which file to load, in which role, and whether its angles are in degrees."""
+    """Which file to load, in which role, whether its angles are in degrees, and how to differentiate it."""
 
     path: str
     role: str = TRAINING
     degrees: bool = False
+    window: int = DEFAULT_WINDOW
+    """Savitzky-Golay window, when the log lacks qd or qdd (`jointid --window`)."""
+    order: int = DEFAULT_ORDER
+    """Savitzky-Golay order (`jointid --order`)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -65,7 +70,8 @@ def load_request(
     cancel: Callable[[], bool] | None = None,
 ) -> LoadedLogs:
     """Load one file into its role beside the current other log and refit; LogError/LoadCancelled as load_log."""
-    log = load_log(request.path, degrees=request.degrees, progress=progress, cancel=cancel)
+    log = load_log(request.path, degrees=request.degrees, window=request.window, order=request.order,
+                   progress=progress, cancel=cancel)
     if request.role == HELDOUT:
         if current is None:
             raise ValueError("a held-out log needs a training log")

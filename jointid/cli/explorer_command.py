@@ -3,13 +3,14 @@
 from __future__ import annotations
 
 from .arguments import UserError, settings_from
-from .log_fit import load_logs, with_default_settings
+from .log_fit import derivative_options, load_logs, with_default_settings
 
 
 def run(args) -> int:
     """Open the explorer at the settings given by the flags, or on the --csv log; 0 on a normal exit."""
     # A bad log is one line on stderr and status 2 before the app starts, as for `jointid fit --csv`.
     logs = load_logs(args) if args.csv is not None else None
+    derivatives = derivative_options(args)  # also for logs opened later with Ctrl+O
     settings = settings_from(with_default_settings(args) if logs is None else _defaults(args))
     # The explorer's controls cover narrower ranges than the core; say so rather than clamp.
     # Imported here, not at the top: `import jointid` must never load textual.
@@ -23,7 +24,7 @@ def run(args) -> int:
                 f"the explorer's --{steps.field} is {steps.describe()}; got {steps.format(value)}. "
                 f"Use `jointid fit --{steps.field} {steps.format(value)}` for larger values."
             )
-    JointIdApp(settings, None if logs is None else fit_logs(*logs)).run()
+    JointIdApp(settings, None if logs is None else fit_logs(*logs), derivatives=derivatives).run()
     return 0
 
 

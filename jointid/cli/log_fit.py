@@ -56,17 +56,23 @@ def with_default_settings(args: argparse.Namespace) -> argparse.Namespace:
     return args
 
 
-def load_logs(args: argparse.Namespace) -> tuple[JointLog, JointLog | None]:
-    """The --csv and --heldout logs, after checking the options; UserError (one line) on any problem."""
-    given = [f"--{name}" for name in SETTING_FLAGS if getattr(args, name) is not None]
-    if given:
-        raise UserError(f"synthetic settings ({', '.join(given)}) cannot apply to a --csv log; drop them")
+def derivative_options(args: argparse.Namespace) -> tuple[int, int]:
+    """The Savitzky-Golay window and order from --window and --order; UserError if they do not fit together."""
     window = DEFAULT_WINDOW if args.window is None else args.window
     order = DEFAULT_ORDER if args.order is None else args.order
     if window % 2 == 0:
         raise UserError(f"argument --window: must be an odd number of samples; got {window}")
     if order >= window:
         raise UserError(f"argument --order: must be less than the window {window}; got {order}")
+    return window, order
+
+
+def load_logs(args: argparse.Namespace) -> tuple[JointLog, JointLog | None]:
+    """The --csv and --heldout logs, after checking the options; UserError (one line) on any problem."""
+    given = [f"--{name}" for name in SETTING_FLAGS if getattr(args, name) is not None]
+    if given:
+        raise UserError(f"synthetic settings ({', '.join(given)}) cannot apply to a --csv log; drop them")
+    window, order = derivative_options(args)
     try:
         training = load_log(args.csv, degrees=args.degrees, window=window, order=order)
         heldout = None if args.heldout is None else load_log(
