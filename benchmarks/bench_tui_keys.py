@@ -15,7 +15,10 @@ of milliseconds after every key and competes with the app, which would measure
 Pilot rather than the explorer (a polling loop of its own did the same, a little).
 
 The 200 presses run three times, each in a fresh app, because this shared
-machine's speed drifts between runs; each run and all 600 presses are reported.
+machine's speed drifts between runs; each run and all 600 presses are reported,
+with one chart built by plotext alone timed before and after as a gauge of the
+machine's speed at the time (the same code's median went from 12.6 to 20 ms as it
+slowed).
 
 Every round of keys starts at the defaults (it presses Reset), so the app's
 caches of fits and figures are emptied before each round: a press is served
@@ -159,7 +162,30 @@ async def measure() -> tuple[list[float], int, int, int]:
     return latencies, changed, stamps["chart_builds"], unchanged
 
 
+def reference_workload_ms() -> float:
+    """Median time to build one torque chart with plotext, outside the app: how fast this shared
+    machine runs code like the explorer's (allocation-heavy Python) just now."""
+    from plotext._figure import _figure_class
+
+    from jointid.experiment import run_experiment
+    from jointid.settings import DEFAULT_SETTINGS
+    from tui.charts import draw_torque_chart, training_chart
+
+    data, figure, times = training_chart(run_experiment(DEFAULT_SETTINGS)), _figure_class(), []
+    for _ in range(60):
+        start = time.perf_counter()
+        draw_torque_chart(figure, data, (255, 0, 0), (0, 0, 255))
+        figure.plotsize(74, 14)
+        figure._set_size(74, 14)
+        figure._set_sizes()
+        figure._build_matrix()
+        times.append((time.perf_counter() - start) * 1000)
+    return statistics.median(times)
+
+
 def main() -> None:
+    print(f"machine speed: one chart built by plotext alone in {reference_workload_ms():.2f} ms "
+          f"(longer when the shared machine is busy; key latencies scale with it)")
     everything: list[float] = []
     for run in range(1, RUNS + 1):
         slowest.clear()
@@ -174,6 +200,7 @@ def main() -> None:
         print(f"  slowest: {worst}")
     print(f"all {len(everything)} timed presses: median {statistics.median(everything):.1f} ms, "
           f"p95 {percentile(everything, 0.95):.1f} ms (goal: median <= 16.7 ms, p95 <= 33 ms)")
+    print(f"machine speed after: one chart in {reference_workload_ms():.2f} ms")
 
 
 if __name__ == "__main__":
