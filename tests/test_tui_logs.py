@@ -348,3 +348,23 @@ def test_the_command_line_hands_window_and_order_to_the_explorer(logs, monkeypat
     assert opened["derivatives"] == (101, 3)
     assert main(["--csv", str(train)]) == 0
     assert opened["derivatives"] == (DEFAULT_WINDOW, DEFAULT_ORDER)
+
+
+@synchronous
+async def test_closing_a_log_pushes_the_synthetic_fit_once(logs, monkeypatch):
+    """Textual calls a computed var's watcher on every read; the screen never reads `settings` for its value."""
+    train, _ = logs
+    pushes = []
+    watch = MainScreen.watch_settings
+    monkeypatch.setattr(MainScreen, "watch_settings", lambda screen, settings: (pushes.append(settings),
+                                                                                 watch(screen, settings)))
+    app = make_app()
+    async with app.run_test(size=SIZE) as pilot:
+        await load(pilot, train)
+        pushes.clear()
+        await pilot.press("c")
+        await pilot.pause()
+        assert len(pushes) == 1
+        await pilot.press("m")  # a view opened on the current settings pushes nothing
+        await pilot.pause()
+        assert len(pushes) == 1

@@ -150,7 +150,9 @@ class MainScreen(LogMode, Screen):
     samples: var[int] = var(DEFAULT_SETTINGS.samples, init=False)
     seed: var[int] = var(DEFAULT_SETTINGS.seed, init=False)
     settings: var[Settings] = var(DEFAULT_SETTINGS, init=False)
-    """Derived from the four reactives; its watcher is the one place results are computed."""
+    """Derived from the four reactives; its watcher is the one place results are computed.
+    Read the current settings with `compute_settings()`: Textual calls a computed var's
+    watcher on every read of it, which pushed the same fit to every view again."""
     logs: var[LoadedLogs | None] = var(None, init=False)
     """A loaded log and its fit; while set, it is shown instead of the settings' experiment."""
 
@@ -250,7 +252,7 @@ class MainScreen(LogMode, Screen):
         self.samples, self.seed = settings.samples, settings.seed
         # Assigning equal values does not fire the computed watcher; force the first push.
         if self.result is None:
-            self.watch_settings(self.settings)
+            self.watch_settings(self.compute_settings())
 
     def on_stepper_committed(self, message: Stepper.Committed) -> None:
         """A numeric control committed a value: store it in the matching reactive."""
@@ -283,7 +285,7 @@ class MainScreen(LogMode, Screen):
             return
         from .sweep_screen import SweepScreen
 
-        self.app.push_screen(SweepScreen(self.settings))
+        self.app.push_screen(SweepScreen(self.compute_settings()))
 
     def action_matrix(self) -> None:
         """Open the cross-excitation view for the current noise, samples and seed."""
@@ -291,14 +293,14 @@ class MainScreen(LogMode, Screen):
             return
         from .matrix_screen import MatrixScreen
 
-        self.app.push_screen(MatrixScreen(self.settings))
+        self.app.push_screen(MatrixScreen(self.compute_settings()))
 
     def action_residuals(self) -> None:
         """Open the residual view of the current fit."""
         from .residual_screen import ResidualScreen
 
         source = None if self.logs is None else f"log {self.logs.name}"
-        self.app.push_screen(ResidualScreen(self.settings, self.result, source=source))
+        self.app.push_screen(ResidualScreen(self.compute_settings(), self.result, source=source))
 
     async def action_quit(self) -> None:
         """Leave the explorer."""

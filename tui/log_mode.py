@@ -55,7 +55,7 @@ class LogMode:
         for stepper in self.query(Stepper):
             stepper.disabled = logs is not None
         if logs is None:
-            self.watch_settings(self.settings)
+            self.watch_settings(self.compute_settings())
             return
         from .log_source import log_heldout_chart, log_training_chart
 
@@ -155,7 +155,7 @@ class LogMode:
         """File stem and JSON document of the current result, as `jointid fit [--csv] --json` prints it."""
         if self.logs is not None:
             return f"{Path(self.logs.training.path).stem}-fit", self.logs.document()
-        s = self.settings
+        s = self.compute_settings()
         return (f"jointid-{s.motion}-{s.noise:.2f}-{s.samples}-{s.seed}",
                 fit_document(self.result, settings=vars(s).copy()))
 
