@@ -170,15 +170,13 @@ def reference_workload_ms() -> float:
     from jointid.experiment import run_experiment
     from jointid.settings import DEFAULT_SETTINGS
     from tui.charts import draw_torque_chart, training_chart
+    from tui.torque_plot import build_matrix
 
     data, figure, times = training_chart(run_experiment(DEFAULT_SETTINGS)), _figure_class(), []
     for _ in range(60):
         start = time.perf_counter()
         draw_torque_chart(figure, data, (255, 0, 0), (0, 0, 255))
-        figure.plotsize(74, 14)
-        figure._set_size(74, 14)
-        figure._set_sizes()
-        figure._build_matrix()
+        build_matrix(figure, 74, 14)
         times.append((time.perf_counter() - start) * 1000)
     return statistics.median(times)
 

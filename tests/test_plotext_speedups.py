@@ -14,6 +14,7 @@ from jointid.experiment import run_experiment
 from jointid.settings import Settings
 from tui import plotext_speedups
 from tui.charts import ChartData, draw_torque_chart, heldout_chart, training_chart
+from tui.torque_plot import build_matrix
 
 LINE_RGB, DOTS_RGB = (200, 120, 40), (60, 140, 220)
 
@@ -33,11 +34,7 @@ def build(plt, data: ChartData, width: int, height: int, marker: str | None = No
         plt.clear_data()
         plt.plot(data.t, data.line, marker=marker, color=LINE_RGB)
         plt.scatter(data.t, data.dots, marker="●", color=DOTS_RGB)
-    plt.plotsize(width, height)
-    plt._set_size(width, height)
-    plt._set_sizes()
-    plt._build_matrix()
-    matrix = plt.monitor.matrix
+    matrix = build_matrix(plt, width, height)
     return [[list(row) for row in grid]
             for grid in (matrix.marker, matrix.fullground, matrix.background, matrix.style)]
 

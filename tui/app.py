@@ -150,7 +150,7 @@ class MainScreen(LogMode, Screen):
     samples: var[int] = var(DEFAULT_SETTINGS.samples, init=False)
     seed: var[int] = var(DEFAULT_SETTINGS.seed, init=False)
     settings: var[Settings] = var(DEFAULT_SETTINGS, init=False)
-    """Derived from the four reactives; its watcher is the one place results are computed.
+    """Derived from the four settings vars; its watcher is the one place results are computed.
     Read the current settings with `compute_settings()`: Textual calls a computed var's
     watcher on every read of it, which pushed the same fit to every view again."""
     logs: var[LoadedLogs | None] = var(None, init=False)

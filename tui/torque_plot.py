@@ -26,6 +26,17 @@ def cell_style(foreground, style, background) -> Style:
     return Style.combine(span.style for span in text.spans) if text.spans else Style()
 
 
+def build_matrix(plot, width: int, height: int, theme: str | None = None):
+    """Lay out a set-up plotext figure at a size (and theme) and return its matrix of cells."""
+    plot.plotsize(width, height)
+    plot._set_size(width, height)  # as PlotextPlot.render does; see its comment
+    if theme is not None:
+        plot.theme(theme)
+    plot._set_sizes()
+    plot._build_matrix()
+    return plot.monitor.matrix
+
+
 class TorquePlot(PlotextPlot):
     """PlotextPlot with a cached line renderer.
 
@@ -79,12 +90,7 @@ class TorquePlot(PlotextPlot):
         plot = self._plot
         if self._draw_figure is not None:
             self._draw_figure(plot)
-        plot.plotsize(width, height)
-        plot._set_size(width, height)  # as PlotextPlot.render does; see its comment
-        plot.theme(self._get_plotext_theme_name(self.app.theme))
-        plot._set_sizes()
-        plot._build_matrix()
-        matrix = plot.monitor.matrix
+        matrix = build_matrix(plot, width, height, self._get_plotext_theme_name(self.app.theme))
         strips = []
         for row in reversed(matrix.Rows):  # plotext's row 0 is the bottom line
             markers = matrix.marker[row]
