@@ -41,7 +41,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from textual import events  # noqa: E402
 from textual.screen import Screen  # noqa: E402
 
-from tui.app import JointIdApp, MainScreen, cached_experiment  # noqa: E402
+from tui.app import JointIdApp  # noqa: E402
+from tui.main_screen import MainScreen, cached_experiment  # noqa: E402
 from tui.torque_plot import TorquePlot  # noqa: E402
 
 PRESSES = 200
@@ -169,7 +170,8 @@ def reference_workload_ms() -> float:
 
     from jointid.experiment import run_experiment
     from jointid.settings import DEFAULT_SETTINGS
-    from tui.charts import draw_torque_chart, training_chart
+    from jointid.present.charts import training_chart
+    from tui.charts import draw_torque_chart
     from tui.torque_plot import build_matrix
 
     data, figure, times = training_chart(run_experiment(DEFAULT_SETTINGS)), _figure_class(), []

@@ -71,7 +71,7 @@ class CrossExcitationTable:
 
     @cached_property
     def rmse_matrix(self) -> np.ndarray:
-        """(3, 3) RMSE by row and column, NaN where unavailable."""
+        """(rows, columns) RMSE by training and prediction motion, NaN where unavailable."""
         return np.array(
             [[np.nan if c.rmse is None else c.rmse for c in row.cells] for row in self.rows]
         )
@@ -86,7 +86,9 @@ def prediction_data(motion: str, samples: int) -> JointData:
 
 def cross_excitation(settings: Settings) -> CrossExcitationTable:
     """Fit each training motion at the settings' noise, samples and seed, and predict every motion."""
+    model = settings.joint_model
     targets = {motion: prediction_data(motion, settings.samples) for motion in PREDICTION_MOTIONS}
+    regressors = {motion: model.data_regressor(target) for motion, target in targets.items()}
     rows = []
     for training_motion in TRAINING_MOTIONS:
         fit = run_experiment(replace(settings, motion=training_motion))
@@ -96,7 +98,7 @@ def cross_excitation(settings: Settings) -> CrossExcitationTable:
                 prediction_motion=motion,
                 rmse=None
                 if fit.estimate is None
-                else rms(fitted_torque(target.regressor, fit.estimate) - target.tau),
+                else rms(fitted_torque(regressors[motion], fit.estimate) - target.tau),
                 is_training_data=motion == training_motion,
             )
             for motion, target in targets.items()

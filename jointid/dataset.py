@@ -7,8 +7,6 @@ from functools import cached_property
 
 import numpy as np
 
-from .model import regressor
-
 
 @dataclass(frozen=True, eq=False)
 class JointData:
@@ -27,11 +25,6 @@ class JointData:
     def count(self) -> int:
         """N, the number of samples."""
         return len(self.tau)
-
-    @cached_property
-    def regressor(self) -> np.ndarray:
-        """(N, 3) Rows [qdd, g*cos(q), qd]."""
-        return regressor(self.q, self.qd, self.qdd)
 
     @cached_property
     def accel_rms(self) -> float:

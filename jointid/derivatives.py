@@ -64,13 +64,22 @@ class DerivativeEstimate:
         )
 
 
+class FilterSettingError(ValueError):
+    """A window or order the differentiator cannot use; `field` names which, `problem` says why."""
+
+    def __init__(self, field: str, problem: str):
+        super().__init__(f"{field} {problem}")
+        self.field = field
+        self.problem = problem
+
+
 def check_filter(window: int, order: int) -> None:
-    """Raise ValueError unless `window` is odd and at least 3 and 2 <= `order` < `window`."""
+    """Raise FilterSettingError unless `window` is odd and at least 3 and 2 <= `order` < `window`."""
     if window < 3 or window % 2 == 0:
-        raise ValueError(f"window must be an odd number of samples, at least 3; got {window}")
+        raise FilterSettingError("window", f"must be an odd number of samples, at least 3; got {window}")
     if not 2 <= order < window:
-        raise ValueError(
-            f"order must be at least 2 (for acceleration) and less than the window {window}; got {order}"
+        raise FilterSettingError(
+            "order", f"must be less than the window {window} and at least 2 (for acceleration); got {order}"
         )
 
 

@@ -13,7 +13,7 @@ from .settings import Settings
 
 
 def training_data(settings: Settings) -> JointData:
-    """Training states of the chosen motion with true torque plus seeded bounded noise."""
+    """Training states of the chosen motion with the true joint's torque plus seeded bounded noise."""
     states = TRAINING_MOTIONS[settings.motion].states(sample_times(settings.samples))
     exact = predict_torque(states.q, states.qd, states.qdd, TRUE_PARAMETERS)
     measured = exact + torque_noise(settings.noise, settings.samples, settings.seed)
@@ -22,17 +22,18 @@ def training_data(settings: Settings) -> JointData:
 
 @lru_cache(maxsize=1)
 def validation_data() -> JointData:
-    """The 16 held-out states of the validation motion with their noiseless torque."""
+    """The 16 held-out states of the validation motion with the true joint's noiseless torque."""
     states = VALIDATION_MOTION.states(sample_times(VALIDATION_SAMPLES))
     exact = predict_torque(states.q, states.qd, states.qdd, TRUE_PARAMETERS)
     return JointData(t=states.t, q=states.q, qd=states.qd, qdd=states.qdd, tau=exact)
 
 
 def run_experiment(settings: Settings = Settings()) -> FitResult:
-    """Generate training data for `settings`, fit it and predict the validation motion."""
+    """Generate training data for `settings`, fit its model and predict the validation motion."""
     return fit_joint(
         training_data(settings),
         validation_data(),
+        model=settings.joint_model,
         heldout_is_noiseless=True,
         noise_bound=settings.noise,
     )

@@ -1,8 +1,8 @@
 """Training residuals (measured - fitted torque) against time, q, qd and qdd, for a residual view.
 
 Least-squares residuals are orthogonal to every regressor column, so a straight
-trend against qdd, g*cos(q) or qd cannot remain; what can remain is structure
-the three-term model has no column for. Each axis comes with a one-line note
+trend against any of the model's columns cannot remain; what can remain is
+structure the model has no column for. Each axis comes with a one-line note
 on what such structure would mean. A rank-deficient fit still has residuals:
 every least-squares solution gives the same fitted torque, so the basic one is
 used.
@@ -53,11 +53,6 @@ class ResidualData:
     unique_fit: bool
     """False when the residuals come from the basic solution of a rank-deficient fit."""
 
-    @property
-    def notes(self) -> dict[str, str]:
-        """One line per axis on what structure would mean."""
-        return AXIS_NOTES
-
     def note(self, axis: str) -> str:
         """What structure in the residuals against `axis` would mean."""
         return AXIS_NOTES[axis]
@@ -67,7 +62,7 @@ def residual_data(result: FitResult) -> ResidualData:
     """The training residuals of a fit, with their time, angle, velocity and acceleration."""
     data = result.training
     theta = result.estimate if result.estimate is not None else result.solution.basic_estimate
-    residuals = data.tau - fitted_torque(data.regressor, theta)
+    residuals = data.tau - fitted_torque(result.training_regressor, theta)
     axes = {"t": data.time_axis, "q": data.q, "qd": data.qd, "qdd": data.qdd}
     return ResidualData(
         residuals=residuals,

@@ -1,10 +1,11 @@
-"""The four settings of a synthetic experiment, their ranges and their parsing."""
+"""The settings of a synthetic experiment (motion, noise, samples, seed, fitted model), their ranges and parsing."""
 
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
 
+from .model import ModelError, describe_models, model_named
 from .motions import TRAINING_MOTIONS
 
 NOISE_LIMITS = (0.0, 100.0)
@@ -25,25 +26,35 @@ class SettingsError(ValueError):
 
 @dataclass(frozen=True)
 class Settings:
-    """One synthetic identification experiment: motion, noise bound (N m), samples and seed."""
+    """One synthetic identification experiment: motion, noise bound (N m), samples, seed and fitted model."""
 
     motion: str = "rich"
     noise: float = 0.0
     samples: int = 24
     seed: int = 7
+    model: str = "plain"
+    """The fitted model's name ('plain', 'bias', 'coulomb+bias', ...; see jointid.model)."""
 
     def __post_init__(self):
-        check_setting("motion", self.motion)
-        check_setting("noise", self.noise)
-        check_setting("samples", self.samples)
-        check_setting("seed", self.seed)
+        for field in FIELDS:
+            check_setting(field, getattr(self, field))
 
+    @property
+    def joint_model(self):
+        """The JointModel that `model` names."""
+        return model_named(self.model)
+
+
+FIELDS = ("motion", "noise", "samples", "seed", "model")
+"""Every setting, in display order."""
 
 
 def describe_range(field: str) -> str:
     """The allowed values of a setting, as a phrase for error messages and help."""
     if field == "motion":
         return "one of " + ", ".join(TRAINING_MOTIONS)
+    if field == "model":
+        return describe_models()
     if field == "noise":
         low, high = NOISE_LIMITS
         return f"a number from {low:g} to {high:g} (N m)"
@@ -55,6 +66,12 @@ def check_setting(field: str, value) -> None:
     """Raise SettingsError unless value is allowed for the named setting."""
     if field == "motion":
         ok = value in TRAINING_MOTIONS
+    elif field == "model":
+        try:
+            model_named(value)
+        except ModelError as error:
+            raise SettingsError(field, str(error)) from None
+        ok = True
     elif field == "noise":
         ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
         ok = ok and NOISE_LIMITS[0] <= value <= NOISE_LIMITS[1]
@@ -71,14 +88,17 @@ def parse_setting(field: str, text: str):
     """Convert typed text to a valid value of the named setting, or raise SettingsError."""
     text = text.strip()
     try:
-        if field == "motion":
+        if field in ("motion", "model"):
             value = text.lower()
         elif field == "noise":
             value = float(text)
         else:
             value = int(text)
         check_setting(field, value)
-    except ValueError:  # SettingsError too: quote what the user typed, not the parsed value
+    except ValueError as error:
+        if field == "model":  # the model's own message quotes the name and lists the choices
+            raise SettingsError(field, str(error)) from None
+        # SettingsError too: quote what the user typed, not the parsed value
         raise SettingsError(field, f"{field} must be {describe_range(field)}; got {text!r}") from None
     return value
 

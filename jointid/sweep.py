@@ -22,11 +22,11 @@ import numpy as np
 
 from .experiment import training_data, validation_data
 from .fit import fitted_torque
-from .model import PARAMETER_LABELS, PARAMETER_NAMES
-from .motions import TRAINING_MOTIONS
+from .model import JointModel
 from .noise import MODULUS, torque_noise
 from .settings import Settings
 from .solver import solve_least_squares
+from .present.tables import sweep_message
 from .uncertainty import parameter_uncertainty
 
 SEED_COUNT_LIMITS = (1, 1_000_000)
@@ -35,8 +35,8 @@ DEFAULT_SEED_COUNT = 1000
 """Seeds in a sweep unless told otherwise."""
 CHUNK_ELEMENTS = 2**21
 """Torque values (seeds x samples) handled per chunk: about 16 MB per array."""
-QUANTITIES = (*PARAMETER_NAMES, "training_rmse", "heldout_rmse")
-"""What the sweep summarises, in display order."""
+RMSE_QUANTITIES = ("training_rmse", "heldout_rmse")
+"""The per-seed errors a sweep summarises after the parameters."""
 
 
 class SweepCancelled(Exception):
@@ -73,7 +73,7 @@ class SweepResult:
     """Per-seed fits of one experiment and their statistics."""
 
     settings: Settings
-    """Motion, noise, samples and the first seed."""
+    """Motion, noise, samples, the first seed and the fitted model."""
     seeds: np.ndarray
     """(K,) The seeds, in order."""
     rank: int
@@ -81,13 +81,23 @@ class SweepResult:
     condition_number: float
     """Condition number of the column-scaled regressor (inf when rank-deficient)."""
     estimates: np.ndarray | None
-    """(3, K) Fitted I, h, B per seed (rows in theta order), or None when rank-deficient."""
+    """(p, K) Fitted parameters per seed (rows in the model's order), or None when rank-deficient."""
     training_rmse: np.ndarray | None
     """(K,) Training RMSE against each seed's noisy torques, or None."""
     heldout_rmse: np.ndarray | None
     """(K,) RMSE on the noiseless validation motion, or None."""
     expected_std_error: np.ndarray | None
-    """(3,) Standard errors the noise bound implies (the same for every seed), or None."""
+    """(p,) Standard errors the noise bound implies (the same for every seed), or None."""
+
+    @property
+    def model(self) -> JointModel:
+        """The fitted model."""
+        return self.settings.joint_model
+
+    @property
+    def quantities(self) -> tuple[str, ...]:
+        """What the sweep summarises, in display order: the parameters, then both RMSEs."""
+        return (*self.model.names, *RMSE_QUANTITIES)
 
     @property
     def seed_count(self) -> int:
@@ -100,34 +110,33 @@ class SweepResult:
         return self.estimates is not None
 
     def values(self, quantity: str) -> np.ndarray | None:
-        """(K,) Per-seed values of 'I', 'h', 'B', 'training_rmse' or 'heldout_rmse', or None."""
+        """(K,) Per-seed values of a parameter, 'training_rmse' or 'heldout_rmse', or None."""
         if not self.is_full_rank:
             return None
-        if quantity in PARAMETER_NAMES:
-            return self.estimates[PARAMETER_NAMES.index(quantity)]
+        if quantity in self.model.names:
+            return self.estimates[self.model.names.index(quantity)]
         return {"training_rmse": self.training_rmse, "heldout_rmse": self.heldout_rmse}[quantity]
 
     @cached_property
     def statistics(self) -> dict[str, Distribution]:
-        """Distribution of each of QUANTITIES, keyed by name; empty when rank-deficient."""
+        """Distribution of each of `quantities`, keyed by name; empty when rank-deficient."""
         if not self.is_full_rank:
             return {}
-        return {name: describe(self.values(name)) for name in QUANTITIES}
+        return {name: describe(self.values(name)) for name in self.quantities}
 
     @cached_property
     def empirical_std(self) -> np.ndarray | None:
-        """(3,) Sample standard deviation of I, h, B over the seeds (None: rank-deficient or K = 1)."""
+        """(p,) Sample standard deviation of each parameter over the seeds (None: rank-deficient or K = 1)."""
         if not self.is_full_rank or self.seed_count < 2:
             return None
-        return np.array([self.statistics[name].std for name in PARAMETER_NAMES])
+        return np.array([self.statistics[name].std for name in self.model.names])
 
     @cached_property
     def sign_failure_mask(self) -> np.ndarray | None:
-        """(3, K) True where a seed's I <= 0, h < 0 or B < 0, or None when rank-deficient."""
+        """(p, K) True where a seed's parameter breaks its sign rule, or None when rank-deficient."""
         if not self.is_full_rank:
             return None
-        inertia, mass_moment, damping = self.estimates
-        return np.stack([~(inertia > 0), ~(mass_moment >= 0), ~(damping >= 0)])
+        return self.model.sign_failure_mask(self.estimates)
 
     @cached_property
     def sign_failure_fraction(self) -> float | None:
@@ -141,29 +150,12 @@ class SweepResult:
         """Fraction of seeds failing each parameter's own sign check, or None."""
         if self.sign_failure_mask is None:
             return None
-        return {name: float(np.mean(row)) for name, row in zip(PARAMETER_NAMES, self.sign_failure_mask)}
+        return {name: float(np.mean(row)) for name, row in zip(self.model.names, self.sign_failure_mask)}
 
     @cached_property
     def message(self) -> str:
-        """One plain paragraph on what the sweep shows."""
-        settings = self.settings
-        last = int(self.seeds[-1])
-        head = (
-            f"{TRAINING_MOTIONS[settings.motion].label}, noise {settings.noise:.2f} N m, "
-            f"{settings.samples} samples, {self.seed_count} seeds {settings.seed}..{last}"
-        )
-        if not self.is_full_rank:
-            return (
-                f"{head}: rank {self.rank} of {len(PARAMETER_NAMES)} for every seed (noise changes only "
-                "the torques), so no seed gives a unique fit and the sweep has no estimates."
-            )
-        failing = [
-            f"{PARAMETER_LABELS[name]} fails its sign check in {100 * fraction:.1f} % of seeds"
-            for name, fraction in self.sign_failure_fractions.items()
-            if fraction > 0
-        ]
-        verdict = "; ".join(failing) if failing else "every seed passes the sign checks"
-        return f"{head}: {verdict}."
+        """One plain paragraph on what the sweep shows (see `jointid.present.tables`)."""
+        return sweep_message(self)
 
 
 def run_sweep(
@@ -185,8 +177,10 @@ def run_sweep(
     seeds = sweep_seeds(settings.seed, seed_count)
     # Noise-free torques on the same states run_experiment builds (x + 0.0 is exact).
     truth = training_data(replace(settings, noise=0.0))
-    regressor, exact = truth.regressor, truth.tau
+    model = settings.joint_model
+    regressor, exact = model.data_regressor(truth), truth.tau
     validation = validation_data()
+    validation_regressor = model.data_regressor(validation)
     base = solve_least_squares(regressor, exact)
     uncertainty = parameter_uncertainty(base, settings.noise)
     result = SweepResult(
@@ -204,7 +198,7 @@ def run_sweep(
             progress(seed_count, seed_count)
         return result
     step = chunk_size or max(1, CHUNK_ELEMENTS // max(1, settings.samples))
-    estimates = np.empty((len(PARAMETER_NAMES), seed_count))
+    estimates = np.empty((model.size, seed_count))
     training_rmse = np.empty(seed_count)
     heldout_rmse = np.empty(seed_count)
     for start in range(0, seed_count, step):
@@ -212,10 +206,10 @@ def run_sweep(
             raise SweepCancelled(f"sweep cancelled after {start} of {seed_count} seeds")
         stop = min(start + step, seed_count)
         measured = exact + torque_noise(settings.noise, settings.samples, seeds[start:stop])  # (k, N)
-        theta = solve_least_squares(regressor, measured.T).estimate  # (3, k)
+        theta = solve_least_squares(regressor, measured.T).estimate  # (p, k)
         estimates[:, start:stop] = theta
         training_rmse[start:stop] = _row_rms(fitted_torque(regressor, theta) - measured)
-        heldout_rmse[start:stop] = _row_rms(fitted_torque(validation.regressor, theta) - validation.tau)
+        heldout_rmse[start:stop] = _row_rms(fitted_torque(validation_regressor, theta) - validation.tau)
         if progress is not None:
             progress(stop, seed_count)
     return replace(result, estimates=estimates, training_rmse=training_rmse, heldout_rmse=heldout_rmse)

@@ -8,7 +8,7 @@ import pytest
 
 from jointid.cli import main
 from jointid.experiment import run_experiment
-from jointid.report import readouts
+from jointid.present.readouts import readouts
 from jointid.settings import Settings
 
 
@@ -25,7 +25,7 @@ def test_fit_text_prints_every_readout_and_the_status_sentence(capsys):
     for readout in readouts(result):
         assert f"{readout.label}" in out and readout.text in out
     assert "Fitted inertia (kg m²)         -1.607788  fails I > 0" in out
-    assert out.splitlines()[0] == "Slow motion, torque noise bound 0.20 N m, 24 samples, seed 7"
+    assert out.splitlines()[0] == "Slow motion, noise 0.20 N m, 24 samples, seed 7"
     assert result.message in out
 
 
@@ -33,7 +33,7 @@ def test_fit_json_has_the_documented_keys_at_full_precision(capsys):
     assert main(["fit", "--motion", "rich", "--noise", "0.2", "--json"]) == 0
     document = json.loads(capsys.readouterr().out)
     result = run_experiment(Settings(motion="rich", noise=0.2))
-    assert document["settings"] == {"motion": "rich", "noise": 0.2, "samples": 24, "seed": 7}
+    assert document["settings"] == {"motion": "rich", "noise": 0.2, "samples": 24, "seed": 7, "model": "plain"}
     assert document["samples"] == 24 and document["rank"] == 3
     assert document["estimate"] == dict(zip("IhB", result.estimate.tolist()))
     assert document["training_rmse"] == result.training_rmse

@@ -10,7 +10,7 @@ import pytest
 from jointid.cli import main
 from jointid.experiment import run_experiment
 from jointid.fit import fit_joint
-from jointid.report import result_to_dict
+from jointid.present.documents import result_to_dict
 from jointid.settings import Settings
 from jointid.sweep import run_sweep
 
@@ -85,7 +85,7 @@ def test_sweep_default_is_1000_seeds_and_text_names_the_sign_failures(capsys):
     assert main(["sweep", "--motion", "slow", "--noise", "0.2"]) == 0
     out = capsys.readouterr().out
     assert "1000 seeds 7..1006" in out and "inertia fails its sign check" in out
-    assert "Standard deviation over seeds vs expected from the noise bound" in out
+    assert "std (empirical)" in out and "std (expected)" in out
 
 
 def test_sweep_for_holds_says_there_are_no_estimates(capsys):
@@ -107,7 +107,7 @@ def test_matrix_json_marks_training_entries(capsys):
 def test_matrix_text_marks_training_data_and_never_calls_it_heldout(capsys):
     assert main(["matrix", "--noise", "0.2"]) == 0
     out = capsys.readouterr().out
-    assert "0.017032*" in out and "2.261865 " in out
+    assert "0.017032 *" in out and "2.261865" in out and "0.013273  " in out
     assert "* training data" in out and "held-out" not in out.replace("not a held-out test", "")
 
 

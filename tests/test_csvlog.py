@@ -367,7 +367,7 @@ def test_with_or_without_pandas_the_same_values_or_the_same_error(tmp_path_facto
 
 def test_import_jointid_loads_no_pandas():
     code = (
-        "import json, sys; import jointid, jointid.csvlog, jointid.experiment, jointid.report, jointid.cli; "
+        "import json, sys; import jointid, jointid.csvlog, jointid.experiment, jointid.present.documents, jointid.cli; "
         "print(json.dumps(sorted(m for m in sys.modules if m.split('.')[0] in {'pandas', 'pyarrow'})))"
     )
     output = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)

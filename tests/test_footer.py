@@ -8,7 +8,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from tui.app import MainScreen
+from tui.main_screen import MainScreen
 from tui.footer import KeyEntry, KeyFooter, footer_line
 from tui.stepper import Stepper
 from tui_support import make_app

@@ -1,15 +1,95 @@
-"""The core must not drag in the user-interface stack."""
+"""Boundaries: the core never drags in the user interface, and the UI's modules import in one direction."""
 
+import ast
 import json
 import subprocess
 import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+UI_PACKAGES = {"textual", "plotext", "rich", "tui", "textual_plotext"}
 
 
 def test_import_jointid_loads_no_ui_packages():
     code = (
-        "import json, sys; import jointid, jointid.experiment, jointid.report, jointid.cli; "
+        "import json, sys; import jointid, jointid.experiment, jointid.present.documents, jointid.cli; "
         "print(json.dumps(sorted(m for m in sys.modules "
         "if m.split('.')[0] in {'textual', 'plotext', 'rich', 'tui', 'textual_plotext'})))"
     )
     output = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert json.loads(output.stdout) == []
+
+
+def imported_modules(path: Path, package: str) -> set[str]:
+    """Absolute names of every module a file imports, at any depth, except under `if TYPE_CHECKING:`."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    module = ".".join(path.relative_to(ROOT).with_suffix("").parts)
+    if path.name == "__init__.py":
+        module = module.removesuffix(".__init__")
+        parent = module
+    else:
+        parent = module.rsplit(".", 1)[0]
+    skipped = {id(node) for guard in ast.walk(tree) if isinstance(guard, ast.If)
+               and getattr(guard.test, "id", getattr(guard.test, "attr", "")) == "TYPE_CHECKING"
+               for node in ast.walk(guard)}
+    names = set()
+    for node in ast.walk(tree):
+        if id(node) in skipped:
+            continue
+        if isinstance(node, ast.Import):
+            names.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom):
+            base = parent
+            for _ in range(node.level - 1):
+                base = base.rsplit(".", 1)[0]
+            target = node.module if node.level == 0 else ".".join(p for p in (base, node.module) if p)
+            names.add(target)
+            # `from . import x` and `from .pkg import module` name modules too.
+            names.update(f"{target}.{alias.name}" for alias in node.names)
+    return names
+
+
+def module_files(package: str) -> dict[str, Path]:
+    """Module name -> file for every module of a top-level package."""
+    files = {}
+    for path in (ROOT / package).rglob("*.py"):
+        name = ".".join(path.relative_to(ROOT).with_suffix("").parts).removesuffix(".__init__")
+        files[name] = path
+    return files
+
+
+def test_the_core_never_imports_the_ui_not_even_inside_a_function():
+    offenders = {
+        name: sorted(m for m in imported_modules(path, "jointid") if m.split(".")[0] in UI_PACKAGES)
+        for name, path in module_files("jointid").items()
+    }
+    assert {name: found for name, found in offenders.items() if found} == {}
+
+
+def test_the_ui_has_no_import_cycles():
+    modules = module_files("tui")
+    graph = {name: {m for m in imported_modules(path, "tui") if m in modules and m != name}
+             for name, path in modules.items()}
+    cycles = []
+
+    def visit(node, path):
+        for nxt in graph[node]:
+            if nxt in path:
+                cycles.append(path[path.index(nxt):] + [nxt])
+            elif nxt not in done:
+                visit(nxt, path + [nxt])
+        done.add(node)
+
+    done: set[str] = set()
+    for start in graph:
+        if start not in done:
+            visit(start, [start])
+    assert cycles == []
+
+
+def test_the_cycle_finder_sees_a_lazy_import(tmp_path, monkeypatch):
+    # The check above must see imports inside functions: app.py <-> help.py was one.
+    source = "def f():\n    from .help import x\n"
+    path = ROOT / "tui" / "app.py"
+    monkeypatch.setattr(Path, "read_text", lambda self, encoding=None: source if self == path else "")
+    assert "tui.help" in imported_modules(path, "tui")

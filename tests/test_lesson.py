@@ -4,10 +4,11 @@ import numpy as np
 import pytest
 
 from jointid.experiment import run_experiment, training_data
-from jointid.fit import fit_joint, format_number
+from jointid.fit import fit_joint
+from jointid.present.text import format_number
 from jointid.dataset import JointData
 from jointid.model import TRUE_PARAMETERS, torque_breakdown
-from jointid.report import readouts
+from jointid.present.readouts import readouts
 from jointid.settings import Settings
 
 # motion, noise -> (I, h, B, training RMSE, held-out RMSE), copied from the lesson's table.

@@ -13,7 +13,7 @@ from jointid.cli import main
 from jointid.csvlog import load_log
 from test_cli_csv import CORPUS
 from test_snapshots import COMPACT, WIDE, steady
-from tui.log_source import LoadRequest, fit_logs
+from jointid.logfit import LoadRequest, fit_logs
 from tui_support import make_app
 
 

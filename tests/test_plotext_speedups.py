@@ -13,7 +13,8 @@ from plotext._figure import _figure_class
 from jointid.experiment import run_experiment
 from jointid.settings import Settings
 from tui import plotext_speedups
-from tui.charts import ChartData, draw_torque_chart, heldout_chart, training_chart
+from jointid.present.charts import ChartData, heldout_chart, training_chart
+from tui.charts import draw_torque_chart
 from tui.torque_plot import build_matrix
 
 LINE_RGB, DOTS_RGB = (200, 120, 40), (60, 140, 220)

@@ -13,7 +13,7 @@ from jointid.settings import Settings
 def test_residuals_are_measured_minus_fitted_and_orthogonal_to_the_columns():
     result = run_experiment(Settings(motion="rich", noise=0.2))
     data = residual_data(result)
-    X, y = result.training.regressor, result.training.tau
+    X, y = result.training_regressor, result.training.tau
     expected = y - X @ np.linalg.lstsq(X, y, rcond=None)[0]
     np.testing.assert_allclose(data.residuals, expected, atol=1e-12)
     np.testing.assert_allclose(X.T @ data.residuals, 0.0, atol=1e-10)

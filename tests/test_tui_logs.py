@@ -13,13 +13,16 @@ from jointid.cli import main
 from jointid.csvlog import LogError, load_log
 from jointid.derivatives import DEFAULT_ORDER, DEFAULT_WINDOW
 from jointid.fit import fit_joint
-from jointid.report import readouts
+from jointid.present.readouts import readouts
 from test_cli_csv import CORPUS, HEADER, good_rows
-from tui import log_source
-from tui.app import JointIdApp, MainScreen
+from jointid import logfit
+from jointid.present import charts
+from tui.app import JointIdApp
+from tui.main_screen import MainScreen
 from tui.direct_controls import ChoiceList
-from tui.log_mode import FROM_LOG
-from tui.log_source import HELDOUT, LoadRequest, ordinal
+from tui.main_screen import FROM_LOG
+from jointid.logfit import HELDOUT, LoadRequest
+from jointid.present.charts import ordinal
 from tui.readouts import ReadoutPanel
 from tui.stepper import Stepper
 from tui_support import displayed_readouts, make_app
@@ -143,7 +146,7 @@ async def test_escape_cancels_loading_and_keeps_the_current_state(tmp_path, monk
     train = tmp_path / "long.csv"
     assert main(["simulate", "--samples", "20000", "--out", str(train)]) == 0
     # Tiny chunks make the load long enough to cancel part-way.
-    monkeypatch.setattr(log_source, "load_log", functools.partial(load_log, chunk_bytes=64))
+    monkeypatch.setattr(logfit, "load_log", functools.partial(load_log, chunk_bytes=64))
     app = make_app()
     async with app.run_test(size=SIZE) as pilot:
         before = displayed_readouts(app.screen)
@@ -307,7 +310,7 @@ def test_ordinals():
 
 
 def test_log_charts_are_thinned_to_the_width():
-    assert [log_source.thin_stride(n, 80) for n in (10, 80, 81, 160, 161, 1_000_000)] == [1, 1, 2, 2, 3, 12500]
+    assert [charts.thin_stride(n, 80) for n in (10, 80, 81, 160, 161, 1_000_000)] == [1, 1, 2, 2, 3, 12500]
 
 
 @synchronous
@@ -352,12 +355,11 @@ def test_the_command_line_hands_window_and_order_to_the_explorer(logs, monkeypat
 
 @synchronous
 async def test_closing_a_log_pushes_the_synthetic_fit_once(logs, monkeypatch):
-    """Textual calls a computed var's watcher on every read; the screen never reads `settings` for its value."""
+    """One push-down per change: closing a log shows the synthetic fit once, a view pushes nothing."""
     train, _ = logs
     pushes = []
-    watch = MainScreen.watch_settings
-    monkeypatch.setattr(MainScreen, "watch_settings", lambda screen, settings: (pushes.append(settings),
-                                                                                 watch(screen, settings)))
+    show = MainScreen.show_source
+    monkeypatch.setattr(MainScreen, "show_source", lambda screen: (pushes.append(screen.settings), show(screen)))
     app = make_app()
     async with app.run_test(size=SIZE) as pilot:
         await load(pilot, train)

@@ -9,10 +9,11 @@ import pytest
 from textual.widgets import Input
 
 from jointid.experiment import run_experiment
-from jointid.report import readouts
+from jointid.present.readouts import readouts
 from jointid.motions import TRAINING_MOTIONS
 from jointid.settings import DEFAULT_SETTINGS, SEED_LIMITS, Settings
-from tui.app import MIN_SIZE, MOTION_KEYS, NOISE_RANGE, SAMPLES_RANGE, SEED_RANGE, MainScreen
+from tui.controls import NOISE_RANGE, SAMPLES_RANGE, SEED_RANGE
+from tui.main_screen import MIN_SIZE, MOTION_KEYS, MainScreen
 from tui.charts import TorqueChart
 from tui.commands import TOUR, tour_title
 from tui.direct_controls import ChoiceList

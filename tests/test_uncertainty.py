@@ -136,7 +136,7 @@ def test_noiseless_rich_message_is_the_lab_text_alone():
 @pytest.mark.parametrize("motion, expected", [("rich", 1.28), ("slow", 3.78)])
 def test_condition_number_of_the_scaled_regressor(motion, expected):
     result = run_experiment(Settings(motion=motion, noise=0.2))
-    X = result.training.regressor
+    X = result.training_regressor
     assert round(result.condition_number, 2) == expected
     assert result.condition_number == pytest.approx(np.linalg.cond(X / np.linalg.norm(X, axis=0)), rel=1e-12)
 

@@ -6,7 +6,8 @@ import asyncio
 from pathlib import Path
 
 from jointid.settings import DEFAULT_SETTINGS, Settings
-from tui.app import JointIdApp, MainScreen
+from tui.app import JointIdApp
+from tui.main_screen import MainScreen
 from tui.commands import TOUR
 from tui.readouts import ReadoutPanel
 

@@ -14,7 +14,7 @@ from textual.widgets import DirectoryTree, Input, Label, RadioSet, Static
 from jointid.derivatives import DEFAULT_ORDER, DEFAULT_WINDOW
 
 from .marks import ClearCheckbox, ClearRadioButton
-from .log_source import HELDOUT, TRAINING, LoadRequest
+from jointid.logfit import HELDOUT, TRAINING, LoadRequest
 
 
 class OpenLogScreen(ModalScreen[LoadRequest | None]):

@@ -10,6 +10,7 @@ from textual.containers import VerticalScroll
 from textual.screen import Screen
 from textual.widgets import Markdown
 
+from .controls import NOISE_RANGE, SAMPLES_RANGE, SEED_RANGE
 from .footer import KeyFooter
 from .stepper import Stepper
 
@@ -17,12 +18,10 @@ HELP_FILE = Path(__file__).with_name("help.md")
 """Markdown source of the help text; `{keys}` and the ranges are filled in from the code."""
 
 
-def keys_table() -> str:
-    """A Markdown list of the main screen's and the number fields' keys."""
-    from .app import MainScreen  # the app module imports nothing from here at start-up
-
+def keys_table(bindings: list[Binding]) -> str:
+    """A Markdown list of the main screen's keys (its `bindings`) and the number fields' keys."""
     rows = [("Tab / Shift+Tab", "move between controls"), ("Up / Down", "choose a motion in the list")]
-    for binding in MainScreen.BINDINGS:
+    for binding in bindings:
         rows.append((binding.key_display or binding.key, binding.tooltip))
     for binding in Stepper.BINDINGS:
         rows.append((binding.key.replace("shift+", "Shift+").title(), f"in a number field: {binding.description.lower()}"))
@@ -31,12 +30,10 @@ def keys_table() -> str:
     return "\n".join(f"- `{key}`: {does}" for key, does in rows)
 
 
-def help_markdown() -> str:
-    """The help text with keys and ranges taken from the code."""
-    from .app import NOISE_RANGE, SAMPLES_RANGE, SEED_RANGE
-
+def help_markdown(bindings: list[Binding]) -> str:
+    """The help text with the main screen's keys (`bindings`) and the ranges taken from the code."""
     return HELP_FILE.read_text(encoding="utf-8").format(
-        keys=keys_table(),
+        keys=keys_table(bindings),
         noise_range=NOISE_RANGE.describe().capitalize(),
         samples_range=SAMPLES_RANGE.describe().capitalize(),
         seed_range=SEED_RANGE.describe().capitalize(),
@@ -54,11 +51,20 @@ class HelpScreen(Screen):
         Binding("q", "close", "Close help", show=False),
     ]
 
+    def __init__(self, bindings: list[Binding]) -> None:
+        """Create the help screen.
+
+        Args:
+            bindings: The main screen's key bindings, listed in the help.
+        """
+        super().__init__()
+        self.main_bindings = bindings
+
     def compose(self) -> ComposeResult:
         """The help Markdown in a focused scroll view, and the footer."""
         with VerticalScroll() as scroll:
             scroll.border_title = "Help"
-            yield Markdown(help_markdown())
+            yield Markdown(help_markdown(self.main_bindings))
         yield KeyFooter()
 
     def on_mount(self) -> None:

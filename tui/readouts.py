@@ -5,10 +5,8 @@ from __future__ import annotations
 from textual.content import Content
 from textual.widget import Widget
 
-from jointid.model import SIGN_REQUIREMENTS
-from jointid.report import Readout
-
-from .precision import Precision, PrecisionNote, closing_content, note_lines, verdict_content
+from jointid.present.readouts import Precision, PrecisionNote, Readout
+from jointid.uncertainty import NOT_DETERMINED, WEAK, WELL_DETERMINED
 
 LABEL_WIDTH = 27
 """Columns reserved for a readout label ("Fitted damping (N m s/rad)" and a space)."""
@@ -22,10 +20,48 @@ motion with much noise breaks two requirements, I > 0 and B ≥ 0)."""
 COMPACT_RESERVED_FAILURE_LINES = 1
 """Compact rows kept for sign-failure notes: 80x24 has room for one."""
 
+INDENT = "  "
+"""Precision lines sit under their readout, indented."""
+
+VERDICT_STYLES = {WELL_DETERMINED: "$text-success", WEAK: "$text-warning", NOT_DETERMINED: "$text-error"}
+"""Theme colour of each verdict (the words carry the meaning; colour only repeats it)."""
+
 
 def failure_note(readout: Readout) -> str:
     """The label that names the requirement a fitted value breaks, e.g. 'I > 0 fails'."""
-    return f"{SIGN_REQUIREMENTS[readout.key]} fails"
+    return f"{readout.failed_requirement} fails"
+
+
+def note_lines(precision: Precision | None, key: str, width: int) -> list[Content]:
+    """The note under readout `key` (none for readouts that are not parameters)."""
+    if precision is None:
+        return []
+    lines = []
+    for note in precision.notes:
+        if note.key != key:
+            continue
+        line = Content(INDENT + note.text)
+        if note.verdict:
+            line += Content("  ") + verdict_content(note.verdict)
+        lines.append(line)
+    return lines
+
+
+def verdict_content(verdict: str) -> Content:
+    """A verdict in its theme colour (the words alone carry the meaning, for NO_COLOR)."""
+    return Content.from_markup(f"[{VERDICT_STYLES[verdict]}]$v[/]", v=verdict)
+
+
+def closing_content(precision: Precision | None, label_width: int) -> list[Content]:
+    """The closing lines: labelled values as the readouts have them, notes indented and dim."""
+    if precision is None:
+        return []
+    return [
+        Content(label.ljust(label_width) + text) if label
+        # dim, not $text-muted: that variable has alpha, which showed as plain text here.
+        else Content.from_markup("[dim]$t[/]", t=INDENT + text)
+        for label, text in precision.closing
+    ]
 
 
 def compact_parameter_lines(item: Readout, note: PrecisionNote, width: int) -> list[Content]:

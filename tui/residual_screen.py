@@ -10,35 +10,15 @@ from textual.reactive import reactive
 from textual.screen import Screen
 from textual.widgets import Static
 
-from jointid.fit import FitResult, format_number
-from jointid.residuals import AXES, AXIS_LABELS, ResidualData, residual_data
-from jointid.settings import Settings
+from jointid.fit import FitResult
+from jointid.present.charts import residual_scatter, residual_summary
+from jointid.residuals import AXES, AXIS_LABELS, residual_data
 
 from .footer import KeyFooter
-from .small_plots import ScatterData, SmallPlot
-from .sweep_screen import settings_line
+from .small_plots import SmallPlot
 
 AXIS_KEYS = {axis: str(number) for number, axis in enumerate(AXES, start=1)}
 """Key per axis: 1 time, 2 angle q, 3 velocity qd, 4 acceleration qdd."""
-
-
-def residual_scatter(data: ResidualData, axis: str) -> ScatterData:
-    """The scatter of residuals against one axis."""
-    x_label = AXIS_LABELS[axis] if data.has_times or axis != "t" else "sample index"
-    return ScatterData(
-        titles=(f"Training residuals (N m) against {x_label}", f"Residuals against {x_label}"),
-        x=data.axes[axis],
-        y=data.residuals,
-        x_label=x_label.capitalize(),
-        y_label="Residual (N m)",
-    )
-
-
-def residual_summary(data: ResidualData, axis: str) -> str:
-    """One text line for people who cannot see the chart: count, range and which fit."""
-    low, high = (format_number(float(f(data.residuals)), 3) for f in (min, max))
-    source = "the fit" if data.unique_fit else "the basic solution (rank below 3: every solution fits the same)"
-    return f"{len(data.residuals)} residuals (measured - fitted) from {source}, {low} to {high} N m."
 
 
 class ResidualScreen(Screen):
@@ -56,17 +36,15 @@ class ResidualScreen(Screen):
 
     axis: reactive[str] = reactive("t", init=False)
 
-    def __init__(self, settings: Settings, result: FitResult, *, source: str | None = None) -> None:
+    def __init__(self, result: FitResult, source: str) -> None:
         """Create the view.
 
         Args:
-            settings: The experiment the fit came from (shown in the title).
             result: The fit whose training residuals are shown.
-            source: What the fit came from when not the settings, e.g. "log train.csv".
+            source: What the fit came from, for the title: the settings header or "log train.csv".
         """
         super().__init__()
-        self.settings = settings
-        self.source = source or settings_line(settings)
+        self.source = source
         self.data = residual_data(result)
 
     def compose(self) -> ComposeResult:
@@ -84,7 +62,7 @@ class ResidualScreen(Screen):
     def watch_axis(self, axis: str) -> None:
         """Redraw the chart and the note for a new axis."""
         self.query_one(SmallPlot).show(residual_scatter(self.data, axis))
-        self.query_one("#residual-summary", Static).update(residual_summary(self.data, axis))
+        self.query_one("#residual-summary", Static).update(residual_summary(self.data))
         self.query_one("#residual-note", Static).update(f"What structure would mean: {self.data.note(axis)}")
 
     def action_axis(self, axis: str) -> None:

@@ -2,46 +2,19 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 from textual.app import ComposeResult
-from textual.color import Color
 from textual.containers import Vertical
 from textual.content import Content
 from textual_plotext import PlotextPlot
 
+from jointid.present.charts import HistogramData, ScatterData
+
 from .fitting import FittingLine
+from .theme import theme_rgb
 
 HISTOGRAM_BINS = 24
 """Bars per histogram: enough to show the shape, few enough for a 26-column chart."""
-
-
-def theme_rgb(app, variable: str) -> tuple[int, int, int]:
-    """A theme colour as RGB for plotext, which needs concrete colours."""
-    return Color.parse(app.theme_variables[variable]).rgb
-
-
-@dataclass(frozen=True, eq=False)
-class HistogramData:
-    """One quantity's per-seed values with its true value; `values` has shape (K,)."""
-
-    titles: tuple[str, ...]
-    """Heading, longest first; the widest that fits is shown."""
-    values: np.ndarray
-    true_value: float
-
-
-@dataclass(frozen=True, eq=False)
-class ScatterData:
-    """Residuals (N,) against one axis (N,), with axis titles."""
-
-    titles: tuple[str, ...]
-    """Heading, longest first; the widest that fits is shown."""
-    x: np.ndarray
-    y: np.ndarray
-    x_label: str
-    y_label: str
 
 
 class SmallPlot(Vertical):

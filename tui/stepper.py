@@ -3,10 +3,10 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Callable
 
 from textual.binding import Binding
 from textual.geometry import Size
-from textual.message import Message
 from textual.widgets import Input
 
 from jointid.settings import SettingsError, parse_setting
@@ -76,8 +76,9 @@ class Stepper(Input):
 
     Typed text is committed with Enter or when focus leaves; invalid text is
     refused with a notification and the previous value is kept. A new value is
-    posted upward as `Committed`; the owner, holding the one copy of the state,
-    shows it by calling `show_value`.
+    handed to the owner's `on_commit` callback (the explorer's one convention for
+    widgets reporting up: see tui/direct_controls.py for the measured reason);
+    the owner, holding the one copy of the state, shows it with `show_value`.
     """
 
     DEFAULT_CSS = """
@@ -94,33 +95,22 @@ class Stepper(Input):
         Binding("escape", "revert", "Discard typing", show=False),
     ]
 
-    @dataclass
-    class Committed(Message):
-        """A new value was committed; repeats from one stepper replace each other in the queue."""
-
-        stepper: Stepper
-        value: float
-
-        @property
-        def control(self) -> Stepper:
-            """The stepper that changed."""
-            return self.stepper
-
-        def can_replace(self, message: Message) -> bool:
-            """Coalesce key repeats: only the latest value of a stepper matters."""
-            return isinstance(message, Stepper.Committed) and message.stepper is self.stepper
-
-    def __init__(self, steps: StepRange, value: float, *, id: str | None = None) -> None:
+    def __init__(self, steps: StepRange, value: float | None = None, *,
+                 on_commit: Callable[[str, float], None], id: str | None = None) -> None:
         """Create a stepper.
 
         Args:
             steps: Range and step sizes.
-            value: Initial value (clamped into range).
+            value: Value to show first (clamped into range); None shows nothing until `show_value`.
+            on_commit: Called with the field and a new valid value; the owner keeps the value
+                and shows it back with `show_value`.
             id: Widget id.
         """
         self.steps = steps
-        self.number = steps.clamp(value)
-        super().__init__(value=steps.format(self.number), id=id, compact=True)
+        self.number = steps.low if value is None else steps.clamp(value)
+        """The value on display, as the owner last showed it: steps start from here."""
+        self._on_commit = on_commit
+        super().__init__(value="" if value is None else steps.format(self.number), id=id, compact=True)
 
     def check_consume_key(self, key: str, character: str | None) -> bool:
         """Claim only characters a number can contain, so r, ? and q stay global keys here."""
@@ -131,10 +121,13 @@ class Stepper(Input):
         """Name of the setting this stepper controls."""
         return self.steps.field
 
-    def show_value(self, value: float) -> None:
-        """Display a value pushed down from the app without posting a message back."""
-        self.number = value
-        text = self.steps.format(value)
+    def show_value(self, value: float | str) -> None:
+        """Display the owner's value (or a text such as 'from log') without reporting it back."""
+        if isinstance(value, str):
+            text = value
+        else:
+            self.number = value
+            text = self.steps.format(value)
         if self.value != text:
             with self.prevent(Input.Changed):
                 self.value = text
@@ -182,8 +175,6 @@ class Stepper(Input):
         if value == self.number:
             self.show_value(value)  # tidy the text, e.g. typed "0.5" back to "0.50"
             return
-        # Remember the value at once so fast repeats step from it, but leave the text to the
-        # screen's push-down: repainting here first would spend a frame on this field alone
-        # and make the fully updated screen wait for the next one.
-        self.number = value
-        self.post_message(self.Committed(self, value))
+        # The owner shows the value back (show_value) inside this same key handler, so the
+        # field and everything the value changes are painted in one frame.
+        self._on_commit(self.field, value)

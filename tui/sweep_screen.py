@@ -2,10 +2,9 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import math
 from dataclasses import dataclass
+from pathlib import Path
 
 from textual import work
 from textual.app import ComposeResult
@@ -15,19 +14,18 @@ from textual.screen import Screen
 from textual.widgets import Label, ProgressBar, Static
 from textual.worker import Worker, WorkerState, get_current_worker
 
-from jointid.fit import format_number
-from jointid.model import PARAMETER_NAMES, PARAMETER_UNITS, SIGN_REQUIREMENTS, TRUE_PARAMETERS
-from jointid.motions import TRAINING_MOTIONS
+from jointid.present.charts import sweep_histograms
+from jointid.present.tables import sweep_summary, sweep_table
+from jointid.present.text import settings_header
 from jointid.settings import Settings, SettingsError
 from jointid.sweep import DEFAULT_SEED_COUNT, SweepCancelled, SweepResult, run_sweep
 
 from .footer import KeyFooter
-from .small_plots import HistogramData, SmallPlot
+from .small_plots import SmallPlot
 from .stepper import StepRange, Stepper
-from .tables import text_table
 
-SEED_COUNT_LIMITS = (1, 100_000)
-"""Seeds the view accepts: a 100,000-seed sweep still finishes in about a second."""
+EXPLORER_SEED_COUNT_LIMITS = (1, 100_000)
+"""Seeds the view accepts (the core allows more): a 100,000-seed sweep still finishes in about a second."""
 PROGRESS_STEPS = 50
 """Chunks a sweep is split into, so the progress bar moves even though each chunk is fast."""
 MIN_CHUNK = 500
@@ -50,79 +48,13 @@ class SeedCountRange(StepRange):
         return value
 
 
-SEED_COUNT_RANGE = SeedCountRange("seeds", *SEED_COUNT_LIMITS, 100, 1000)
+SEED_COUNT_RANGE = SeedCountRange("seeds", *EXPLORER_SEED_COUNT_LIMITS, 100, 1000)
 """K: Left/Right step 100 seeds, Shift 1000; typed values from 1 to 100,000."""
-
-ROW_LABELS = ("true value", "mean", "std (empirical)", "std (expected)", "p5", "p50 (median)", "p95",
-              "sign check fails")
-"""Rows of the statistics table, one column per parameter and RMSE."""
-
-
-def settings_line(settings: Settings) -> str:
-    """The experiment a view is about, e.g. 'Slow motion, noise 0.20 N m, 24 samples, seed 7'."""
-    return (f"{TRAINING_MOTIONS[settings.motion].label}, noise {settings.noise:.2f} N m, "
-            f"{settings.samples} samples, seed {settings.seed}")
 
 
 def chunk_size(seed_count: int) -> int:
     """Seeds per chunk for a sweep of seed_count, so progress arrives about PROGRESS_STEPS times."""
     return max(MIN_CHUNK, math.ceil(seed_count / PROGRESS_STEPS))
-
-
-def statistics_rows(result: SweepResult) -> list[list[str]]:
-    """The statistics table's rows for a full-rank sweep: one column per I, h, B, both RMSEs."""
-    stats = result.statistics
-    names = (*PARAMETER_NAMES, "training_rmse", "heldout_rmse")
-    expected = dict(zip(PARAMETER_NAMES, result.expected_std_error if result.expected_std_error is not None
-                        else (None,) * 3))
-    fractions = result.sign_failure_fractions
-
-    def cell(value) -> str:
-        return "-" if value is None else format_number(value)
-
-    rows = [
-        [cell(TRUE_PARAMETERS[i]) for i in range(3)] + ["", ""],
-        [cell(stats[name].mean) for name in names],
-        [cell(stats[name].std) for name in names],
-        [cell(expected[name]) for name in PARAMETER_NAMES] + ["", ""],
-        [cell(stats[name].p5) for name in names],
-        [cell(stats[name].p50) for name in names],
-        [cell(stats[name].p95) for name in names],
-        [f"{100 * fractions[name]:.1f} %" for name in PARAMETER_NAMES] + ["", ""],
-    ]
-    return [[label, *row] for label, row in zip(ROW_LABELS, rows)]
-
-
-def statistics_table(result: SweepResult) -> str:
-    """The statistics table as aligned text, or why there is none."""
-    if not result.is_full_rank:
-        return ""
-    header = ["statistic", *PARAMETER_NAMES, "train RMSE", "held RMSE"]
-    return text_table(header, statistics_rows(result))
-
-
-def sign_failure_line(result: SweepResult) -> str:
-    """How often any sign check fails, naming the requirements."""
-    if result.sign_failure_fraction is None:
-        return ""
-    checks = ", ".join(SIGN_REQUIREMENTS[name] for name in PARAMETER_NAMES)
-    return f"Seeds failing a sign check ({checks}): {100 * result.sign_failure_fraction:.1f} %."
-
-
-def histograms(result: SweepResult) -> list[HistogramData]:
-    """One histogram per parameter with the true value marked."""
-    return [
-        HistogramData(
-            titles=(
-                f"{name} ({PARAMETER_UNITS[name]}), {result.seed_count} seeds; true {TRUE_PARAMETERS[i]:g} at │",
-                f"{name} ({PARAMETER_UNITS[name]}); true {TRUE_PARAMETERS[i]:g} at │",
-                f"{name}; true {TRUE_PARAMETERS[i]:g} at │",
-            ),
-            values=result.values(name),
-            true_value=float(TRUE_PARAMETERS[i]),
-        )
-        for i, name in enumerate(PARAMETER_NAMES)
-    ]
 
 
 class SweepScreen(Screen):
@@ -154,14 +86,14 @@ class SweepScreen(Screen):
 
     def compose(self) -> ComposeResult:
         """Settings line, seed-count field and progress, histograms, table, summary, footer."""
-        yield Static(f"Seed sweep: {settings_line(self.settings)} onward", id="sweep-title", markup=False)
+        yield Static(f"Seed sweep: {settings_header(self.settings)} onward", id="sweep-title", markup=False)
         with Horizontal(id="sweep-controls"):
             yield Label("Seeds (K)", id="sweep-count-label")
-            yield Stepper(SEED_COUNT_RANGE, self.seed_count, id="sweep-count")
+            yield Stepper(SEED_COUNT_RANGE, self.seed_count, on_commit=self.commit_seed_count, id="sweep-count")
             yield ProgressBar(total=self.seed_count, show_eta=False, id="sweep-progress")
             yield Static("", id="sweep-state", markup=False)
         with Horizontal(id="sweep-histograms"):
-            for name in PARAMETER_NAMES:
+            for name in self.settings.joint_model.names:
                 yield SmallPlot(id=f"histogram-{name}", classes="histogram")
         yield Static("", id="sweep-table", markup=False)
         yield Static("", id="sweep-summary", markup=False)
@@ -172,11 +104,10 @@ class SweepScreen(Screen):
         self.query_one(Stepper).focus()
         self.action_run()
 
-    def on_stepper_committed(self, message: Stepper.Committed) -> None:
-        """A new seed count: sweep again (an exclusive worker drops the one still running)."""
-        message.stop()
-        self.seed_count = int(message.value)
-        message.stepper.show_value(self.seed_count)  # the stepper shows what its owner holds
+    def commit_seed_count(self, field: str, value: float) -> None:
+        """A new seed count (the field's callback): sweep again (an exclusive worker drops the one still running)."""
+        self.seed_count = int(value)
+        self.query_one(Stepper).show_value(self.seed_count)  # the stepper shows what its owner holds
         self.action_run()
 
     def action_run(self) -> None:
@@ -217,15 +148,13 @@ class SweepScreen(Screen):
         """Display a finished sweep."""
         self.result = result
         self.query_one("#sweep-state", Static).update(f"done: {result.seed_count} seeds")
-        plots = histograms(result) if result.is_full_rank else [None] * len(PARAMETER_NAMES)
-        for name, data in zip(PARAMETER_NAMES, plots):
+        names = result.model.names
+        plots = sweep_histograms(result) if result.is_full_rank else [None] * len(names)
+        for name, data in zip(names, plots):
             self.query_one(f"#histogram-{name}", SmallPlot).show(data)
         self.query_one("#sweep-histograms").display = result.is_full_rank
-        self.query_one("#sweep-table", Static).update(statistics_table(result))
-        summary = result.message
-        if result.is_full_rank:
-            summary += " " + sign_failure_line(result)
-        self.query_one("#sweep-summary", Static).update(summary)
+        self.query_one("#sweep-table", Static).update(sweep_table(result))
+        self.query_one("#sweep-summary", Static).update(sweep_summary(result))
 
     def on_worker_state_changed(self, event: Worker.StateChanged) -> None:
         """Say so when a sweep was cancelled."""

@@ -10,7 +10,7 @@ from __future__ import annotations
 import sys
 
 from . import explorer_command, fit_command, matrix_command, simulate_command, sweep_command, torque_command
-from .arguments import OneLineParser, UserError, add_settings_arguments
+from .arguments import OneLineParser, UserError, add_model_argument, add_settings_arguments
 from .log_fit import add_log_arguments
 
 SUBCOMMANDS = (fit_command, torque_command, sweep_command, matrix_command, simulate_command)
@@ -30,6 +30,7 @@ def build_parser() -> OneLineParser:
         ),
     )
     add_settings_arguments(parser)
+    add_model_argument(parser)
     add_log_arguments(parser)
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=OneLineParser)
     for module in SUBCOMMANDS:

@@ -6,6 +6,7 @@ import argparse
 import math
 import sys
 
+from ..model import describe_models
 from ..motions import TRAINING_MOTIONS
 from ..settings import DEFAULT_SETTINGS, Settings, SettingsError, parse_setting
 
@@ -76,6 +77,12 @@ def whole_number(low: int, high: int | None = None):
     return parse
 
 
+def add_model_argument(parser: argparse.ArgumentParser) -> None:
+    """Add --model, the fitted model (for synthetic experiments and logs alike)."""
+    parser.add_argument("--model", type=setting_type("model"), default=DEFAULT_SETTINGS.model, metavar="NAME",
+                        help=f"fitted model: {describe_models()}; default {DEFAULT_SETTINGS.model}")
+
+
 def add_settings_arguments(parser: argparse.ArgumentParser) -> None:
     """Add --motion, --noise, --samples and --seed with the lesson's defaults."""
     defaults = DEFAULT_SETTINGS
@@ -103,5 +110,6 @@ def add_settings_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def settings_from(args: argparse.Namespace) -> Settings:
-    """The Settings named by parsed --motion/--noise/--samples/--seed arguments."""
-    return Settings(motion=args.motion, noise=args.noise, samples=args.samples, seed=args.seed)
+    """The Settings named by parsed --motion/--noise/--samples/--seed/--model arguments."""
+    return Settings(motion=args.motion, noise=args.noise, samples=args.samples, seed=args.seed,
+                    model=getattr(args, "model", DEFAULT_SETTINGS.model))

@@ -1,31 +1,48 @@
-"""`jointid` with no subcommand: the terminal explorer, on synthetic settings or on a --csv log."""
+"""`jointid` with no subcommand: the terminal explorer, on synthetic settings or on a --csv log.
+
+The core never imports the terminal UI. The UI registers one entry function
+under the `jointid.faces` entry-point group (see pyproject.toml); this command
+parses and checks what the core can check, then hands everything to it. The
+entry function checks the explorer's own, narrower ranges and raises
+SettingsError for a value outside them.
+"""
 
 from __future__ import annotations
 
+from importlib.metadata import entry_points
+
+from ..logfit import fit_logs
+from ..model import model_named
+from ..settings import SettingsError
 from .arguments import UserError, settings_from
 from .log_fit import derivative_options, load_logs, with_default_settings
 
+ENTRY_POINT_GROUP = "jointid.faces"
+"""Where the terminal UI registers its entry function."""
+ENTRY_POINT_NAME = "explorer"
+"""The entry function's name in that group: explore(settings, logs, derivatives) -> exit status."""
+
+
+def load_explorer():
+    """The registered explorer entry function; UserError when no UI is installed."""
+    found = entry_points(group=ENTRY_POINT_GROUP, name=ENTRY_POINT_NAME)
+    if not found:
+        raise UserError("the terminal explorer is not installed; reinstall jointid with `pip install -e .`")
+    return next(iter(found)).load()
+
 
 def run(args) -> int:
-    """Open the explorer at the settings given by the flags, or on the --csv log; 0 on a normal exit."""
+    """Open the explorer at the settings given by the flags, or on the --csv log; its exit status."""
     # A bad log is one line on stderr and status 2 before the app starts, as for `jointid fit --csv`.
     logs = load_logs(args) if args.csv is not None else None
     derivatives = derivative_options(args)  # also for logs opened later with Ctrl+O
     settings = settings_from(with_default_settings(args) if logs is None else _defaults(args))
-    # The explorer's controls cover narrower ranges than the core; say so rather than clamp.
-    # Imported here, not at the top: `import jointid` must never load textual.
-    from tui.app import NOISE_RANGE, SAMPLES_RANGE, JointIdApp
-    from tui.log_source import fit_logs
-
-    for steps in (NOISE_RANGE, SAMPLES_RANGE):
-        value = getattr(settings, steps.field)
-        if not steps.low <= value <= steps.high:
-            raise UserError(
-                f"the explorer's --{steps.field} is {steps.describe()}; got {steps.format(value)}. "
-                f"Use `jointid fit --{steps.field} {steps.format(value)}` for larger values."
-            )
-    JointIdApp(settings, None if logs is None else fit_logs(*logs), derivatives=derivatives).run()
-    return 0
+    loaded = None if logs is None else fit_logs(*logs, model=model_named(settings.model))
+    explore = load_explorer()
+    try:
+        return explore(settings, loaded, derivatives)
+    except SettingsError as error:  # outside the explorer's ranges: `jointid fit` takes more
+        raise UserError(str(error)) from None
 
 
 def _defaults(args):

@@ -13,9 +13,10 @@ import argparse
 import json
 
 from ..csvlog import JointLog, LogError, load_log
-from ..derivatives import DEFAULT_ORDER, DEFAULT_WINDOW
-from ..fit import fit_joint
-from ..report import log_fit_document, readouts_text, uncertainty_text
+from ..derivatives import DEFAULT_ORDER, DEFAULT_WINDOW, FilterSettingError, check_filter
+from ..logfit import fit_logs
+from ..model import model_named
+from ..present.readouts import readouts_text, uncertainty_text
 from ..settings import DEFAULT_SETTINGS
 from .arguments import UserError, whole_number
 
@@ -60,10 +61,10 @@ def derivative_options(args: argparse.Namespace) -> tuple[int, int]:
     """The Savitzky-Golay window and order from --window and --order; UserError if they do not fit together."""
     window = DEFAULT_WINDOW if args.window is None else args.window
     order = DEFAULT_ORDER if args.order is None else args.order
-    if window % 2 == 0:
-        raise UserError(f"argument --window: must be an odd number of samples; got {window}")
-    if order >= window:
-        raise UserError(f"argument --order: must be less than the window {window}; got {order}")
+    try:
+        check_filter(window, order)
+    except FilterSettingError as error:
+        raise UserError(f"argument --{error.field}: {error.problem}") from None
     return window, order
 
 
@@ -85,19 +86,15 @@ def load_logs(args: argparse.Namespace) -> tuple[JointLog, JointLog | None]:
 
 def run_log_fit(args: argparse.Namespace) -> int:
     """Load the training (and held-out) log, fit, and print text or JSON; exit status 0."""
-    training, heldout = load_logs(args)
-    result = fit_joint(training.data, None if heldout is None else heldout.data, heldout_is_noiseless=False)
+    logs = fit_logs(*load_logs(args), model=model_named(args.model))
     if args.json:
-        print(json.dumps(log_fit_document(result, training, heldout), indent=2))
+        print(json.dumps(logs.document(), indent=2))
         return 0
-    print(f"Training log {training.source_text()}")
-    if heldout is not None:
-        print(f"Held-out log {heldout.source_text()}")
-    print(readouts_text(result))
+    print("\n".join(logs.source_lines()))
+    print(readouts_text(logs.result))
     print()
-    print(uncertainty_text(result))
-    notes = [*training.notes, *(heldout.notes if heldout is not None else ())]
-    if notes:
+    print(uncertainty_text(logs.result))
+    if logs.notes():
         print()
-        print("\n".join(f"Note: {note}" for note in notes))
+        print("\n".join(f"Note: {note}" for note in logs.notes()))
     return 0

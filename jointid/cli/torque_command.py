@@ -6,7 +6,7 @@ import argparse
 import json
 import math
 
-from ..fit import format_number
+from ..present.text import format_number
 from ..model import TRUE_PARAMETERS, torque_breakdown
 from .arguments import finite_float
 

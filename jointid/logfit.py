@@ -1,0 +1,98 @@
+"""Fitting joint logs: load a training log and an optional held-out log, fit one, predict the other.
+
+Both faces use this: `jointid fit --csv` and the explorer's log mode fit the
+same way, so their readouts and JSON agree.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable
+from dataclasses import dataclass
+
+from .csvlog import JointLog, load_log
+from .derivatives import DEFAULT_ORDER, DEFAULT_WINDOW
+from .fit import FitResult, fit_joint
+from .model import PLAIN, JointModel
+from .present.documents import log_fit_document
+
+TRAINING, HELDOUT = "training", "heldout"
+"""The two roles a log can be loaded in."""
+
+
+@dataclass(frozen=True)
+class LoadRequest:
+    """Which file to load, in which role, whether its angles are in degrees, and how to differentiate it."""
+
+    path: str
+    role: str = TRAINING
+    degrees: bool = False
+    window: int = DEFAULT_WINDOW
+    """Savitzky-Golay window, when the log lacks qd or qdd (`--window`)."""
+    order: int = DEFAULT_ORDER
+    """Savitzky-Golay order (`--order`)."""
+
+
+@dataclass(frozen=True, eq=False)
+class LoadedLogs:
+    """The training log, the optional held-out log, and the fit of one to the other."""
+
+    training: JointLog
+    heldout: JointLog | None
+    result: FitResult
+
+    @property
+    def name(self) -> str:
+        """The training file's name, e.g. for the explorer's motion list."""
+        return os.path.basename(self.training.path)
+
+    @property
+    def heldout_name(self) -> str | None:
+        """The held-out file's name, or None."""
+        return None if self.heldout is None else os.path.basename(self.heldout.path)
+
+    @property
+    def logs(self) -> tuple[JointLog, ...]:
+        """The training log, then the held-out log when there is one."""
+        return (self.training,) if self.heldout is None else (self.training, self.heldout)
+
+    def document(self) -> dict:
+        """The JSON document of `jointid fit --csv ... --json`."""
+        return log_fit_document(self.result, self.training, self.heldout)
+
+    def source_lines(self) -> tuple[str, ...]:
+        """What was read: 'Training log PATH: N rows ...' and the same for the held-out log."""
+        roles = ("Training log", "Held-out log")
+        return tuple(f"{role} {log.source_text()}" for role, log in zip(roles, self.logs))
+
+    def notes(self) -> tuple[str, ...]:
+        """The loaders' notes (ignored columns, estimated derivatives), training log first."""
+        return tuple(note for log in self.logs for note in log.notes)
+
+    def refit(self, model: JointModel) -> LoadedLogs:
+        """The same logs fitted with another model."""
+        return fit_logs(self.training, self.heldout, model)
+
+
+def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointModel = PLAIN) -> LoadedLogs:
+    """Fit the training log and score it on the held-out log's measured torques."""
+    result = fit_joint(training.data, None if heldout is None else heldout.data, model=model,
+                       heldout_is_noiseless=False)
+    return LoadedLogs(training, heldout, result)
+
+
+def load_request(
+    request: LoadRequest,
+    current: LoadedLogs | None = None,
+    model: JointModel = PLAIN,
+    progress: Callable[[int, int], None] | None = None,
+    cancel: Callable[[], bool] | None = None,
+) -> LoadedLogs:
+    """Load one file into its role beside the current other log and refit; LogError/LoadCancelled as load_log."""
+    log = load_log(request.path, degrees=request.degrees, window=request.window, order=request.order,
+                   progress=progress, cancel=cancel)
+    if request.role == HELDOUT:
+        if current is None:
+            raise ValueError("a held-out log needs a training log")
+        return fit_logs(current.training, log, model)
+    return fit_logs(log, None if current is None else current.heldout, model)

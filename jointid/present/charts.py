@@ -1,0 +1,199 @@
+"""What every chart shows: the series, titles, axis labels and a one-line summary for each.
+
+A chart's summary gives its content in words (range, error, what was thinned)
+for anyone who cannot see the chart; titles and summaries come longest first,
+so a narrow terminal shows the widest that fits.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..residuals import AXIS_LABELS
+from .text import format_number
+
+if TYPE_CHECKING:
+    from ..dataset import JointData
+    from ..fit import FitResult
+    from ..residuals import ResidualData
+    from ..sweep import SweepResult
+
+
+@dataclass(frozen=True, eq=False)
+class ChartData:
+    """What one torque chart shows; arrays have shape (N,).
+
+    Attributes:
+        titles: Chart title, longest first; the widest that fits is shown.
+        t: Sample times (s), or sample indices for a log without times.
+        dots: Measured or true torques (N m).
+        line: Fitted predictions (N m), or None without a unique fit.
+        dots_label: Legend text for the dots.
+        line_label: Legend text for the line.
+        summaries: The one-line text summary, longest first.
+        x_label: The x axis label.
+    """
+
+    titles: tuple[str, ...]
+    t: np.ndarray
+    dots: np.ndarray
+    line: np.ndarray | None
+    dots_label: str
+    line_label: str
+    summaries: tuple[str, ...]
+    x_label: str = "Time (s)"
+
+    def same_as(self, other: ChartData | None) -> bool:
+        """True when other would draw exactly the same chart (arrays compared by value)."""
+        if other is None or (self.titles, self.summaries, self.x_label) != (
+            other.titles, other.summaries, other.x_label
+        ):
+            return False
+        if (self.line is None) != (other.line is None):
+            return False
+        pairs = [(self.t, other.t), (self.dots, other.dots)]
+        if self.line is not None:
+            pairs.append((self.line, other.line))
+        return all(np.array_equal(a, b) for a, b in pairs)
+
+    def key(self) -> tuple:
+        """A hashable value that is equal exactly when two charts draw the same figure."""
+        line = None if self.line is None else self.line.tobytes()
+        return (self.titles, self.x_label, self.t.tobytes(), self.dots.tobytes(), line)
+
+
+def thin_stride(count: int, columns: int) -> int:
+    """k such that every k-th of `count` samples gives at most `columns` points (1: show all)."""
+    return max(1, math.ceil(count / max(columns, 1)))
+
+
+def ordinal(number: int) -> str:
+    """2nd, 3rd, 4th, 11th, 21st ..."""
+    suffix = "th" if 10 <= number % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(number % 10, "th")
+    return f"{number}{suffix}"
+
+
+def torque_chart(result: FitResult, data: JointData, predictions: np.ndarray | None, rmse: float | None, *,
+                 titles: tuple[str, ...], what: str, dots_label: str, line_label: str,
+                 columns: int | None = None) -> ChartData:
+    """Torques as dots and the fit as a line, thinned to at most `columns` points when given."""
+    count = data.count
+    stride = 1 if columns is None else thin_stride(count, columns)
+    shown = slice(None, None, stride)
+    low, high = (format_number(float(f(data.tau)), 2) for f in (np.min, np.max))
+    thinned = f"; every {ordinal(stride)} of {count} samples shown" if stride > 1 else ""
+    thinned_short = f"; every {ordinal(stride)} shown" if stride > 1 else ""
+    if predictions is None:
+        unavailable = f"rank {result.rank} of {result.parameter_count}, predictions unavailable"
+        summaries = (
+            f"{count} {what} torques (dots), {low} to {high} N m; no {line_label} line: {unavailable}{thinned}.",
+            f"{count} {what}, {low} to {high} N m; {unavailable}{thinned_short}",
+            f"{dots_label} {low}..{high} N m; no predictions",
+        )
+        titles = (f"{titles[0]}: predictions unavailable", *titles)
+    else:
+        error = format_number(rmse)
+        summaries = (
+            f"{count} {what} torques (dots), {low} to {high} N m; {line_label} line, RMSE {error} N m{thinned}.",
+            f"{count} {what}, {low} to {high} N m; RMSE {error} N m{thinned_short}",
+            f"{dots_label} {low}..{high} N m; RMSE {error}",
+        )
+    return ChartData(
+        titles=titles,
+        t=data.time_axis[shown],
+        dots=data.tau[shown],
+        line=None if predictions is None else predictions[shown],
+        dots_label=dots_label,
+        line_label=line_label,
+        summaries=summaries,
+        x_label="Time (s)" if data.t is not None else "Sample index",
+    )
+
+
+def training_chart(result: FitResult, *, log_name: str | None = None, columns: int | None = None) -> ChartData:
+    """'Fit the training torques' (or '... the training log NAME'): measured torques and the fitted line."""
+    if log_name is None:
+        titles = ("Fit the training torques", "Training fit", "Training")
+    else:
+        titles = (f"Fit the training log {log_name}", "Fit the training log", "Training log")
+    return torque_chart(result, result.training, result.training_predictions, result.training_rmse,
+                        titles=titles, what="measured", dots_label="measured", line_label="fitted",
+                        columns=columns)
+
+
+def heldout_chart(result: FitResult, *, log_name: str | None = None,
+                  columns: int | None = None) -> ChartData | None:
+    """'Predict a different motion' (or '... the held-out log NAME'), or None without held-out data."""
+    if result.heldout is None:
+        return None
+    if log_name is None:
+        titles = ("Predict a different motion", "Held-out prediction", "Held-out")
+    else:
+        titles = (f"Predict the held-out log {log_name}", "Predict the held-out log", "Held-out log")
+    truth = result.heldout_is_noiseless
+    return torque_chart(result, result.heldout, result.heldout_predictions, result.heldout_rmse,
+                        titles=titles, what="noiseless held-out" if truth else "measured held-out",
+                        dots_label="true" if truth else "measured", line_label="predicted", columns=columns)
+
+
+@dataclass(frozen=True, eq=False)
+class HistogramData:
+    """One quantity's per-seed values with its true value; `values` has shape (K,)."""
+
+    titles: tuple[str, ...]
+    """Heading, longest first; the widest that fits is shown."""
+    values: np.ndarray
+    true_value: float
+
+
+def sweep_histograms(sweep: SweepResult) -> list[HistogramData]:
+    """One histogram per parameter of a full-rank sweep, with the true value marked."""
+    model = sweep.model
+    return [
+        HistogramData(
+            titles=(
+                f"{term.symbol_with_unit}, {sweep.seed_count} seeds; true {true:g} at │",
+                f"{term.symbol_with_unit}; true {true:g} at │",
+                f"{term.name}; true {true:g} at │",
+            ),
+            values=sweep.values(term.name),
+            true_value=float(true),
+        )
+        for term, true in zip(model.terms, model.true_values())
+    ]
+
+
+@dataclass(frozen=True, eq=False)
+class ScatterData:
+    """Residuals (N,) against one axis (N,), with axis titles."""
+
+    titles: tuple[str, ...]
+    """Heading, longest first; the widest that fits is shown."""
+    x: np.ndarray
+    y: np.ndarray
+    x_label: str
+    y_label: str
+
+
+def residual_scatter(data: ResidualData, axis: str) -> ScatterData:
+    """The scatter of training residuals against one axis ('t', 'q', 'qd' or 'qdd')."""
+    x_label = AXIS_LABELS[axis] if data.has_times or axis != "t" else "sample index"
+    return ScatterData(
+        titles=(f"Training residuals (N m) against {x_label}", f"Residuals against {x_label}"),
+        x=data.axes[axis],
+        y=data.residuals,
+        x_label=x_label.capitalize(),
+        y_label="Residual (N m)",
+    )
+
+
+def residual_summary(data: ResidualData) -> str:
+    """One text line for people who cannot see the chart: count, range and which fit."""
+    low, high = (format_number(float(f(data.residuals)), 3) for f in (min, max))
+    source = ("the fit" if data.unique_fit
+              else "the basic solution (rank-deficient: every solution fits the same)")
+    return f"{len(data.residuals)} residuals (measured - fitted) from {source}, {low} to {high} N m."

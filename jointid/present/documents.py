@@ -1,0 +1,154 @@
+"""The JSON documents `jointid ... --json` prints and the explorer exports.
+
+Plain JSON-ready values at full float precision; None (null) where a value is
+unavailable, infinite or NaN. Per-parameter values are objects keyed by the
+model's term names, e.g. {"I": ..., "h": ..., "B": ...} for the plain model.
+"""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from ..uncertainty import finite_or_none
+
+if TYPE_CHECKING:
+    from ..cross_excitation import CrossExcitationTable
+    from ..fit import FitResult
+    from ..settings import Settings
+    from ..sweep import SweepResult
+
+
+def per_parameter(names: tuple[str, ...], values) -> dict:
+    """JSON object keyed by parameter name from a (p,) sequence (floats, [low, high] pairs or strings); all None for None."""
+    if values is None:
+        return dict.fromkeys(names)
+    return {name: _json_value(value) for name, value in zip(names, values)}
+
+
+def _json_value(value):
+    """A verdict string, a finite float, a [low, high] list, or None for inf/NaN."""
+    if isinstance(value, str):
+        return value
+    if getattr(value, "shape", ()) != ():
+        return [finite_or_none(v) for v in value]
+    return finite_or_none(value)
+
+
+def estimate_object(result: FitResult) -> dict | None:
+    """{"I": ..., "h": ..., "B": ...} of a unique fit, or None."""
+    estimate = result.estimate
+    return None if estimate is None else dict(zip(result.model.names, map(float, estimate)))
+
+
+def settings_object(settings: Settings) -> dict:
+    """The synthetic settings as a JSON object."""
+    return vars(settings).copy()
+
+
+def result_to_dict(result: FitResult) -> dict:
+    """The fit as plain JSON-ready values, full float precision, None where unavailable."""
+    return {
+        "model": result.model.name,
+        "samples": result.training.count,
+        "rank": result.rank,
+        "estimate": estimate_object(result),
+        "training_rmse": result.training_rmse,
+        "heldout_rmse": result.heldout_rmse,
+        "accel_rms": result.accel_rms,
+        "speed_rms": result.speed_rms,
+        "sign_failures": list(result.sign_failures),
+        "message": result.message,
+        **uncertainty_to_dict(result),
+    }
+
+
+def uncertainty_to_dict(result: FitResult) -> dict:
+    """Standard errors, intervals, verdicts (objects keyed by parameter; None where unavailable), conditioning, subset, warnings."""
+    uncertainty = result.uncertainty
+    names = result.model.names
+    return {
+        "std_error": per_parameter(names, uncertainty and uncertainty.std_error),
+        # The issues' schema: null, not an object of nulls, when no noise bound is known (logs).
+        "expected_std_error": (
+            None if result.noise_bound is None
+            else per_parameter(names, uncertainty and uncertainty.expected_std_error)
+        ),
+        "relative_std_pct": per_parameter(names, uncertainty and uncertainty.relative_std_pct),
+        "interval95": per_parameter(names, uncertainty and uncertainty.interval95),
+        "verdicts": per_parameter(names, uncertainty and uncertainty.verdicts),
+        "verdict_basis": uncertainty and uncertainty.verdict_basis,
+        "condition_number": finite_or_none(result.condition_number),
+        "identifiable": result.identifiable.values,
+        "warnings": list(result.warnings),
+    }
+
+
+def fit_document(result: FitResult, *, settings: Settings | None = None, source=None, derivatives=None,
+                 **extra) -> dict:
+    """The command line's JSON object for one fit: `settings` (None for a log), `source`, `derivatives`, the fit.
+
+    `source` is {"training": path, "heldout": path or None} for logs and None for
+    synthetic data; `derivatives` says how missing qd/qdd were estimated, or None.
+    """
+    return {
+        "settings": None if settings is None else settings_object(settings),
+        "source": source,
+        "derivatives": derivatives,
+        **extra,
+        **result_to_dict(result),
+    }
+
+
+def log_fit_document(result: FitResult, training, heldout=None) -> dict:
+    """fit_document for a fit of logs (csvlog.JointLog objects): source paths, derivatives and notes."""
+    return fit_document(
+        result,
+        source={"training": training.path, "heldout": None if heldout is None else heldout.path},
+        derivatives=None if training.derivatives is None else training.derivatives.to_dict(),
+        heldout_derivatives=None if heldout is None or heldout.derivatives is None else heldout.derivatives.to_dict(),
+        notes=[*training.notes, *(heldout.notes if heldout is not None else ())],
+    )
+
+
+def sweep_document(sweep: SweepResult) -> dict:
+    """`jointid sweep --json`: the settings and the sweep's statistics (None where unavailable)."""
+    names = sweep.model.names
+    statistics = dict.fromkeys(sweep.quantities)
+    for name, distribution in sweep.statistics.items():
+        statistics[name] = vars(distribution).copy()
+    return {
+        "settings": settings_object(sweep.settings),
+        "model": sweep.model.name,
+        "seeds": {"first": int(sweep.seeds[0]), "last": int(sweep.seeds[-1]), "count": sweep.seed_count},
+        "rank": sweep.rank,
+        "condition_number": finite_or_none(sweep.condition_number),
+        "statistics": statistics,
+        "empirical_std": per_parameter(names, sweep.empirical_std),
+        "expected_std_error": per_parameter(names, sweep.expected_std_error),
+        "sign_failure_fraction": sweep.sign_failure_fraction,
+        "sign_failure_fractions": sweep.sign_failure_fractions,
+        "message": sweep.message,
+    }
+
+
+def matrix_document(table: CrossExcitationTable) -> dict:
+    """`jointid matrix --json`: one object per row, cells keyed by prediction motion."""
+    rows = []
+    for row in table.rows:
+        rows.append(
+            {
+                "training_motion": row.training_motion,
+                "rank": row.fit.rank,
+                "estimate": estimate_object(row.fit),
+                "cells": {
+                    cell.prediction_motion: {"rmse": cell.rmse, "training_data": cell.is_training_data}
+                    for cell in row.cells
+                },
+            }
+        )
+    return {
+        "settings": settings_object(table.settings),
+        "model": table.settings.model,
+        "prediction_motions": list(table.prediction_motions),
+        "rows": rows,
+    }

@@ -1,0 +1,190 @@
+"""The lab's readouts of a fit, the precision note under each parameter, and the uncertainty text.
+
+The labels match the lesson's lab; the command line prints these and the
+explorer displays them, so the two never disagree.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+from .status import CONDITION_CAVEAT, CONDITION_CAVEAT_SHORT, DEPENDENT_COLUMNS, condition_text
+from .text import UNAVAILABLE, format_number
+
+if TYPE_CHECKING:
+    from ..fit import FitResult
+
+
+@dataclass(frozen=True)
+class Readout:
+    """One labelled readout line: label with unit, value text, and the sign rule it breaks ('' if none)."""
+
+    key: str
+    label: str
+    text: str
+    failed_requirement: str = ""
+    """The sign rule the value breaks, e.g. 'I > 0'; '' when it breaks none."""
+
+    @property
+    def sign_failure(self) -> bool:
+        """True when the value breaks its term's sign rule."""
+        return bool(self.failed_requirement)
+
+
+def readouts(result: FitResult) -> tuple[Readout, ...]:
+    """The lab's readouts for a fit in display order: rank, one per parameter, both RMSEs, motion RMS."""
+    estimate = result.estimate
+
+    def optional(key: str, label: str, value: float | None) -> Readout:
+        return Readout(key, label, UNAVAILABLE if value is None else format_number(value))
+
+    parameters = []
+    for index, term in enumerate(result.model.terms):
+        if estimate is None:
+            parameters.append(Readout(term.name, term.readout_label, UNAVAILABLE))
+            continue
+        failed = term.requirement if term.name in result.sign_failures else ""
+        parameters.append(Readout(term.name, term.readout_label, format_number(estimate[index]), failed))
+    return (
+        Readout("rank", "Regressor rank", f"{result.rank} / {result.parameter_count}"),
+        *parameters,
+        optional("training_rmse", "Training RMSE (N m)", result.training_rmse),
+        optional("heldout_rmse", "Held-out RMSE (N m)", result.heldout_rmse),
+        Readout("accel_rms", "Acceleration RMS (rad/s²)", format_number(result.accel_rms)),
+        Readout("speed_rms", "Speed RMS (rad/s)", format_number(result.speed_rms)),
+    )
+
+
+def readouts_text(result: FitResult) -> str:
+    """Every readout on its own line, label padded, then the status sentence."""
+    lines = [
+        f"{r.label:<28}{r.text:>12}" + (f"  fails {r.failed_requirement}" if r.sign_failure else "")
+        for r in readouts(result)
+    ]
+    return "\n".join(lines) + "\n\n" + result.message
+
+
+@dataclass(frozen=True)
+class PrecisionNote:
+    """One parameter's line: the text before the verdict, the verdict ('' for none), and the compact row's text.
+
+    `short` is a small terminal's whole row for a parameter without a value
+    (rank-deficient fits); '' when the row shows the value.
+    """
+
+    key: str
+    text: str
+    verdict: str = ""
+    short: str = ""
+
+
+@dataclass(frozen=True)
+class Precision:
+    """Every parameter's precision note and the closing lines (a value object: equal means no redraw)."""
+
+    notes: tuple[PrecisionNote, ...]
+    closing: tuple[tuple[str, str], ...]
+    """(label, text) pairs: the condition number, its caveat, where the ± comes from."""
+    compact_closing: str = ""
+    """The condition number and its caveat on one line, for small terminals."""
+
+
+def parameter_notes(result: FitResult) -> tuple[PrecisionNote, ...]:
+    """One note per parameter: standard error and verdict, or what a rank-deficient fit still determines."""
+    uncertainty = result.uncertainty
+    model = result.model
+    if uncertainty is None:
+        subset = result.identifiable
+        notes = []
+        for index, term in enumerate(model.terms):
+            name = term.name
+            if name in subset.values:
+                alone = f"{name} = {format_number(subset.values[name])}"
+                notes.append(PrecisionNote(name, f"{alone}, determined alone", short=f"{alone} determined alone"))
+            elif subset.zero_columns[index]:
+                reason = term.invisible_when
+                notes.append(PrecisionNote(name, f"not determined: {reason}", short=f"{name} unavailable: {reason}"))
+            else:
+                notes.append(PrecisionNote(name, "cannot be separated from the others",
+                                           short=f"{name} unavailable: not separable"))
+        return tuple(notes)
+    errors = uncertainty.verdict_std_error
+    if errors is None:
+        return tuple(PrecisionNote(name, "no standard error: N - p = 0") for name in model.names)
+    return tuple(
+        PrecisionNote(name, f"± {format_number(error)}", verdict)
+        for name, error, verdict in zip(model.names, errors, uncertainty.verdicts)
+    )
+
+
+def closing_lines(result: FitResult) -> tuple[tuple[str, str], ...]:
+    """(label, text) pairs: the condition number, its caveat, and where the ± comes from."""
+    condition = result.condition_number
+    if not math.isfinite(condition):
+        return (("Condition number", condition_text(condition)), ("", DEPENDENT_COLUMNS))
+    lines = [("Condition number", condition_text(condition)), ("", CONDITION_CAVEAT_SHORT)]
+    basis = result.uncertainty.verdict_basis if result.uncertainty is not None else None
+    if basis is not None:
+        lines.append(("", "± from the noise bound" if basis == "expected" else "± from the residuals"))
+    return tuple(lines)
+
+
+def compact_closing_line(result: FitResult) -> str:
+    """The condition number and its caveat in one short line."""
+    condition = result.condition_number
+    if not math.isfinite(condition):
+        return "Cond. number ∞: columns dependent"
+    return f"Cond. number {condition:.2f}, modest ≠ accurate"
+
+
+def precision(result: FitResult) -> Precision:
+    """The precision notes and closing lines of a fit."""
+    return Precision(parameter_notes(result), closing_lines(result), compact_closing_line(result))
+
+
+def uncertainty_text(result: FitResult) -> str:
+    """Lines of 'value ± standard error, verdict' per parameter, then the condition number."""
+    uncertainty = result.uncertainty
+    model = result.model
+    lines = []
+    if uncertainty is None:
+        subset = result.identifiable.values
+        known = ", ".join(f"{name} = {format_number(value)}" for name, value in subset.items())
+        lines.append(f"{'Determined alone':<28}{known or 'none'}")
+    else:
+        errors = uncertainty.verdict_std_error
+        basis = uncertainty.verdict_basis
+        for i, term in enumerate(model.terms):
+            label = term.symbol_with_unit
+            if errors is None:
+                lines.append(f"{label:<17}{format_number(uncertainty.estimate[i]):>11}   no standard error")
+                continue
+            relative = uncertainty.relative_std_pct[i]
+            lines.append(
+                f"{label:<17}{format_number(uncertainty.estimate[i]):>11} ± {format_number(errors[i]):<10}"
+                f"{uncertainty.verdicts[i]} ({relative:.1f} %)"
+            )
+        if basis == "expected":
+            lines.append(
+                f"Standard errors above: expected from the noise bound {format_number(result.noise_bound, 2)} N m "
+                "(uniform, variance b²/3)."
+            )
+        if uncertainty.std_error is not None:
+            from_residuals = ", ".join(
+                f"{name} {format_number(v)}" for name, v in zip(model.names, uncertainty.std_error)
+            )
+            lines.append(f"From the residuals (N - p = {uncertainty.degrees_of_freedom}): {from_residuals}.")
+            intervals = ", ".join(
+                f"{name} [{format_number(low)}, {format_number(high)}]"
+                for name, (low, high) in zip(model.names, uncertainty.interval95)
+            )
+            lines.append(f"95 % intervals (Student t): {intervals}.")
+    condition = result.condition_number
+    label = "Condition number (column-scaled regressor)"
+    if math.isfinite(condition):
+        lines.append(f"{label} {condition_text(condition)}: {CONDITION_CAVEAT}.")
+    else:
+        lines.append(f"{label} {condition_text(condition)}: {DEPENDENT_COLUMNS}.")
+    return "\n".join(lines)

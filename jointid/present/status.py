@@ -1,0 +1,166 @@
+"""The status sentence under a fit and its warnings, in plain words.
+
+Both are built from a FitResult and its model's terms: labels, units and sign
+rules come from the terms, so the sentences hold for any model.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+from ..uncertainty import NOT_DETERMINED, WEAK, WELL_DETERMINED
+from .text import capitalise, format_number, join_words
+
+if TYPE_CHECKING:
+    from ..fit import FitResult
+
+MODEST_CONDITION = 100.0
+"""Below this a condition number looks harmless, which is when it most needs its caveat."""
+LARGE_CONDITION = 1e6
+"""Above this the columns are so nearly dependent that rounding alone disturbs the fit."""
+
+CONDITION_CAVEAT = "a modest value does not mean the parameters are accurate"
+"""Shown beside every condition number: slow motion scores about 3.78 with its inertia undetermined."""
+CONDITION_CAVEAT_SHORT = "modest does not mean accurate"
+"""The caveat where a side panel has room for a few words."""
+DEPENDENT_COLUMNS = "the columns are linearly dependent"
+"""Why the condition number is infinite."""
+
+
+def accuracy_sentences(result: FitResult) -> tuple[str, ...]:
+    """Plain sentences on what the fit does not determine; the status sentence ends with them."""
+    if result.estimate is None:
+        return subset_sentences(result)
+    uncertainty = result.uncertainty
+    sentences = []
+    if uncertainty.std_error is None:
+        sentences.append(
+            f"With {result.training.count} samples and {result.parameter_count} parameters there are "
+            "no residual degrees of freedom, so standard errors cannot be estimated from the residuals."
+        )
+    if uncertainty.verdicts is None:
+        return tuple(sentences)
+    model = result.model
+    judged = dict(zip(model.names, uncertainty.verdicts))
+    errors = dict(zip(model.names, uncertainty.verdict_std_error))
+    basis = uncertainty.verdict_basis
+
+    def listing(verdict: str) -> tuple[str, str] | None:
+        names = [name for name in model.names if judged[name] == verdict]
+        if not names:
+            return None
+        values = ", ".join(f"{name} {format_number(errors[name])}" for name in names)
+        plural = "s" if len(names) > 1 else ""
+        return (
+            f"{join_words([model.term(name).label for name in names])} {'are' if plural else 'is'}",
+            f"({basis} standard error{plural} {values})",
+        )
+
+    if failed := listing(NOT_DETERMINED):
+        subject, detail = failed
+        sentences.append(f"A unique fit is not an accurate one here: {subject} not determined {detail}.")
+    if weak := listing(WEAK):
+        subject, detail = weak
+        sentences.append(f"{capitalise(subject)} only weakly determined {detail}.")
+    return tuple(sentences)
+
+
+def subset_sentences(result: FitResult) -> tuple[str, ...]:
+    """What a rank-deficient fit still determines, and why the rest is free."""
+    subset = result.identifiable
+    model = result.model
+    sentences = []
+    if subset.values:
+        known = join_words(
+            [
+                f"the {model.term(name).label} {name} = {format_number(value)} {model.term(name).unit}"
+                for name, value in subset.values.items()
+            ]
+        )
+        own = "its" if len(subset.values) == 1 else "their"
+        sentences.append(f"The data still determine {known} on {own} own.")
+    free = subset.undetermined
+    zero = [name for name in free if subset.zero_columns[model.names.index(name)]]
+    if zero:
+        reasons = join_words(list(dict.fromkeys(model.term(name).invisible_when for name in zero)))
+        subject = join_words([model.term(name).label for name in zero])
+        verb = "are" if len(zero) > 1 else "is"
+        sentences.append(f"{capitalise(subject)} {verb} not determined: the data have {reasons}.")
+    tangled = [name for name in free if name not in zero]
+    if tangled:
+        subject = join_words([model.term(name).label for name in tangled])
+        sentences.append(
+            f"{capitalise(subject)} cannot be separated: their regressor columns are "
+            "linearly dependent in these data."
+        )
+    return tuple(sentences)
+
+
+def fit_warnings(result: FitResult) -> tuple[str, ...]:
+    """Every caution about a fit, one sentence each (the accuracy ones and the conditioning)."""
+    sentences = list(accuracy_sentences(result))
+    condition = result.condition_number
+    verdicts = result.uncertainty.verdicts if result.uncertainty is not None else None
+    if result.estimate is None:
+        sentences.insert(0, f"Rank {result.rank} of {result.parameter_count}: no unique least-squares fit.")
+    elif condition > LARGE_CONDITION:
+        sentences.append(
+            f"The condition number {condition:.3g} is large: the columns are nearly dependent, "
+            "so small torque errors move the parameters a lot."
+        )
+    elif condition < MODEST_CONDITION and verdicts and any(v != WELL_DETERMINED for v in verdicts):
+        sentences.append(
+            f"The condition number {condition:.2f} is modest, yet not every parameter is well "
+            "determined: conditioning measures how distinct the columns are, not how far each "
+            "parameter's signal rises above the noise."
+        )
+    return tuple(sentences)
+
+
+def status_message(result: FitResult) -> str:
+    """The status sentence the lab shows under its readouts."""
+    rank, total = result.rank, result.parameter_count
+    if result.estimate is None:
+        return " ".join(
+            [
+                f"Rank {rank} of {total}: no unique least-squares fit.",
+                "Parameter and prediction readouts are unavailable.",
+                *accuracy_sentences(result),
+            ]
+        )
+    parts = [f"Rank {rank} of {total}: a unique least-squares fit."]
+    if result.heldout_rmse is None:
+        parts.append("No held-out data, so predictions are untested.")
+    else:
+        # Measured held-out torques carry their own noise, which no fit can predict.
+        measured = "" if result.heldout_is_noiseless else " against measured torques, so it includes their measurement noise"
+        parts.append(f"Held-out torque RMSE is {format_number(result.heldout_rmse)} N m{measured}.")
+    model = result.model
+    for name in result.sign_failures:
+        term = model.term(name)
+        value = result.estimate[model.names.index(name)]
+        parts.append(
+            f"Fitted {term.label} {format_number(value)} {term.unit} "
+            f"fails this joint model's requirement {term.requirement}."
+        )
+    if not result.sign_failures:
+        parts.append("Positive parameter signs alone do not establish an accurate physical model.")
+    parts.extend(accuracy_sentences(result))
+    return " ".join(parts)
+
+
+def condition_text(condition: float) -> str:
+    """'1.28' or 'infinite'."""
+    return f"{condition:.2f}" if math.isfinite(condition) else "infinite"
+
+
+def as_sentence(text: str) -> str:
+    """The text ending with a full stop."""
+    return text if text.endswith(".") else f"{text}."
+
+
+def log_status(logs) -> str:
+    """A log fit's status sentence, then what was read and the loaders' notes (logfit.LoadedLogs)."""
+    sources = (log.source_text() for log in logs.logs)
+    return " ".join((logs.result.message, *map(as_sentence, (*sources, *logs.notes()))))

@@ -1,0 +1,428 @@
+"""The explorer's main screen: controls, charts and readouts of one source of data.
+
+The screen holds the only state: the synthetic experiment's settings and, when
+one is loaded, a log. Whichever is shown is the *source*; `show_source` is the
+one path that fits it (or takes the log's fit) and pushes the result down to
+every widget. Widgets never hold a setting of their own: they display what the
+screen shows them and report the user's choices through their callbacks.
+"""
+
+from __future__ import annotations
+
+import os
+from dataclasses import replace
+from functools import lru_cache
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from textual import work
+from textual.app import ComposeResult
+from textual.binding import Binding
+from textual.containers import Horizontal, Vertical
+from textual.content import Content
+from textual.screen import Screen
+from textual.widgets import Static
+
+from jointid.experiment import run_experiment
+from jointid.fit import FitResult
+from jointid.model import G
+from jointid.motions import TRAINING_MOTIONS
+from jointid.present.charts import heldout_chart, training_chart
+from jointid.present.documents import fit_document
+from jointid.present.readouts import precision, readouts
+from jointid.present.status import log_status
+from jointid.settings import DEFAULT_SETTINGS, Settings
+
+from .charts import TorqueChart
+from .controls import FIELD_LABELS, STEP_RANGES
+from .direct_controls import ActionButton, ChoiceList
+from .fitting import FittingLine
+from .footer import KeyFooter
+from .readouts import ReadoutPanel
+from .stepper import Stepper
+
+# The log reader, file dialog, progress dialog and export are imported when first used:
+# the explorer's first frame needs none of them (about 15 ms of start-up).
+if TYPE_CHECKING:
+    from jointid.logfit import LoadedLogs, LoadRequest
+
+    from .loading import LoadingScreen
+
+STEPPER_HINT = "←/→ step, Shift+←/→ more, or type"
+"""How to use a number field, shown under the fields."""
+
+FROM_LOG = "from log"
+"""Text of the noise, samples and seed fields while a log is shown."""
+COMPACT_LOG_NOTE = "From log: c or 1/2/3 for synthetic"
+"""The log note on small terminals, one line (the help gives the rest)."""
+
+MIN_SIZE = (70, 22)
+"""Smallest (width, height) the layout stays readable at; below it the screen asks for more."""
+COMPACT_BELOW = (110, 32)
+"""Narrower or shorter than this (width, height), readouts and known parameters use compact rows."""
+
+STATUS_LINES = 4
+"""Rows the status sentence always takes: most fits' sentences wrap to at most four lines,
+at 80 columns as at 120, so a key press changes its text but not the screen's layout."""
+
+MOTION_KEYS = {"1": ("rich", "Rich"), "2": ("slow", "Slow"), "3": ("holds", "Holds")}
+"""Global keys that select a training motion, with the palette's short name."""
+MOTION_GROUP = Binding.Group("Motion")
+"""The motion keys share one footer entry."""
+
+
+def size_classes(width: int, height: int) -> dict[str, bool]:
+    """The screen's size classes: -narrow/-wide, -short/-tall, -compact when either is small, -too-small."""
+    narrow, short = width < COMPACT_BELOW[0], height < COMPACT_BELOW[1]
+    return {
+        "-narrow": narrow, "-wide": not narrow, "-short": short, "-tall": not short,
+        "-compact": narrow or short, "-too-small": width < MIN_SIZE[0] or height < MIN_SIZE[1],
+    }
+
+
+@lru_cache(maxsize=128)
+def cached_experiment(settings: Settings) -> FitResult:
+    """run_experiment, remembered: stepping back and forth repeats the same settings."""
+    return run_experiment(settings)
+
+
+def known_parameters_text(compact: bool = False) -> str:
+    """The synthetic joint's true parameters and conventions, as shown beside the controls.
+
+    Compact: two lines of at most 38 columns, which also give the units of the
+    compact readout rows.
+    """
+    from jointid.model import PLAIN
+
+    values = dict(zip(PLAIN.names, PLAIN.true_values()))
+    inertia, mass_moment, damping = (PLAIN.term(name) for name in PLAIN.names)
+    if compact:
+        return (f"Known: I {values['I']:g} {inertia.unit}, h {values['h']:g} {mass_moment.unit}, g {G:g}\n"
+                f"B {values['B']:g} {damping.unit}; q from +x, ccw")
+    known = ", ".join(f"{term.name} = {values[term.name]:g} {term.unit}" for term in PLAIN.terms)
+    return f"Known joint: {known}, g = {G:g} m/s²; q from +x, counter-clockwise."
+
+
+def log_note(logs: LoadedLogs, compact: bool = False) -> str:
+    """Why the synthetic controls are off, and how to get them back (one short line when compact)."""
+    if compact:
+        return COMPACT_LOG_NOTE
+    heldout = f", held-out {logs.heldout_name}" if logs.heldout is not None else ""
+    return (f"From log: {logs.name}{heldout}, {logs.result.training.count} samples fitted; "
+            "noise, samples and seed do not apply. 1/2/3 or c: back to synthetic.")
+
+
+class MainScreen(Screen):
+    """Controls, charts and readouts; the only place the settings (and a loaded log) live."""
+
+    BINDINGS = [
+        *(
+            # One footer entry, "1 2 3 Motion", so 80 columns have room for the views' keys.
+            Binding(key, f"motion('{name}')", short, group=MOTION_GROUP,
+                    tooltip=f"Train on {TRAINING_MOTIONS[name].label.lower()}")
+            for key, (name, short) in MOTION_KEYS.items()
+        ),
+        # Priority, and not claimed by number fields, so these work while one has focus.
+        Binding("r", "reset", "Reset", priority=True, tooltip="Restore the four default settings"),
+        Binding("question_mark", "help", "Help", key_display="?", priority=True,
+                tooltip="Keys, controls, model and things to try"),
+        Binding("q", "quit", "Quit", priority=True, tooltip="Leave the explorer"),
+        # The analysis views; s and m are not number characters, so they work in a number
+        # field too, while e stays typeable there (1e-2), like the motion keys' digits.
+        Binding("s", "sweep", "Sweep", priority=True,
+                tooltip="Seed sweep: this experiment under many noise seeds"),
+        Binding("m", "matrix", "Matrix", priority=True,
+                tooltip="Cross-excitation: fit each motion, predict every motion"),
+        Binding("e", "residuals", "Residuals", tooltip="Training residuals against t, q, qd, qdd"),
+        # c is active only while a log is shown (check_action).
+        Binding("ctrl+o", "open_log", "Open log", priority=True,
+                tooltip="Load a CSV joint log as training or held-out data"),
+        Binding("c", "close_log", "Close log",
+                tooltip="Leave the log and return to the synthetic experiment"),
+        Binding("ctrl+s", "export", "Export", priority=True,
+                tooltip="Save the fit as JSON and the screen as SVG into a folder"),
+    ]
+
+    def __init__(self, settings: Settings = DEFAULT_SETTINGS, logs: LoadedLogs | None = None) -> None:
+        """Create the screen.
+
+        Args:
+            settings: Settings to open at.
+            logs: A loaded log to show first (`jointid --csv`).
+        """
+        super().__init__()
+        self.settings = settings
+        """The synthetic experiment's settings (kept while a log is shown)."""
+        self.logs = logs
+        """The loaded log and its fit; while set, it is the source shown."""
+        self.result: FitResult | None = None
+        """The fit on screen, of whichever source is shown."""
+
+    def compose(self) -> ComposeResult:
+        """Side panel with controls and readouts, chart column, too-small message, footer."""
+        # Size classes before the children are styled, so the first resize restyles nothing.
+        self.update_classes(size_classes(*self.app.size))
+        compact = self.has_class("-compact")
+        # A Static, not Textual's Header: one widget instead of four, the same line of text.
+        yield Static(self.app.format_title(self.app.title, self.app.sub_title), id="title")
+        with Horizontal(id="main"):
+            with Vertical(id="side"):
+                yield ChoiceList(
+                    [*((f"motion-{name}", motion.label) for name, motion in TRAINING_MOTIONS.items()),
+                     ("motion-log", "Log")],  # shown only while a log is
+                    on_choose=self.choose_motion, hidden=("motion-log",), id="motion",
+                )
+                for steps in STEP_RANGES:
+                    with Horizontal(classes="field"):
+                        yield Static(FIELD_LABELS[steps.field], classes="field--label", markup=False)
+                        yield Stepper(steps, on_commit=self.commit_setting, id=steps.field)
+                # After the fields, so Tab visits motion, noise, samples, seed, then Reset.
+                with Horizontal(id="reset-row"):
+                    yield ActionButton("Reset", on_press=self.action_reset, id="reset")
+                    yield Static(STEPPER_HINT, id="stepper-hint", markup=False)
+                yield Static("", id="log-note", markup=False)
+                yield Static(known_parameters_text(compact), id="known", markup=False)
+                yield ReadoutPanel(id="readouts", compact=compact)
+            with Vertical(id="charts"):
+                yield TorqueChart(id="training-chart")
+                yield TorqueChart(id="heldout-chart")
+        yield FittingLine(id="status", min_lines=STATUS_LINES)
+        yield Static("", id="too-small", markup=False)
+        yield KeyFooter()
+
+    def on_mount(self) -> None:
+        """Show the initial source."""
+        self.show_source()
+
+    def on_resize(self) -> None:
+        """Compact rows on small terminals; a plain message when the terminal is too small to read."""
+        width, height = self.size
+        classes = size_classes(width, height)
+        compact = classes["-compact"]
+        switched = compact != self.has_class("-compact")
+        if switched:
+            self.query_one("#known", Static).update(known_parameters_text(compact))
+            self.query_one(ReadoutPanel).set_compact(compact)
+        self.update_classes(classes)  # restyles the screen only when a class changes
+        if switched:
+            self.show_log_note()  # reads the new -compact class
+        if classes["-too-small"]:
+            self.query_one("#too-small", Static).update(
+                f"Please enlarge the terminal.\n\n"
+                f"The jointid explorer needs at least {MIN_SIZE[0]} x {MIN_SIZE[1]} characters; "
+                f"this one is {width} x {height}.\n\nPress q to quit."
+            )
+
+    # --- the source and its one push-down ---------------------------------------------
+
+    def set_settings(self, settings: Settings) -> None:
+        """Show the synthetic experiment at `settings` (leaving a log)."""
+        if settings == self.settings and self.logs is None and self.result is not None:
+            return
+        self.settings, self.logs = settings, None
+        self.show_source()
+
+    def set_logs(self, logs: LoadedLogs | None) -> None:
+        """Show a loaded log, or go back to the synthetic experiment with None."""
+        self.logs = logs
+        self.show_source()
+
+    def show_source(self) -> None:
+        """Fit the source shown (or take the log's fit) and push the result down to every widget."""
+        logs, settings = self.logs, self.settings
+        self.set_class(logs is not None, "-log")
+        self.set_class(logs is not None and logs.heldout is None, "-no-heldout")
+        self.refresh_bindings()  # Close log appears or goes
+        motion = self.query_one("#motion", ChoiceList)
+        motion.set_option("motion-log", label=None if logs is None else f"Log: {logs.name}", shown=logs is not None)
+        motion.show_pressed("motion-log" if logs is not None else f"motion-{settings.motion}")
+        for steps in STEP_RANGES:  # by id: a type query walks the whole screen (0.3 ms)
+            stepper = self.query_one(f"#{steps.field}", Stepper)
+            stepper.disabled = logs is not None
+            stepper.show_value(FROM_LOG if logs is not None else getattr(settings, steps.field))
+        self.show_log_note()
+        if logs is None:
+            result = cached_experiment(settings)
+            training, heldout = training_chart(result), heldout_chart(result)
+            status = result.message
+        else:
+            result = logs.result
+            columns = max(self.app.size.width, 80)  # a chart is never wider than the terminal
+            training = training_chart(result, log_name=logs.name, columns=columns)
+            heldout = heldout_chart(result, log_name=logs.heldout_name, columns=columns)
+            status = log_status(logs)
+        self.result = result
+        self.query_one("#training-chart", TorqueChart).show(training)
+        if heldout is not None:  # without a held-out log its chart is hidden (-no-heldout)
+            self.query_one("#heldout-chart", TorqueChart).show(heldout)
+        self.query_one(ReadoutPanel).show(readouts(result), precision(result))
+        self.query_one("#status", FittingLine).show((Content(status),))
+
+    def show_log_note(self) -> None:
+        """The note on the off controls, one line on compact screens (80x24 has no room for more)."""
+        if self.logs is not None:
+            self.query_one("#log-note", Static).update(log_note(self.logs, self.has_class("-compact")))
+
+    # --- the controls' callbacks and the actions --------------------------------------
+
+    def commit_setting(self, field: str, value: float) -> None:
+        """A number field committed a value (its callback)."""
+        self.set_settings(replace(self.settings, **{field: value}))
+
+    def choose_motion(self, button_id: str) -> None:
+        """The motion list's choice (choosing the log's own entry changes nothing)."""
+        if button_id != "motion-log":
+            self.action_motion(button_id.removeprefix("motion-"))
+
+    def apply_settings(self, settings: Settings) -> None:
+        """Set every control at once (reset, tour stops); leaves a log."""
+        self.set_settings(settings)
+
+    def action_motion(self, name: str) -> None:
+        """Select a training motion (leaving a log)."""
+        self.set_settings(replace(self.settings, motion=name))
+
+    def action_reset(self) -> None:
+        """Restore the default settings."""
+        self.set_settings(DEFAULT_SETTINGS)
+
+    def action_help(self) -> None:
+        """Open the help screen."""
+        from .help import HelpScreen  # Markdown is only needed when help is asked for
+
+        self.app.push_screen(HelpScreen(self.BINDINGS))
+
+    # The views are imported when first opened, which keeps start-up fast.
+    def action_sweep(self) -> None:
+        """Open the seed-sweep view for the current settings."""
+        if self.needs_synthetic("The seed sweep"):
+            return
+        from .sweep_screen import SweepScreen
+
+        self.app.push_screen(SweepScreen(self.settings))
+
+    def action_matrix(self) -> None:
+        """Open the cross-excitation view for the current noise, samples and seed."""
+        if self.needs_synthetic("The cross-excitation matrix"):
+            return
+        from .matrix_screen import MatrixScreen
+
+        self.app.push_screen(MatrixScreen(self.settings))
+
+    def action_residuals(self) -> None:
+        """Open the residual view of the current fit."""
+        from .residual_screen import ResidualScreen
+
+        from jointid.present.text import settings_header
+
+        source = settings_header(self.settings) if self.logs is None else f"log {self.logs.name}"
+        self.app.push_screen(ResidualScreen(self.result, source))
+
+    async def action_quit(self) -> None:
+        """Leave the explorer."""
+        await self.app.action_quit()
+
+    # --- logs ---------------------------------------------------------------------------
+
+    def check_action(self, action: str, parameters: tuple) -> bool | None:
+        """Close log exists only while a log is shown (hidden from the footer otherwise)."""
+        if action == "close_log":
+            return self.logs is not None
+        return super().check_action(action, parameters)
+
+    def action_close_log(self) -> None:
+        """Return from the log to the synthetic experiment."""
+        if self.logs is None:
+            self.notify("No log is loaded.", severity="warning")
+            return
+        self.set_logs(None)
+
+    def needs_synthetic(self, view: str) -> bool:
+        """True (after saying why) when a view of synthetic settings is asked for while a log is shown."""
+        if self.logs is None:
+            return False
+        self.notify(f"{view} needs a synthetic experiment: press 1, 2, 3 or c to leave the log.",
+                    severity="warning")
+        return True
+
+    def action_open_log(self) -> None:
+        """Choose a training or held-out log to load."""
+        from .file_dialog import OpenLogScreen
+
+        folder = os.path.dirname(os.path.abspath(self.logs.training.path)) if self.logs else None
+        self.app.push_screen(OpenLogScreen(folder, heldout_allowed=self.logs is not None,
+                                           derivatives=self.app.derivatives), self.start_loading)
+
+    def start_loading(self, request: LoadRequest | None) -> None:
+        """Load a chosen file in a worker behind a progress dialog."""
+        if request is None:
+            return
+        from .loading import LoadingScreen
+
+        dialog = LoadingScreen(request.path)
+        self.app.push_screen(dialog)
+        self.load_worker(request, self.logs, dialog)
+
+    @work(thread=True, exclusive=True, group="log-load")
+    def load_worker(self, request: LoadRequest, current: LoadedLogs | None, dialog: LoadingScreen) -> None:
+        """Read and fit the log off the main thread; the outcome is applied on the main thread."""
+        from jointid.csvlog import LoadCancelled
+        from jointid.logfit import load_request
+
+        app = self.app
+        try:
+            logs = load_request(request, current, self.settings.joint_model,
+                                lambda done, total: app.call_from_thread(dialog.advance, done, total),
+                                dialog.cancelled.is_set)
+        except LoadCancelled:
+            app.call_from_thread(self.finish_loading, dialog, None, "Loading cancelled; nothing changed.")
+        except (ValueError, OSError) as error:  # LogError is a ValueError with a one-line text
+            app.call_from_thread(self.finish_loading, dialog, None, str(error).splitlines()[0])
+        else:
+            app.call_from_thread(self.finish_loading, dialog, logs, None)
+
+    def finish_loading(self, dialog: LoadingScreen, logs: LoadedLogs | None, problem: str | None) -> None:
+        """Close the progress dialog and show the new logs, or say why the current data stay."""
+        if dialog.is_attached:
+            dialog.dismiss()
+        if logs is None:
+            cancelled = dialog.cancelled.is_set()
+            self.notify(problem, title="Log not loaded", severity="warning" if cancelled else "error")
+            return
+        self.set_logs(logs)
+        loaded = logs.heldout if logs.heldout is not None and logs.heldout.path == dialog.path else logs.training
+        self.notify(loaded.source_text(), title="Held-out log loaded" if loaded is logs.heldout else "Log loaded")
+
+    # --- export -------------------------------------------------------------------------
+
+    def export_content(self) -> tuple[str, dict]:
+        """File stem and JSON document of the current result, as `jointid fit [--csv] --json` prints it."""
+        if self.logs is not None:
+            return f"{Path(self.logs.training.path).stem}-fit", self.logs.document()
+        s = self.settings
+        model = "" if s.model == DEFAULT_SETTINGS.model else f"-{s.model}"
+        return (f"jointid-{s.motion}-{s.noise:.2f}-{s.samples}-{s.seed}{model}",
+                fit_document(self.result, settings=s))
+
+    def action_export(self) -> None:
+        """Export the fit as JSON and the screen as SVG into a chosen folder."""
+        from .export import ExportScreen
+
+        svg = self.app.export_screenshot()  # before the dialog covers the screen
+        stem, document = self.export_content()
+        self.app.push_screen(ExportScreen(stem), lambda folder: self.write_export(folder, stem, document, svg))
+
+    def write_export(self, folder: str | None, stem: str, document: dict, svg: str) -> None:
+        """Write the export pair and say where, or say why not."""
+        if folder is None:
+            return
+        from jointid.export import ExportError
+
+        from .export import write_export
+
+        try:
+            json_path, svg_path = write_export(folder, stem, document, svg)
+        except ExportError as error:
+            self.notify(str(error), title="Nothing exported", severity="error")
+            return
+        self.notify(f"Wrote {json_path} and {svg_path}", title="Exported")
