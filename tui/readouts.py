@@ -9,7 +9,8 @@ from jointid.present.readouts import Precision, PrecisionNote, Readout
 from jointid.uncertainty import NOT_DETERMINED, WEAK, WELL_DETERMINED
 
 LABEL_WIDTH = 27
-"""Columns reserved for a readout label ("Fitted damping (N m s/rad)" and a space)."""
+"""Columns reserved for a readout label ("Fitted damping (N m s/rad)" and a space); longer
+labels of other models' terms widen the column."""
 COMPACT_LABEL_WIDTH = 26
 """Columns for a label in compact rows ("Acceleration RMS (rad/s²)" and a space)."""
 COMPACT_VALUE_WIDTH = 9
@@ -65,10 +66,14 @@ def closing_content(precision: Precision | None, label_width: int) -> list[Conte
 
 
 def compact_parameter_lines(item: Readout, note: PrecisionNote, width: int) -> list[Content]:
-    """A parameter's compact row: symbol, value ± standard error and verdict, wrapped only if too wide."""
+    """A parameter's compact row: symbol, value ± standard error and verdict, wrapped only if too wide.
+
+    One-letter symbols keep their values right-aligned in COMPACT_VALUE_WIDTH so the ± line up;
+    a longer symbol (another model's term) takes its extra columns from that padding.
+    """
     if note.short and not item.sign_failure:  # no value: what the data still say about it
         return [Content(note.short)]
-    value = item.text.rjust(COMPACT_VALUE_WIDTH)
+    value = item.text.rjust(COMPACT_VALUE_WIDTH + 1 - len(item.key))
     head = Content(f"{item.key} ") + (
         Content.from_markup("[bold $text-error]$v[/]", v=value) if item.sign_failure else Content(value)
     )
@@ -177,9 +182,10 @@ class ReadoutPanel(Widget):
         return lines
 
     def _build_lines(self, width: int) -> list[Content]:
+        label_width = max([LABEL_WIDTH, *(len(item.label) + 1 for item in self.items)])
         lines = []
         for item in self.items:
-            line = Content(item.label.ljust(LABEL_WIDTH))
+            line = Content(item.label.ljust(label_width))
             if not item.sign_failure:
                 lines.append(line + Content(item.text))
                 lines.extend(note_lines(self.precision, item.key, width))
@@ -187,14 +193,14 @@ class ReadoutPanel(Widget):
             note = failure_note(item)
             value = Content.from_markup("[bold $text-error]$text[/]", text=item.text)
             note_text = Content.from_markup("[bold $text-error]✗ $note[/]", note=note)
-            if LABEL_WIDTH + len(item.text) + 2 + note_text.cell_length <= width:
+            if label_width + len(item.text) + 2 + note_text.cell_length <= width:
                 lines.append(line + value + Content("  ") + note_text)
             else:
                 lines.append(line + value)
-                indent = max(0, min(LABEL_WIDTH, width - note_text.cell_length))
+                indent = max(0, min(label_width, width - note_text.cell_length))
                 lines.append(Content(" " * indent) + note_text)
             lines.extend(note_lines(self.precision, item.key, width))
-        return lines + closing_content(self.precision, LABEL_WIDTH)
+        return lines + closing_content(self.precision, label_width)
 
     def render(self) -> Content:
         """All readout lines for the current width."""
