@@ -24,6 +24,7 @@ from functools import cached_property
 import numpy as np
 
 from .solver import LeastSquaresSolution, back_substitute
+from .student_t import student_t_quantile
 
 WELL_DETERMINED = "well determined"
 WEAK = "weak"
@@ -48,13 +49,6 @@ def covariance_factor(solution: LeastSquaresSolution) -> np.ndarray:
     unpivoted = np.empty((p, p))
     unpivoted[np.ix_(solution.permutation, solution.permutation)] = pivoted
     return unpivoted / np.outer(solution.scales, solution.scales)
-
-
-def student_t_quantile(probability: float, degrees_of_freedom: int) -> float:
-    """The Student-t quantile t such that P(T <= t) = probability (scipy, imported only here)."""
-    from scipy.special import stdtrit  # lazy: `import jointid` stays numpy-only
-
-    return float(stdtrit(degrees_of_freedom, probability))
 
 
 def verdict(relative_std_pct: float) -> str:
