@@ -46,12 +46,6 @@ from .derivatives import DEFAULT_ORDER, DEFAULT_WINDOW, METHOD, DerivativeEstima
 COLUMNS = ("t", "q", "qd", "qdd", "tau")
 """Recognised column names, in the order the loader stores them."""
 
-UNITS = {"t": "s", "q": "rad", "qd": "rad/s", "qdd": "rad/s²", "tau": "N m"}
-"""Unit of each recognised column (angles in degrees with `degrees=True`)."""
-
-ANGLE_COLUMNS = ("q", "qd", "qdd")
-"""Columns that `degrees=True` converts from degrees."""
-
 CHUNK_BYTES = 1 << 21
 """Bytes read and parsed at a time (2 MiB): progress every ~2 % of 100 MB. With pandas' reader, 1-16 MiB
 measured alike here (load + fit of 1,000,000 rows within 0.29-0.31 s), so pandas' per-call cost does not matter."""

@@ -2,12 +2,11 @@
 
 import json
 import math
-import subprocess
-import sys
 import tracemalloc
 
 import numpy as np
 import pytest
+from import_check import packages_loaded
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -366,9 +365,5 @@ def test_with_or_without_pandas_the_same_values_or_the_same_error(tmp_path_facto
 
 
 def test_import_jointid_loads_no_pandas():
-    code = (
-        "import json, sys; import jointid, jointid.csvlog, jointid.experiment, jointid.present.documents, jointid.cli; "
-        "print(json.dumps(sorted(m for m in sys.modules if m.split('.')[0] in {'pandas', 'pyarrow'})))"
-    )
-    output = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-    assert json.loads(output.stdout) == []
+    imports = "jointid, jointid.csvlog, jointid.experiment, jointid.present.documents, jointid.cli"
+    assert packages_loaded(imports, {"pandas", "pyarrow"}) == []

@@ -1,23 +1,23 @@
 """Boundaries: the core never drags in the user interface, and the UI's modules import in one direction."""
 
 import ast
-import json
-import subprocess
-import sys
 from pathlib import Path
+
+from import_check import packages_loaded
 
 ROOT = Path(__file__).resolve().parent.parent
 UI_PACKAGES = {"textual", "plotext", "rich", "tui", "textual_plotext"}
 
 
 def test_import_jointid_loads_no_ui_packages():
-    code = (
-        "import json, sys; import jointid, jointid.experiment, jointid.present.documents, jointid.cli; "
-        "print(json.dumps(sorted(m for m in sys.modules "
-        "if m.split('.')[0] in {'textual', 'plotext', 'rich', 'tui', 'textual_plotext'})))"
-    )
-    output = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
-    assert json.loads(output.stdout) == []
+    imports = "jointid, jointid.experiment, jointid.present.documents, jointid.cli, jointid.cli.explorer_command"
+    assert packages_loaded(imports, UI_PACKAGES) == []
+
+
+def test_fit_imports_no_scipy():
+    # The 95 % interval's Student-t quantile is pure Python (jointid.student_t); scipy.special
+    # alone took about 300 ms of every `jointid fit`.
+    assert packages_loaded("jointid.cli", {"scipy"}, run="jointid.cli.main(['fit', '--noise', '0.2', '--json'])") == []
 
 
 def imported_modules(path: Path, package: str) -> set[str]:

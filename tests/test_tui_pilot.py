@@ -94,7 +94,7 @@ def test_motion_keys_select_each_motion(key):
     run(scenario, start)
 
 
-def test_radio_set_selects_motion_with_arrows_and_enter():
+def test_motion_list_selects_motion_with_arrows_and_enter():
     async def scenario(pilot, screen):
         screen.query_one(ChoiceList).focus()
         await pilot.press("down", "enter")
