@@ -33,6 +33,7 @@ from .log_mode import LogMode
 from .precision import precision
 from .readouts import ReadoutPanel
 from .stepper import StepRange, Stepper
+from . import third_party
 
 if TYPE_CHECKING:  # the log reader is imported only when a log is opened
     from .log_source import LoadedLogs
@@ -333,6 +334,11 @@ class JointIdApp(App):
     def get_default_screen(self) -> Screen:
         """The main screen at the initial settings."""
         return MainScreen(self.initial_settings, self.initial_logs)
+
+    def on_load(self) -> None:
+        """Turn on the third-party adapters the installed versions allow, before the first chart; log which."""
+        for line in third_party.activate():
+            self.log(f"third-party adapter: {line}")
 
     def on_ready(self) -> None:
         """Exempt everything built so far from garbage collection scans.
