@@ -53,10 +53,10 @@ class Adapter:
 
 ADAPTERS = (
     Adapter(PLOTEXT_HELPERS, ("plotext",), "fast chart helpers active", "stock chart helpers"),
-    Adapter(CHART_MATRIX, ("plotext", "textual-plotext"), "charts drawn from plotext's cell matrix",
-            "charts drawn through PlotextPlot.render (stock, slower)"),
-    Adapter(NUMBER_FIELDS, ("textual",), "number fields repaint without relayout",
-            "number fields use Input's own value watcher (stock, relayouts)"),
+    Adapter(CHART_MATRIX, ("plotext", "textual-plotext"), "direct chart strips active",
+            "stock chart rendering (PlotextPlot.render, slower)"),
+    Adapter(NUMBER_FIELDS, ("textual",), "repaint-only number fields active",
+            "stock number fields (a new value relayouts the screen)"),
 )
 """Every adapter, in status order."""
 
