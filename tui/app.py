@@ -354,6 +354,13 @@ class JointIdApp(App):
         full collections wait for a pause in the typing instead (`collect_when_idle`).
         `on_unmount` undoes both, so a test or a program embedding the app gets
         its collector back as it was. Objects someone else froze are left alone.
+
+        Measured 2026-11-23, `benchmarks/bench_tui_keys.py --gc both --runs 4`
+        (runs alternating, 720 timed presses each way at 120x40): Python's stock
+        collector against this tuning, min 8.4 vs 8.4 ms (ratio 1.00), median
+        15.5 vs 14.9 ms (1.04), p95 37.8 vs 25.1 ms (1.51), max 122.5 vs 40.3 ms
+        (3.04); 46 presses against 9 took over two frames (33 ms). The typical
+        press is no faster; the tuning removes the long pauses, so it stays.
         """
         if not self.tune_gc:
             return
