@@ -260,5 +260,5 @@ def after_compositor_refresh(callback: Callable[[Screen], None]) -> Callable[[],
 
 
 def screen_settled(screen: Screen) -> bool:
-    """True when a screen has nothing left to lay out or paint (benchmarks wait for it)."""
+    """True when a screen has nothing left to lay out or paint (read in an `after_compositor_refresh` callback)."""
     return not (screen._layout_required or screen._dirty_widgets or screen._repaint_required)
