@@ -1,6 +1,6 @@
 """Key press to fully updated explorer screen, headless at 120x40, over 200 presses.
 
-Run: .venv/bin/python benchmarks/bench_tui_keys.py
+Run: .venv/bin/python benchmarks/bench_tui_keys.py [--gc tuned|stock|both] [--runs N]
 
 The app runs headless under Pilot (`run_test`), which also focuses each control
 in turn. The 200 presses across every control (noise, samples and seed fields
@@ -25,11 +25,18 @@ caches of fits and figures are emptied before each round: a press is served
 from a cache only when that round itself went there before (stepping back),
 as in real use, never because an earlier round took the same path.
 
+With `--gc both` the runs alternate (A B B A ...) between the app's garbage-collection tuning
+(`JointIdApp.on_ready`) and Python's stock collector, and the ratios stock / tuned
+of the min, median, p95 and max latency are printed: the figure that decides
+whether the tuning stays. Each app restores the collector when it exits, so
+the runs do not inherit each other's setting.
+
 Goal: median <= 16.7 ms (one 60 Hz frame), p95 <= 33 ms.
 """
 
 from __future__ import annotations
 
+import argparse
 import asyncio
 import statistics
 import sys
@@ -39,8 +46,8 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from textual import events  # noqa: E402
-from textual.screen import Screen  # noqa: E402
 
+from tui import third_party  # noqa: E402
 from tui.app import JointIdApp  # noqa: E402
 from tui.main_screen import MainScreen, cached_experiment  # noqa: E402
 from tui.torque_plot import TorquePlot  # noqa: E402
@@ -71,33 +78,28 @@ press = {"watched": None, "updated": None, "done_at": 0.0}
 """The timed press's events: its settings watcher ran; a frame left the screen fully updated."""
 
 
-_refresh = Screen._compositor_refresh
-
-
-def timed_refresh(self) -> None:
-    _refresh(self)
-    # The press is done at the first frame after its watcher that leaves nothing to paint.
+def after_refresh(screen) -> None:
+    """Called after every screen refresh: the press is done at the first frame after its
+    watcher that leaves nothing to paint."""
     watched, updated = press["watched"], press["updated"]
     if watched is not None and watched.is_set() and updated is not None and not updated.is_set() \
-            and settled(self):
+            and third_party.screen_settled(screen):
         press["done_at"] = time.perf_counter()
         updated.set()
 
 
-Screen._compositor_refresh = timed_refresh
-
-_watch = MainScreen.watch_settings
+_show = MainScreen.show_source
 
 
-def timed_watch(self, settings) -> None:
-    _watch(self, settings)
+def timed_show(self) -> None:
+    _show(self)
     stamps["watched"] = time.perf_counter()
     stamps["watches"] += 1
     if press["watched"] is not None:
         press["watched"].set()
 
 
-MainScreen.watch_settings = timed_watch
+MainScreen.show_source = timed_show
 
 _render = TorquePlot._render_figure
 
@@ -116,11 +118,6 @@ def percentile(values: list[float], fraction: float) -> float:
     return ordered[min(len(ordered) - 1, round(fraction * (len(ordered) - 1)))]
 
 
-def settled(screen) -> bool:
-    """True when the screen has nothing left to lay out or paint."""
-    return not (screen._layout_required or screen._dirty_widgets or screen._repaint_required)
-
-
 def forget_everything(screen) -> None:
     """Empty the fit cache and every plot's figure cache (the next round starts cold)."""
     cached_experiment.cache_clear()
@@ -128,8 +125,9 @@ def forget_everything(screen) -> None:
         plot._cache.clear()
 
 
-async def measure() -> tuple[list[float], int, int, int]:
+async def measure(tune_gc: bool = True) -> tuple[list[float], int, int, int]:
     app = JointIdApp()
+    app.tune_gc = tune_gc
     latencies: list[float] = []
     changed = unchanged = 0
     async with app.run_test(size=SIZE) as pilot:
@@ -166,40 +164,73 @@ async def measure() -> tuple[list[float], int, int, int]:
 def reference_workload_ms() -> float:
     """Median time to build one torque chart with plotext, outside the app: how fast this shared
     machine runs code like the explorer's (allocation-heavy Python) just now."""
-    from plotext._figure import _figure_class
-
     from jointid.experiment import run_experiment
     from jointid.settings import DEFAULT_SETTINGS
     from jointid.present.charts import training_chart
     from tui.charts import draw_torque_chart
-    from tui.torque_plot import build_matrix
 
-    data, figure, times = training_chart(run_experiment(DEFAULT_SETTINGS)), _figure_class(), []
+    data, figure, times = training_chart(run_experiment(DEFAULT_SETTINGS)), third_party.new_figure(), []
     for _ in range(60):
         start = time.perf_counter()
         draw_torque_chart(figure, data, (255, 0, 0), (0, 0, 255))
-        build_matrix(figure, 74, 14)
+        third_party.build_matrix(figure, 74, 14)
         times.append((time.perf_counter() - start) * 1000)
     return statistics.median(times)
 
 
+def summary(latencies: list[float]) -> str:
+    """min, median, p95 and max of some latencies, in ms, and how many took over two frames."""
+    return (f"min {min(latencies):.1f}, median {statistics.median(latencies):.1f}, "
+            f"p95 {percentile(latencies, 0.95):.1f}, max {max(latencies):.1f} ms; "
+            f"{sum(ms > 33.3 for ms in latencies)} over 33.3 ms")
+
+
 def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--gc", choices=("tuned", "stock", "both"), default="tuned",
+                        help="the app's garbage-collection tuning (JointIdApp.on_ready) on, off, or "
+                             "alternating run by run (default: tuned, as the app ships)")
+    parser.add_argument("--runs", type=int, default=RUNS, help=f"fresh apps per mode (default {RUNS})")
+    args = parser.parse_args()
+    modes = ["tuned", "stock"] if args.gc == "both" else [args.gc]
+
+    for line in third_party.activate():  # as the app does when it starts; the gauge below needs it too
+        print(f"adapter: {line}")
+    third_party.after_compositor_refresh(after_refresh)
     print(f"machine speed: one chart built by plotext alone in {reference_workload_ms():.2f} ms "
           f"(longer when the shared machine is busy; key latencies scale with it)")
-    everything: list[float] = []
-    for run in range(1, RUNS + 1):
+    everything: dict[str, list[float]] = {mode: [] for mode in modes}
+    runs: dict[str, list[list[float]]] = {mode: [] for mode in modes}
+    # Alternate, in the order A B B A A B ..., so both modes see the same drift and go first equally.
+    order = [mode for pair in range(args.runs) for mode in (modes if pair % 2 == 0 else modes[::-1])]
+    for run, mode in enumerate(order, 1):
         slowest.clear()
-        latencies, changed, builds, unchanged = asyncio.run(measure())
-        everything += latencies
-        print(f"run {run}: {len(latencies) + unchanged} presses at {SIZE[0]}x{SIZE[1]}, {changed} changed "
-              f"the settings and were timed ({builds} charts built, the rest from cache), "
-              f"{unchanged} hit a range end")
-        print(f"  key -> updated screen: median {statistics.median(latencies):.1f} ms, "
-              f"p95 {percentile(latencies, 0.95):.1f} ms, max {max(latencies):.1f} ms")
+        latencies, changed, builds, unchanged = asyncio.run(measure(tune_gc=mode == "tuned"))
+        everything[mode] += latencies
+        runs[mode].append(latencies)
+        print(f"run {run} (gc {mode}): {len(latencies) + unchanged} presses at {SIZE[0]}x{SIZE[1]}, "
+              f"{changed} changed the settings and were timed ({builds} charts built, the rest from "
+              f"cache), {unchanged} hit a range end")
+        print(f"  key -> updated screen: {summary(latencies)}")
         worst = ", ".join(f"{where} {ms:.0f} ms" for ms, where in sorted(slowest, reverse=True)[:5])
         print(f"  slowest: {worst}")
-    print(f"all {len(everything)} timed presses: median {statistics.median(everything):.1f} ms, "
-          f"p95 {percentile(everything, 0.95):.1f} ms (goal: median <= 16.7 ms, p95 <= 33 ms)")
+    for mode, latencies in everything.items():
+        print(f"gc {mode}: all {len(latencies)} timed presses: {summary(latencies)} "
+              f"(goal: median <= 16.7 ms, p95 <= 33 ms)")
+    if len(modes) == 2:
+        measures = (("min", min), ("median", statistics.median), ("p95", lambda v: percentile(v, 0.95)),
+                    ("max", max))
+        tuned, stock = everything["tuned"], everything["stock"]
+        print("stock / tuned, all presses: " + ", ".join(
+            f"{name} {f(stock) / f(tuned):.2f}" for name, f in measures))
+        # A run the shared machine slowed down moves the pooled figures; the median run's do not.
+        typical = {mode: {name: statistics.median(f(one) for one in runs[mode]) for name, f in measures}
+                   for mode in modes}
+        print("median run: " + "; ".join(
+            f"{mode} " + ", ".join(f"{name} {value:.1f}" for name, value in typical[mode].items()) + " ms"
+            for mode in modes))
+        print("stock / tuned, median run: " + ", ".join(
+            f"{name} {typical['stock'][name] / typical['tuned'][name]:.2f}" for name, _ in measures))
     print(f"machine speed after: one chart in {reference_workload_ms():.2f} ms")
 
 

@@ -8,24 +8,36 @@ import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
-from plotext._figure import _figure_class
 
 from jointid.experiment import run_experiment
 from jointid.settings import Settings
-from tui import plotext_speedups
 from jointid.present.charts import ChartData, heldout_chart, training_chart
+from tui import plotext_speedups, third_party
 from tui.charts import draw_torque_chart
-from tui.torque_plot import build_matrix
+from tui.third_party import build_matrix, new_figure
 
 LINE_RGB, DOTS_RGB = (200, 120, 40), (60, 140, 220)
+
+
+@pytest.fixture(autouse=True, scope="module")
+def fast_helpers():
+    """Nothing installs the helpers on import: these tests, outside the app, activate them."""
+    third_party.activate()
+    assert third_party.active(third_party.PLOTEXT_HELPERS)
+
+
+def install() -> None:
+    """Put the fast helpers back after a comparison with plotext's own."""
+    third_party.activate()
+    assert third_party.active(third_party.PLOTEXT_HELPERS)
 
 
 @pytest.fixture
 def plotext_own():
     """Run a block with plotext's own helpers, then put the fast ones back."""
-    plotext_speedups.uninstall()
+    third_party.uninstall()
     yield
-    assert plotext_speedups.install()
+    install()
 
 
 def build(plt, data: ChartData, width: int, height: int, marker: str | None = None) -> list:
@@ -41,7 +53,7 @@ def build(plt, data: ChartData, width: int, height: int, marker: str | None = No
 
 
 def fresh(data: ChartData, width: int, height: int, marker: str | None = None) -> list:
-    return build(_figure_class(), data, width, height, marker)
+    return build(new_figure(), data, width, height, marker)
 
 
 def random_chart(seed: int, samples: int, with_line: bool, flat: bool) -> ChartData:
@@ -57,6 +69,7 @@ def test_the_fast_helpers_are_installed_on_the_pinned_plotext():
 
     assert utility.hd_group is plotext_speedups.hd_group
     assert utility.join is plotext_speedups.join
+    assert utility.join is not plotext_speedups.ORIGINALS["join"]
 
 
 @settings(max_examples=60, deadline=None)
@@ -67,11 +80,11 @@ def test_random_charts_are_identical_with_and_without_the_fast_helpers(seed, sam
                                                                        width, height, marker):
     data = random_chart(seed, samples, with_line, flat)
     fast = fresh(data, width, height, marker)
-    plotext_speedups.uninstall()
+    third_party.uninstall()
     try:
         own = fresh(data, width, height, marker)
     finally:
-        assert plotext_speedups.install()
+        install()
     assert fast == own
 
 
@@ -81,7 +94,7 @@ def test_the_lessons_charts_are_identical_with_and_without_the_fast_helpers(moti
     result = run_experiment(Settings(motion, 0.2, 24, 7))
     charts = (training_chart(result), heldout_chart(result))
     own = [fresh(chart, *size) for chart in charts]
-    assert plotext_speedups.install()
+    install()
     assert [fresh(chart, *size) for chart in charts] == own
 
 
@@ -123,7 +136,7 @@ def test_a_chart_does_not_depend_on_the_chart_drawn_before_it():
                          line=np.linspace(-2.5, 2.5, 50), dots_label="d", line_label="l",
                          summaries=("s",), x_label="Sample")
     sequence = [training_chart(holds), log_like, heldout_chart(slow), training_chart(slow), heldout_chart(holds)]
-    reused = _figure_class()
+    reused = new_figure()
     for chart in sequence:
         assert build(reused, chart, 74, 14) == fresh(chart, 74, 14)
 

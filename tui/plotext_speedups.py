@@ -13,20 +13,17 @@ three helpers written for generality rather than speed:
 The versions here compute the same values in plain loops and slices (1.5 ms a
 chart, 56 % less). `tests/test_plotext_speedups.py` builds many random figures
 with and without them and requires every character and colour to be equal.
-They are installed only on the plotext version they were written against;
-any other version keeps its own code.
+Nothing here is installed on import: `tui.third_party.activate()` puts them in
+place (when the app starts) only on the plotext release they were written
+against, and `tui.third_party.uninstall()` restores plotext's own.
 """
 
 from __future__ import annotations
 
 import math
 
-import plotext
 from plotext import _matrix as plotext_matrix
 from plotext import _utility as plotext_utility
-
-PLOTEXT_VERSION = "5.3.2"
-"""The plotext release whose internals these replace exactly."""
 
 ORIGINALS = {
     "hd_group": plotext_utility.hd_group,
@@ -82,18 +79,12 @@ def set_matrices(self) -> None:
     self.style = [[no_color] * cols for _ in self.Rows]
 
 
-def install() -> bool:
-    """Put the fast versions in place if plotext is the release they match; True if installed."""
-    if getattr(plotext, "__version__", None) != PLOTEXT_VERSION:
-        return False
-    plotext_utility.hd_group = hd_group
-    plotext_utility.join = join
-    plotext_matrix.matrix_class.set_matrices = set_matrices
-    return True
+FAST = {"hd_group": hd_group, "join": join, "set_matrices": set_matrices}
+"""The drop-ins, by the name of the plotext function each replaces."""
 
-
-def uninstall() -> None:
-    """Restore plotext's own functions (tests compare both)."""
-    plotext_utility.hd_group = ORIGINALS["hd_group"]
-    plotext_utility.join = ORIGINALS["join"]
-    plotext_matrix.matrix_class.set_matrices = ORIGINALS["set_matrices"]
+OWNERS = {
+    "hd_group": plotext_utility,
+    "join": plotext_utility,
+    "set_matrices": plotext_matrix.matrix_class,
+}
+"""Where plotext looks each function up when it calls it (a module or a class)."""

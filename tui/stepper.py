@@ -6,10 +6,12 @@ from dataclasses import dataclass
 from typing import Callable
 
 from textual.binding import Binding
-from textual.geometry import Size
+from textual.events import Blur
 from textual.widgets import Input
 
 from jointid.settings import SettingsError, parse_setting
+
+from .third_party import RepaintOnValue
 
 
 NUMBER_CHARACTERS = frozenset("0123456789.+-eE")
@@ -71,7 +73,7 @@ class StepRange:
         raise SettingsError(self.field, f"{self.field} must be {kind} {self.describe()}; got {text.strip()!r}")
 
 
-class Stepper(Input):
+class Stepper(RepaintOnValue, Input):
     """A numeric setting that steps with Left/Right (Shift: big step) and accepts typed values.
 
     Typed text is committed with Enter or when focus leaves; invalid text is
@@ -132,14 +134,6 @@ class Stepper(Input):
             with self.prevent(Input.Changed):
                 self.value = text
 
-    def _watch_value(self, value: str) -> None:
-        # Input sets its virtual size through the reactive, whose layout flag relayouts the
-        # whole screen whenever the number's width changes (Reset from seed 107 to 7): the
-        # field's own width is fixed, so a repaint of the field is enough.
-        self.set_reactive(Input.virtual_size, Size(self.content_width, 1))
-        self._suggestion = ""
-        self.refresh()
-
     def action_step(self, direction: int, big: bool = False) -> None:
         """Step the committed value by one small or big step, clamped to the range."""
         size = self.steps.big_step if big else self.steps.step
@@ -153,10 +147,10 @@ class Stepper(Input):
         """Enter: validate the typed text and commit it, or refuse it with a message."""
         self._commit_typed()
 
-    def _on_blur(self, event) -> None:
-        # Tabbing away from a typed value should not silently drop it.
+    def on_blur(self, event: Blur) -> None:
+        """Commit typed text when focus leaves: tabbing away should not silently drop it."""
+        # Textual runs this before Input's own blur handler, as a subclass's handler.
         self._commit_typed()
-        super()._on_blur(event)
 
     def _commit_typed(self) -> None:
         if self.value.strip() == self.steps.format(self.number):

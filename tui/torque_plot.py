@@ -3,38 +3,12 @@
 from __future__ import annotations
 
 from collections import OrderedDict
-from functools import lru_cache
 from typing import Callable, Hashable
 
-from plotext import _utility as plotext_utility
-from rich.segment import Segment
-from rich.style import Style
-from rich.text import Text
 from textual.strip import Strip
 from textual_plotext import PlotextPlot
 
-from . import plotext_speedups
-
-plotext_speedups.install()
-
-
-@lru_cache(maxsize=512)
-def cell_style(foreground, style, background) -> Style:
-    """The Rich style of one plotext cell, decoded from exactly the ANSI code plotext would print."""
-    ansi = plotext_utility.colors_to_ansi(foreground, style, background)
-    text = Text.from_ansi(f"{ansi}x{plotext_utility.ansi_end}")
-    return Style.combine(span.style for span in text.spans) if text.spans else Style()
-
-
-def build_matrix(plot, width: int, height: int, theme: str | None = None):
-    """Lay out a set-up plotext figure at a size (and theme) and return its matrix of cells."""
-    plot.plotsize(width, height)
-    plot._set_size(width, height)  # as PlotextPlot.render does; see its comment
-    if theme is not None:
-        plot.theme(theme)
-    plot._set_sizes()
-    plot._build_matrix()
-    return plot.monitor.matrix
+from . import third_party
 
 
 class TorquePlot(PlotextPlot):
@@ -43,8 +17,9 @@ class TorquePlot(PlotextPlot):
     The stock widget prints the figure to an ANSI string and parses it back on
     every render, about 8 ms per chart at 120x40; a key press redraws two
     charts, so that alone would miss a 60 Hz frame. Here the figure's matrix
-    of characters and colours becomes strips directly, and only when the data,
-    the size or the theme changed; recent figures are kept, so stepping back or
+    of characters and colours becomes strips directly (`third_party.figure_strips`;
+    the stock text when the versions differ), and only when the data, the size
+    or the theme changed; recent figures are kept, so stepping back or
     returning to a tour stop costs nothing.
     """
 
@@ -87,21 +62,16 @@ class TorquePlot(PlotextPlot):
         return strips
 
     def _render_figure(self, width: int, height: int) -> list[Strip]:
-        plot = self._plot
         if self._draw_figure is not None:
-            self._draw_figure(plot)
-        matrix = build_matrix(plot, width, height, self._get_plotext_theme_name(self.app.theme))
-        strips = []
-        for row in reversed(matrix.Rows):  # plotext's row 0 is the bottom line
-            markers = matrix.marker[row]
-            colours = list(zip(matrix.fullground[row], matrix.style[row], matrix.background[row]))
-            segments, start = [], 0
-            for col in range(1, len(markers) + 1):
-                if col == len(markers) or colours[col] != colours[start]:
-                    segments.append(Segment("".join(markers[start:col]), cell_style(*colours[start])))
-                    start = col
-            strips.append(Strip(segments, width))
-        return strips
+            self._draw_figure(self.plt)
+        if third_party.active(third_party.CHART_MATRIX):
+            return third_party.figure_strips(self, width, height)
+        # Another plotext or textual-plotext than the adapter was written for: the stock
+        # widget's own text, cut into strips (slower, but it is cached here all the same).
+        console = self.app.console
+        options = console.options.update_dimensions(width, height)
+        lines = console.render_lines(super().render(), options, pad=True)
+        return [Strip(line, width) for line in lines]
 
     def render_line(self, y: int) -> Strip:
         """One line of the figure (Textual's line API), built once per change."""

@@ -12,6 +12,7 @@ import sys
 from . import explorer_command, fit_command, matrix_command, simulate_command, sweep_command, torque_command
 from .arguments import OneLineParser, UserError, add_model_argument, add_settings_arguments
 from .log_fit import add_log_arguments
+from .version import VersionAction
 
 SUBCOMMANDS = (fit_command, torque_command, sweep_command, matrix_command, simulate_command)
 """Modules that define the subcommands, in help order."""
@@ -29,6 +30,9 @@ def build_parser() -> OneLineParser:
             "With no subcommand, open the terminal explorer at the given settings, or on a --csv log."
         ),
     )
+    parser.add_argument("--version", action=VersionAction,
+                        help="print the versions of jointid and its stack, and whether the explorer's "
+                             "third-party adapters apply to them, then exit")
     add_settings_arguments(parser)
     add_model_argument(parser)
     add_log_arguments(parser)

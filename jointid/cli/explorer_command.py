@@ -16,9 +16,8 @@ from ..model import model_named
 from ..settings import SettingsError
 from .arguments import UserError, settings_from
 from .log_fit import derivative_options, load_logs, with_default_settings
+from .version import ENTRY_POINT_GROUP
 
-ENTRY_POINT_GROUP = "jointid.faces"
-"""Where the terminal UI registers its entry function."""
 ENTRY_POINT_NAME = "explorer"
 """The entry function's name in that group: explore(settings, logs, derivatives) -> exit status."""
 

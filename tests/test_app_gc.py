@@ -1,0 +1,69 @@
+"""The app's garbage-collection tuning lasts for its run only: the process gets its collector back."""
+
+from __future__ import annotations
+
+import asyncio
+import gc
+
+import pytest
+
+from tui_support import make_app
+
+
+def collector_state() -> tuple[tuple[int, int, int], int]:
+    """The process-wide settings the app changes while it runs."""
+    return gc.get_threshold(), gc.get_freeze_count()
+
+
+def test_a_run_under_pilot_leaves_the_collector_as_it_was():
+    before = collector_state()
+
+    async def main():
+        app = make_app()
+        async with app.run_test(size=(120, 40)) as pilot:
+            await pilot.pause()
+            assert app.tune_gc
+            during = collector_state()
+            await pilot.press("right", "r")
+            await pilot.pause()
+        return during
+
+    during = asyncio.run(main())
+    assert during != before  # the tuning was in effect while the app ran
+    assert collector_state() == before
+
+
+def test_a_run_that_crashes_leaves_the_collector_as_it_was():
+    before = collector_state()
+
+    def fail() -> None:
+        raise RuntimeError("boom")
+
+    async def main():
+        app = make_app()
+        async with app.run_test(size=(120, 40)) as pilot:
+            await pilot.pause()
+            assert collector_state() != before
+            app.call_later(fail)
+            await pilot.pause()
+
+    with pytest.raises(RuntimeError, match="boom"):
+        asyncio.run(main())
+    assert collector_state() == before
+
+
+def test_objects_someone_else_froze_stay_frozen():
+    """An embedding program that froze its own heap keeps it frozen; the thresholds still come back."""
+    gc.freeze()
+    try:
+        before = collector_state()
+
+        async def main():
+            app = make_app()
+            async with app.run_test(size=(80, 24)) as pilot:
+                await pilot.pause()
+
+        asyncio.run(main())
+        assert collector_state() == before
+    finally:
+        gc.unfreeze()

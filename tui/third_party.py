@@ -1,0 +1,264 @@
+"""The one place that adapts plotext, textual-plotext and Textual internals.
+
+The explorer reaches into private code of three packages for speed; all of
+that lives here, written against the releases in `PINNED`. `activate()`, called
+when the app starts, reads the installed versions once and turns on only the
+adapters whose packages match; the others leave the stock path in place, and
+`status()` says which is which (the app logs it, `jointid --version` prints it).
+
+Importing this module changes nothing and loads none of the three packages
+(each is imported where it is first needed), so `jointid --version` stays cheap.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+from importlib import metadata
+from typing import TYPE_CHECKING, Callable
+
+if TYPE_CHECKING:
+    from rich.style import Style
+    from textual.screen import Screen
+    from textual.strip import Strip
+    from textual_plotext import PlotextPlot
+
+PINNED = {"textual": "8.2.8", "textual-plotext": "1.0.1", "plotext": "5.3.2"}
+"""The releases whose internals this module was written against (pyproject.toml pins the same)."""
+
+PLOTEXT_HELPERS = "plotext-helpers"
+"""Adapter: tui/plotext_speedups.py's drop-ins for three plotext internals (a chart builds in 44 % of the time)."""
+CHART_MATRIX = "chart-matrix"
+"""Adapter: torque charts become strips straight from plotext's cell matrix, not via ANSI text."""
+NUMBER_FIELDS = "number-fields"
+"""Adapter: a number field's new value repaints the field instead of relayouting the screen."""
+
+
+@dataclass(frozen=True)
+class Adapter:
+    """One use of third-party internals, the packages it depends on, and how its status reads.
+
+    Attributes:
+        key: The name `active()` is asked with.
+        packages: Distributions whose pinned versions it needs.
+        active_text: Status when in use.
+        stock_text: Status when a package differs and the stock path is used instead.
+    """
+
+    key: str
+    packages: tuple[str, ...]
+    active_text: str
+    stock_text: str
+
+
+ADAPTERS = (
+    Adapter(PLOTEXT_HELPERS, ("plotext",), "fast chart helpers active", "stock chart helpers"),
+    Adapter(CHART_MATRIX, ("plotext", "textual-plotext"), "direct chart strips active",
+            "stock chart rendering (PlotextPlot.render, slower)"),
+    Adapter(NUMBER_FIELDS, ("textual",), "repaint-only number fields active",
+            "stock number fields (a new value relayouts the screen)"),
+)
+"""Every adapter, in status order."""
+
+_in_use: dict[str, bool] | None = None
+"""Adapter key -> in use, set once by `activate()`; None before (every adapter is off then)."""
+_status: list[str] = []
+"""The status lines of that activation."""
+
+
+def installed_version(distribution: str) -> str | None:
+    """The installed version of a distribution, or None when it is not installed."""
+    try:
+        return metadata.version(distribution)
+    except metadata.PackageNotFoundError:
+        return None
+
+
+def check() -> tuple[dict[str, bool], list[str]]:
+    """Compare the installed versions with `PINNED`: which adapters may be used, and one status line each."""
+    versions = {name: installed_version(name) for name in PINNED}  # each read once
+    usable, lines = {}, []
+    for adapter in ADAPTERS:
+        usable[adapter.key] = all(versions[name] == PINNED[name] for name in adapter.packages)
+        text = adapter.active_text if usable[adapter.key] else adapter.stock_text
+        lines.append(f"{_describe_versions(adapter.packages, versions)}: {text}")
+    return usable, lines
+
+
+def _describe_versions(packages: tuple[str, ...], versions: dict[str, str | None]) -> str:
+    described = []
+    for name in packages:
+        version, pinned = versions[name], PINNED[name]
+        if version == pinned:
+            described.append(f"{name} {version}")
+        elif version is None:
+            described.append(f"{name} not installed (expected {pinned})")
+        else:
+            described.append(f"{name} {version} (expected {pinned})")
+    return ", ".join(described)
+
+
+def activate() -> list[str]:
+    """Check the versions and turn on the adapters that match, once; returns the status lines.
+
+    Later calls change nothing and return the same lines, so every app start
+    (and every test that builds charts outside the app) may call it.
+    """
+    global _in_use, _status
+    if _in_use is None:
+        usable, lines = check()
+        if usable[PLOTEXT_HELPERS]:
+            _put_plotext_helpers(fast=True)
+        _in_use, _status = usable, lines
+    return list(_status)
+
+
+def uninstall() -> None:
+    """Put plotext's own functions back and turn every adapter off; the next `activate()` checks again."""
+    global _in_use, _status
+    if _in_use is not None and _in_use[PLOTEXT_HELPERS]:
+        _put_plotext_helpers(fast=False)
+    _in_use, _status = None, []
+
+
+def active(key: str) -> bool:
+    """Whether an adapter (`PLOTEXT_HELPERS`, `CHART_MATRIX`, `NUMBER_FIELDS`) is in use."""
+    return _in_use is not None and _in_use[key]
+
+
+def status() -> list[str]:
+    """One line per adapter: the versions and whether it is in use; without an activation, what one would do."""
+    return list(_status) if _in_use is not None else check()[1]
+
+
+# plotext ----------------------------------------------------------------------------------------
+
+
+def _put_plotext_helpers(fast: bool) -> None:
+    from . import plotext_speedups as speedups
+
+    functions = speedups.FAST if fast else speedups.ORIGINALS
+    for name, owner in speedups.OWNERS.items():
+        setattr(owner, name, functions[name])
+
+
+def new_figure():
+    """A bare plotext figure, as PlotextPlot holds one (for tests and benchmarks outside the app)."""
+    from plotext._figure import _figure_class
+
+    return _figure_class()
+
+
+def build_matrix(plot, width: int, height: int, theme: str | None = None):
+    """Lay out a set-up plotext figure at a size (and theme) and return its matrix of cells.
+
+    These are the steps of plotext's `build()` before it prints the matrix as
+    ANSI text, which the direct renderer skips.
+    """
+    plot.plotsize(width, height)
+    plot._set_size(width, height)  # as PlotextPlot.render does; see its comment
+    if theme is not None:
+        plot.theme(theme)
+    plot._set_sizes()
+    plot._build_matrix()
+    return plot.monitor.matrix
+
+
+@lru_cache(maxsize=512)
+def cell_style(foreground, style, background) -> Style:
+    """The Rich style of one plotext cell, decoded from exactly the ANSI code plotext would print."""
+    from plotext import _utility as plotext_utility
+    from rich.style import Style
+    from rich.text import Text
+
+    ansi = plotext_utility.colors_to_ansi(foreground, style, background)
+    text = Text.from_ansi(f"{ansi}x{plotext_utility.ansi_end}")
+    return Style.combine(span.style for span in text.spans) if text.spans else Style()
+
+
+def plotext_theme_name(widget: PlotextPlot) -> str:
+    """The plotext theme a PlotextPlot registered for the app's current theme."""
+    return widget._get_plotext_theme_name(widget.app.theme)
+
+
+def figure_strips(widget: PlotextPlot, width: int, height: int) -> list[Strip]:
+    """A PlotextPlot's set-up figure as one strip per line, read from plotext's cell matrix.
+
+    The stock widget prints the figure to an ANSI string and parses it back,
+    about 8 ms per chart at 120x40; this gives the same cells without the text.
+    """
+    from rich.segment import Segment
+    from textual.strip import Strip
+
+    matrix = build_matrix(widget.plt, width, height, plotext_theme_name(widget))
+    strips = []
+    for row in reversed(matrix.Rows):  # plotext's row 0 is the bottom line
+        markers = matrix.marker[row]
+        colours = list(zip(matrix.fullground[row], matrix.style[row], matrix.background[row]))
+        segments, start = [], 0
+        for col in range(1, len(markers) + 1):
+            if col == len(markers) or colours[col] != colours[start]:
+                segments.append(Segment("".join(markers[start:col]), cell_style(*colours[start])))
+                start = col
+        strips.append(Strip(segments, width))
+    return strips
+
+
+# Textual --------------------------------------------------------------------------------------
+
+
+class RepaintOnValue:
+    """Mixin for a fixed-width Input: a new value repaints the field instead of relayouting the screen.
+
+    Input's value watcher sets its virtual size through the reactive, whose
+    layout flag relayouts the whole screen whenever the text's width changes
+    (Reset from seed 107 to 7); the field's own width is fixed, so a repaint is
+    enough. The replacement also posts no `Input.Changed` and leaves the cursor
+    alone: the stepper commits on Enter, blur and steps, not on each change.
+    """
+
+    def _watch_value(self, value: str) -> None:
+        if not active(NUMBER_FIELDS):
+            super()._watch_value(value)
+            return
+        from textual.geometry import Size
+        from textual.widgets import Input
+
+        self.set_reactive(Input.virtual_size, Size(self.content_width, 1))
+        self._suggestion = ""
+        self.refresh()
+
+
+def _require_pinned_textual(what: str) -> None:
+    version = installed_version("textual")
+    if version != PINNED["textual"]:
+        raise RuntimeError(f"{what} reads Textual {PINNED['textual']} internals; "
+                           f"textual {version} is installed: update it in tui/third_party.py")
+
+
+def after_compositor_refresh(callback: Callable[[Screen], None]) -> Callable[[], None]:
+    """Call `callback(screen)` after every screen refresh (benchmarks time frames with it); returns an undo.
+
+    Raises:
+        RuntimeError: The installed Textual is not the pinned one, whose refresh method this wraps.
+    """
+    _require_pinned_textual("after_compositor_refresh")
+    from textual.screen import Screen
+
+    original = Screen._compositor_refresh
+
+    def refresh_then_call(screen: Screen) -> None:
+        original(screen)
+        callback(screen)
+
+    Screen._compositor_refresh = refresh_then_call
+
+    def undo() -> None:
+        Screen._compositor_refresh = original
+
+    return undo
+
+
+def screen_settled(screen: Screen) -> bool:
+    """True when a screen has nothing left to lay out or paint (read in an `after_compositor_refresh` callback)."""
+    return not (screen._layout_required or screen._dirty_widgets or screen._repaint_required)
