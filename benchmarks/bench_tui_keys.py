@@ -49,8 +49,8 @@ from textual import events  # noqa: E402
 
 from tui import third_party  # noqa: E402
 from tui.app import JointIdApp  # noqa: E402
-from tui.main_screen import MainScreen, cached_experiment  # noqa: E402
-from tui.torque_plot import TorquePlot  # noqa: E402
+from tui.screens.main import MainScreen, cached_experiment  # noqa: E402
+from tui.widgets.torque_plot import TorquePlot  # noqa: E402
 
 PRESSES = 200
 RUNS = 3
@@ -167,7 +167,7 @@ def reference_workload_ms() -> float:
     from jointid.experiment import run_experiment
     from jointid.settings import DEFAULT_SETTINGS
     from jointid.present.charts import training_chart
-    from tui.charts import draw_torque_chart
+    from tui.widgets.charts import draw_torque_chart
 
     data, figure, times = training_chart(run_experiment(DEFAULT_SETTINGS)), third_party.new_figure(), []
     for _ in range(60):

@@ -8,9 +8,9 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from tui.main_screen import MainScreen
-from tui.footer import KeyEntry, KeyFooter, footer_line
-from tui.stepper import Stepper
+from tui.screens.main import MainScreen
+from tui.widgets.footer import KeyEntry, KeyFooter, footer_line
+from tui.widgets.stepper import Stepper
 from tui_support import make_app
 
 

@@ -18,8 +18,8 @@ from plotext import _utility as plotext_utility
 from jointid.cli.version import version_text
 from tui import plotext_speedups, third_party
 from tui.controls import NOISE_RANGE
-from tui.stepper import Stepper
-from tui.torque_plot import TorquePlot
+from tui.widgets.stepper import Stepper
+from tui.widgets.torque_plot import TorquePlot
 from tui_support import make_app
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -51,7 +51,7 @@ def test_importing_the_app_patches_nothing():
     code = (
         "import json, plotext._utility as u, plotext._matrix as m\n"
         "before = [u.hd_group, u.join, m.matrix_class.set_matrices]\n"
-        "import tui.torque_plot, tui.charts, tui.stepper, tui.app\n"
+        "import tui.widgets.torque_plot, tui.widgets.charts, tui.widgets.stepper, tui.app\n"
         "from tui import third_party\n"
         "after = [u.hd_group, u.join, m.matrix_class.set_matrices]\n"
         "print(json.dumps([all(a is b for a, b in zip(before, after)),\n"

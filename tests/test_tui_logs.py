@@ -18,13 +18,13 @@ from test_cli_csv import CORPUS, HEADER, good_rows
 from jointid import logfit
 from jointid.present import charts
 from tui.app import JointIdApp
-from tui.main_screen import MainScreen
-from tui.direct_controls import ChoiceList
-from tui.main_screen import FROM_LOG
+from tui.screens.main import MainScreen
+from tui.widgets.direct_controls import ChoiceList
+from tui.screens.main import FROM_LOG
 from jointid.logfit import HELDOUT, LoadRequest
 from jointid.present.charts import ordinal
-from tui.readouts import ReadoutPanel
-from tui.stepper import Stepper
+from tui.widgets.readouts import ReadoutPanel
+from tui.widgets.stepper import Stepper
 from tui_support import displayed_readouts, make_app
 
 SIZE = (120, 40)

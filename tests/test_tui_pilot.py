@@ -13,12 +13,12 @@ from jointid.present.readouts import readouts
 from jointid.motions import TRAINING_MOTIONS
 from jointid.settings import DEFAULT_SETTINGS, SEED_LIMITS, Settings
 from tui.controls import NOISE_RANGE, SAMPLES_RANGE, SEED_RANGE
-from tui.main_screen import MIN_SIZE, MOTION_KEYS, MainScreen
-from tui.charts import TorqueChart
+from tui.screens.main import MIN_SIZE, MOTION_KEYS, MainScreen
+from tui.widgets.charts import TorqueChart
 from tui.commands import TOUR, tour_title
-from tui.direct_controls import ChoiceList
-from tui.readouts import ReadoutPanel
-from tui.stepper import Stepper
+from tui.widgets.direct_controls import ChoiceList
+from tui.widgets.readouts import ReadoutPanel
+from tui.widgets.stepper import Stepper
 from tui_support import make_app
 
 SIZE = (120, 40)

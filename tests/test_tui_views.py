@@ -12,16 +12,16 @@ from jointid.cross_excitation import cross_excitation
 from jointid.experiment import run_experiment
 from jointid.residuals import AXES, AXIS_NOTES, residual_data
 from jointid.sweep import SweepCancelled, run_sweep
-from tui import sweep_screen
-from tui.main_screen import MainScreen
+from tui.screens import sweep as sweep_screen
+from tui.screens.main import MainScreen
 from jointid.present.tables import matrix_table
-from tui.matrix_screen import MatrixScreen
-from tui.small_plots import SmallPlot
-from tui.readouts import ReadoutPanel
-from tui.residual_screen import AXIS_KEYS, ResidualScreen
-from tui.stepper import Stepper
+from tui.screens.matrix import MatrixScreen
+from tui.widgets.small_plots import SmallPlot
+from tui.widgets.readouts import ReadoutPanel
+from tui.screens.residuals import AXIS_KEYS, ResidualScreen
+from tui.widgets.stepper import Stepper
 from jointid.present.tables import sweep_table as statistics_table
-from tui.sweep_screen import SweepScreen
+from tui.screens.sweep import SweepScreen
 from tui_support import CANONICAL_STATES, READOUTS_DIR, make_app
 
 SLOW = CANONICAL_STATES["slow_0.20"]
@@ -140,7 +140,7 @@ def test_view_keys_are_in_the_palette_too(key, titles):
 
 
 def test_help_lists_the_view_keys():
-    from tui.help import help_markdown
+    from tui.screens.help import help_markdown
 
     help_text = help_markdown(MainScreen.BINDINGS)
     for phrase in ("`s`", "`m`", "`e`", "Seed sweep", "Cross-excitation", "Residuals"):

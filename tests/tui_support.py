@@ -7,9 +7,9 @@ from pathlib import Path
 
 from jointid.settings import DEFAULT_SETTINGS, Settings
 from tui.app import JointIdApp
-from tui.main_screen import MainScreen
+from tui.screens.main import MainScreen
 from tui.commands import TOUR
-from tui.readouts import ReadoutPanel
+from tui.widgets.readouts import ReadoutPanel
 
 THEME = "textual-dark"
 """Fixed theme for every snapshot."""

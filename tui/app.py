@@ -16,7 +16,7 @@ from jointid.settings import DEFAULT_SETTINGS, Settings
 
 from .commands import TourCommands
 from . import third_party
-from .main_screen import MainScreen
+from .screens.main import MainScreen
 
 if TYPE_CHECKING:  # the log reader is imported only when a log is opened
     from jointid.logfit import LoadedLogs

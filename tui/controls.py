@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from jointid.settings import SEED_LIMITS, Settings, SettingsError
 
-from .stepper import StepRange
+from .widgets.stepper import StepRange
 
 NOISE_RANGE = StepRange("noise", 0.0, 1.0, 0.01, 0.1, decimals=2, unit="N m")
 """The explorer's noise control: 0.00 to 1.00 N m (the core allows more; `jointid fit` takes it)."""

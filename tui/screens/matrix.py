@@ -13,12 +13,12 @@ from jointid.cross_excitation import cross_excitation
 from jointid.present.tables import MATRIX_EXPLANATION, matrix_notes, matrix_table, matrix_title
 from jointid.settings import Settings
 
-from .footer import KeyFooter
+from ..widgets.footer import KeyFooter
 
 class MatrixScreen(Screen):
     """The cross-excitation table for the current noise, samples and seed."""
 
-    CSS_PATH = Path(__file__).with_name("views.tcss")  # read when first opened, not at start-up
+    CSS_PATH = Path(__file__).parent.parent / "views.tcss"  # read when first opened, not at start-up
 
     BINDINGS = [
         Binding("escape", "back", "Back", tooltip="Return to the explorer"),

@@ -10,11 +10,11 @@ from textual.containers import VerticalScroll
 from textual.screen import Screen
 from textual.widgets import Markdown
 
-from .controls import NOISE_RANGE, SAMPLES_RANGE, SEED_RANGE
-from .footer import KeyFooter
-from .stepper import Stepper
+from ..controls import NOISE_RANGE, SAMPLES_RANGE, SEED_RANGE
+from ..widgets.footer import KeyFooter
+from ..widgets.stepper import Stepper
 
-HELP_FILE = Path(__file__).with_name("help.md")
+HELP_FILE = Path(__file__).parent.parent / "help.md"
 """Markdown source of the help text; `{keys}` and the ranges are filled in from the code."""
 
 
@@ -43,7 +43,7 @@ def help_markdown(bindings: list[Binding]) -> str:
 class HelpScreen(Screen):
     """Scrollable help; Escape (or ?, q) closes it."""
 
-    CSS_PATH = Path(__file__).with_name("views.tcss")  # read when first opened, not at start-up
+    CSS_PATH = Path(__file__).parent.parent / "views.tcss"  # read when first opened, not at start-up
 
     BINDINGS = [
         Binding("escape", "close", "Close help"),

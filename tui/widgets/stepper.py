@@ -11,7 +11,7 @@ from textual.widgets import Input
 
 from jointid.settings import SettingsError, parse_setting
 
-from .third_party import RepaintOnValue
+from ..third_party import RepaintOnValue
 
 
 NUMBER_CHARACTERS = frozenset("0123456789.+-eE")
@@ -79,7 +79,7 @@ class Stepper(RepaintOnValue, Input):
     Typed text is committed with Enter or when focus leaves; invalid text is
     refused with a notification and the previous value is kept. A new value is
     handed to the owner's `on_commit` callback (the explorer's one convention for
-    widgets reporting up: see tui/direct_controls.py for the measured reason);
+    widgets reporting up: see tui/widgets/direct_controls.py for the measured reason);
     the owner, holding the one copy of the state, shows it with `show_value`.
     """
 

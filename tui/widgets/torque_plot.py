@@ -8,7 +8,7 @@ from typing import Callable, Hashable
 from textual.strip import Strip
 from textual_plotext import PlotextPlot
 
-from . import third_party
+from .. import third_party
 
 
 class TorquePlot(PlotextPlot):

@@ -20,9 +20,9 @@ from jointid.present.text import settings_header
 from jointid.settings import Settings, SettingsError
 from jointid.sweep import DEFAULT_SEED_COUNT, SweepCancelled, SweepResult, run_sweep
 
-from .footer import KeyFooter
-from .small_plots import SmallPlot
-from .stepper import StepRange, Stepper
+from ..widgets.footer import KeyFooter
+from ..widgets.small_plots import SmallPlot
+from ..widgets.stepper import StepRange, Stepper
 
 EXPLORER_SEED_COUNT_LIMITS = (1, 100_000)
 """Seeds the view accepts (the core allows more): a 100,000-seed sweep still finishes in about a second."""
@@ -60,7 +60,7 @@ def chunk_size(seed_count: int) -> int:
 class SweepScreen(Screen):
     """Seed sweep of the current experiment, run in a worker thread with progress and cancel."""
 
-    CSS_PATH = Path(__file__).with_name("views.tcss")  # read when first opened, not at start-up
+    CSS_PATH = Path(__file__).parent.parent / "views.tcss"  # read when first opened, not at start-up
 
     BINDINGS = [
         # Priority: the seed-count field has focus and would otherwise take Escape.

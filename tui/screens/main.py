@@ -33,13 +33,13 @@ from jointid.present.readouts import precision, readouts
 from jointid.present.status import log_status
 from jointid.settings import DEFAULT_SETTINGS, Settings
 
-from .charts import TorqueChart
-from .controls import FIELD_LABELS, STEP_RANGES
-from .direct_controls import ActionButton, ChoiceList
-from .fitting import FittingLine
-from .footer import KeyFooter
-from .readouts import ReadoutPanel
-from .stepper import Stepper
+from ..widgets.charts import TorqueChart
+from ..controls import FIELD_LABELS, STEP_RANGES
+from ..widgets.direct_controls import ActionButton, ChoiceList
+from ..widgets.fitting import FittingLine
+from ..widgets.footer import KeyFooter
+from ..widgets.readouts import ReadoutPanel
+from ..widgets.stepper import Stepper
 
 # The log reader, file dialog, progress dialog and export are imported when first used:
 # the explorer's first frame needs none of them (about 15 ms of start-up).
@@ -297,7 +297,7 @@ class MainScreen(Screen):
         """Open the seed-sweep view for the current settings."""
         if self.needs_synthetic("The seed sweep"):
             return
-        from .sweep_screen import SweepScreen
+        from .sweep import SweepScreen
 
         self.app.push_screen(SweepScreen(self.settings))
 
@@ -305,13 +305,13 @@ class MainScreen(Screen):
         """Open the cross-excitation view for the current noise, samples and seed."""
         if self.needs_synthetic("The cross-excitation matrix"):
             return
-        from .matrix_screen import MatrixScreen
+        from .matrix import MatrixScreen
 
         self.app.push_screen(MatrixScreen(self.settings))
 
     def action_residuals(self) -> None:
         """Open the residual view of the current fit."""
-        from .residual_screen import ResidualScreen
+        from .residuals import ResidualScreen
 
         from jointid.present.text import settings_header
 
@@ -347,7 +347,7 @@ class MainScreen(Screen):
 
     def action_open_log(self) -> None:
         """Choose a training or held-out log to load."""
-        from .file_dialog import OpenLogScreen
+        from .open_log import OpenLogScreen
 
         folder = os.path.dirname(os.path.abspath(self.logs.training.path)) if self.logs else None
         self.app.push_screen(OpenLogScreen(folder, heldout_allowed=self.logs is not None,

@@ -14,8 +14,8 @@ from jointid.fit import FitResult
 from jointid.present.charts import residual_scatter, residual_summary
 from jointid.residuals import AXES, AXIS_LABELS, residual_data
 
-from .footer import KeyFooter
-from .small_plots import SmallPlot
+from ..widgets.footer import KeyFooter
+from ..widgets.small_plots import SmallPlot
 
 AXIS_KEYS = {axis: str(number) for number, axis in enumerate(AXES, start=1)}
 """Key per axis: 1 time, 2 angle q, 3 velocity qd, 4 acceleration qdd."""
@@ -24,7 +24,7 @@ AXIS_KEYS = {axis: str(number) for number, axis in enumerate(AXES, start=1)}
 class ResidualScreen(Screen):
     """Training residuals of the current fit against a switchable axis."""
 
-    CSS_PATH = Path(__file__).with_name("views.tcss")  # read when first opened, not at start-up
+    CSS_PATH = Path(__file__).parent.parent / "views.tcss"  # read when first opened, not at start-up
 
     BINDINGS = [
         Binding("escape", "back", "Back", tooltip="Return to the explorer"),

@@ -13,7 +13,7 @@ from textual.widgets import DirectoryTree, Input, Label, RadioSet, Static
 
 from jointid.derivatives import DEFAULT_ORDER, DEFAULT_WINDOW
 
-from .marks import ClearCheckbox, ClearRadioButton
+from ..widgets.marks import ClearCheckbox, ClearRadioButton
 from jointid.logfit import HELDOUT, TRAINING, LoadRequest
 
 

@@ -1,0 +1,1 @@
+"""The explorer's screens: the main screen, the analysis views, help and the dialogs."""
