@@ -69,10 +69,6 @@ class LoadedLogs:
         """The loaders' notes (ignored columns, estimated derivatives), training log first."""
         return tuple(note for log in self.logs for note in log.notes)
 
-    def refit(self, model: JointModel) -> LoadedLogs:
-        """The same logs fitted with another model."""
-        return fit_logs(self.training, self.heldout, model)
-
 
 def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointModel = PLAIN) -> LoadedLogs:
     """Fit the training log and score it on the held-out log's measured torques."""

@@ -43,9 +43,8 @@ class Term:
     """Plain-language name (e.g. 'inertia')."""
     unit: str
     """SI unit of the parameter."""
-    formula: str
-    """The term as written in the model, e.g. 'I*qdd'."""
     column: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]
+    """The regressor column from (N,) arrays q, qd, qdd, e.g. qdd for the inertia."""
     sign: str | None
     """POSITIVE, NONNEGATIVE, or None for no sign rule."""
     invisible_when: str
@@ -78,13 +77,13 @@ class Term:
         return np.zeros(values.shape, dtype=bool)
 
 
-INERTIA = Term("I", "inertia", "kg m²", "I*qdd", lambda q, qd, qdd: qdd, POSITIVE, "no acceleration")
-MASS_MOMENT = Term("h", "mass moment", "kg m", "h*g*cos(q)", lambda q, qd, qdd: G * np.cos(q), NONNEGATIVE,
+INERTIA = Term("I", "inertia", "kg m²", lambda q, qd, qdd: qdd, POSITIVE, "no acceleration")
+MASS_MOMENT = Term("h", "mass moment", "kg m", lambda q, qd, qdd: G * np.cos(q), NONNEGATIVE,
                    "no gravity torque")
-DAMPING = Term("B", "damping", "N m s/rad", "B*qd", lambda q, qd, qdd: qd, NONNEGATIVE, "no velocity")
-COULOMB = Term("Fc", "Coulomb friction", "N m", "Fc*sign(qd)", lambda q, qd, qdd: np.sign(qd), NONNEGATIVE,
+DAMPING = Term("B", "damping", "N m s/rad", lambda q, qd, qdd: qd, NONNEGATIVE, "no velocity")
+COULOMB = Term("Fc", "Coulomb friction", "N m", lambda q, qd, qdd: np.sign(qd), NONNEGATIVE,
                "no velocity")
-BIAS = Term("tau0", "torque bias", "N m", "tau0", lambda q, qd, qdd: np.ones_like(q), None,
+BIAS = Term("tau0", "torque bias", "N m", lambda q, qd, qdd: np.ones_like(q), None,
             "no samples")
 
 
@@ -104,11 +103,6 @@ class JointModel:
     def size(self) -> int:
         """p, the number of parameters."""
         return len(self.terms)
-
-    @property
-    def formula(self) -> str:
-        """The model as an equation, e.g. 'tau = I*qdd + h*g*cos(q) + B*qd'."""
-        return "tau = " + " + ".join(term.formula for term in self.terms)
 
     def term(self, name: str) -> Term:
         """The term with symbol `name`."""

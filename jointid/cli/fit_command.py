@@ -19,7 +19,7 @@ def add_parser(subparsers) -> None:
     """Attach the `fit` subcommand."""
     parser = subparsers.add_parser(
         NAME,
-        help="fit I, h, B to one experiment and print every readout",
+        help="fit a joint model (I, h, B and any --model terms) to one experiment or log",
         description="Fit I (kg m²), h (kg m) and B (N m s/rad) (and any extra terms of --model) by "
         "column-scaled, pivoted Householder least squares; report the rank, the fit, training RMSE "
         "against the noisy torques and held-out RMSE on 16 noiseless states of a separate motion.",
