@@ -77,17 +77,18 @@ class CrossExcitationTable:
         )
 
 
-def prediction_data(motion: str, samples: int) -> JointData:
-    """Noiseless states and torque of a motion: 16 validation states for `test`, else `samples`."""
+def prediction_data(motion: str, settings: Settings) -> JointData:
+    """Noiseless states and torque of a motion on the settings' joint: 16 validation states for `test`,
+    else the settings' sample count."""
     if motion == VALIDATION_MOTION.name:
-        return validation_data()
-    return training_data(Settings(motion=motion, noise=0.0, samples=samples))
+        return validation_data(settings.true_joint)
+    return training_data(replace(settings, motion=motion, noise=0.0))
 
 
 def cross_excitation(settings: Settings) -> CrossExcitationTable:
     """Fit each training motion at the settings' noise, samples and seed, and predict every motion."""
     model = settings.joint_model
-    targets = {motion: prediction_data(motion, settings.samples) for motion in PREDICTION_MOTIONS}
+    targets = {motion: prediction_data(motion, settings) for motion in PREDICTION_MOTIONS}
     regressors = {motion: model.data_regressor(target) for motion, target in targets.items()}
     rows = []
     for training_motion in TRAINING_MOTIONS:

@@ -6,33 +6,37 @@ from functools import lru_cache
 
 from .dataset import JointData
 from .fit import FitResult, fit_joint
-from .model import TRUE_PARAMETERS, predict_torque
-from .motions import TRAINING_MOTIONS, VALIDATION_MOTION, VALIDATION_SAMPLES, sample_times
+from .motions import TRAINING_MOTIONS, VALIDATION_MOTION, VALIDATION_SAMPLES, Motion, sample_times
 from .noise import torque_noise
 from .settings import Settings
+from .truth import LESSON_JOINT, TrueJoint
+
+
+def measured_states(motion: Motion, count: int, joint: TrueJoint) -> JointData:
+    """A motion sampled at `count` instants over 0..8 s as the joint's sensors report it, without noise."""
+    states = motion.states(sample_times(count))
+    return JointData(t=states.t, q=joint.logged_angle(states.q), qd=states.qd, qdd=states.qdd,
+                     tau=joint.measured_torque(states.q, states.qd, states.qdd))
 
 
 def training_data(settings: Settings) -> JointData:
-    """Training states of the chosen motion with the true joint's torque plus seeded bounded noise."""
-    states = TRAINING_MOTIONS[settings.motion].states(sample_times(settings.samples))
-    exact = predict_torque(states.q, states.qd, states.qdd, TRUE_PARAMETERS)
-    measured = exact + torque_noise(settings.noise, settings.samples, settings.seed)
-    return JointData(t=states.t, q=states.q, qd=states.qd, qdd=states.qdd, tau=measured)
+    """Training states of the chosen motion with the true joint's measured torque plus seeded bounded noise."""
+    exact = measured_states(TRAINING_MOTIONS[settings.motion], settings.samples, settings.true_joint)
+    noisy = exact.tau + torque_noise(settings.noise, settings.samples, settings.seed)
+    return JointData(t=exact.t, q=exact.q, qd=exact.qd, qdd=exact.qdd, tau=noisy)
 
 
-@lru_cache(maxsize=1)
-def validation_data() -> JointData:
-    """The 16 held-out states of the validation motion with the true joint's noiseless torque."""
-    states = VALIDATION_MOTION.states(sample_times(VALIDATION_SAMPLES))
-    exact = predict_torque(states.q, states.qd, states.qdd, TRUE_PARAMETERS)
-    return JointData(t=states.t, q=states.q, qd=states.qd, qdd=states.qdd, tau=exact)
+@lru_cache(maxsize=8)
+def validation_data(joint: TrueJoint = LESSON_JOINT) -> JointData:
+    """The 16 held-out states of the validation motion with the joint's noiseless measured torque."""
+    return measured_states(VALIDATION_MOTION, VALIDATION_SAMPLES, joint)
 
 
 def run_experiment(settings: Settings = Settings()) -> FitResult:
     """Generate training data for `settings`, fit its model and predict the validation motion."""
     return fit_joint(
         training_data(settings),
-        validation_data(),
+        validation_data(settings.true_joint),
         model=settings.joint_model,
         heldout_is_noiseless=True,
         noise_bound=settings.noise,

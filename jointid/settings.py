@@ -1,4 +1,9 @@
-"""The settings of a synthetic experiment (motion, noise, samples, seed, fitted model), their ranges and parsing."""
+"""The settings of a synthetic experiment, their ranges and their parsing.
+
+Motion, noise, samples and seed describe the lesson's experiment; `model`
+names the fitted model; the `true_*` settings add physics the plain model
+cannot see to the synthetic joint (all zero by default).
+"""
 
 from __future__ import annotations
 
@@ -7,6 +12,7 @@ from dataclasses import dataclass
 
 from .model import ModelError, describe_models, model_named
 from .motions import TRAINING_MOTIONS
+from .truth import ANGLE_OFFSET_LIMITS, BIAS_LIMITS, COULOMB_LIMITS, TrueJoint
 
 NOISE_LIMITS = (0.0, 100.0)
 """Allowed torque noise bound (N m)."""
@@ -14,6 +20,14 @@ SAMPLES_LIMITS = (2, 10_000_000)
 """Allowed number of training samples."""
 SEED_LIMITS = (0, 2**32 - 1)
 """Allowed noise seed."""
+
+REAL_SETTINGS = {
+    "noise": (NOISE_LIMITS, "N m"),
+    "true_coulomb": (COULOMB_LIMITS, "N m"),
+    "true_bias": (BIAS_LIMITS, "N m"),
+    "true_angle_offset": (ANGLE_OFFSET_LIMITS, "rad"),
+}
+"""The settings that are real numbers: their (low, high) limits and unit."""
 
 
 class SettingsError(ValueError):
@@ -34,6 +48,12 @@ class Settings:
     seed: int = 7
     model: str = "plain"
     """The fitted model's name ('plain', 'bias', 'coulomb+bias', ...; see jointid.model)."""
+    true_coulomb: float = 0.0
+    """Coulomb friction FC (N m) of the synthetic joint: it adds FC*sign(qd)."""
+    true_bias: float = 0.0
+    """Torque sensor bias TAU0 (N m): every reading is TAU0 too much."""
+    true_angle_offset: float = 0.0
+    """Encoder offset Q0 (rad): the logged angle is q_true - Q0."""
 
     def __post_init__(self):
         for field in FIELDS:
@@ -44,8 +64,13 @@ class Settings:
         """The JointModel that `model` names."""
         return model_named(self.model)
 
+    @property
+    def true_joint(self) -> TrueJoint:
+        """The synthetic joint with these settings' missing physics."""
+        return TrueJoint(coulomb=self.true_coulomb, bias=self.true_bias, angle_offset=self.true_angle_offset)
 
-FIELDS = ("motion", "noise", "samples", "seed", "model")
+
+FIELDS = ("motion", "noise", "samples", "seed", "model", "true_coulomb", "true_bias", "true_angle_offset")
 """Every setting, in display order."""
 
 
@@ -55,9 +80,9 @@ def describe_range(field: str) -> str:
         return "one of " + ", ".join(TRAINING_MOTIONS)
     if field == "model":
         return describe_models()
-    if field == "noise":
-        low, high = NOISE_LIMITS
-        return f"a number from {low:g} to {high:g} (N m)"
+    if field in REAL_SETTINGS:
+        (low, high), unit = REAL_SETTINGS[field]
+        return f"a number from {low:g} to {high:g} ({unit})"
     low, high = SAMPLES_LIMITS if field == "samples" else SEED_LIMITS
     return f"a whole number from {low} to {high}"
 
@@ -72,9 +97,10 @@ def check_setting(field: str, value) -> None:
         except ModelError as error:
             raise SettingsError(field, str(error)) from None
         ok = True
-    elif field == "noise":
+    elif field in REAL_SETTINGS:
+        (low, high), _ = REAL_SETTINGS[field]
         ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
-        ok = ok and NOISE_LIMITS[0] <= value <= NOISE_LIMITS[1]
+        ok = ok and low <= value <= high
     elif field in ("samples", "seed"):
         low, high = SAMPLES_LIMITS if field == "samples" else SEED_LIMITS
         ok = isinstance(value, int) and not isinstance(value, bool) and low <= value <= high
@@ -90,7 +116,7 @@ def parse_setting(field: str, text: str):
     try:
         if field in ("motion", "model"):
             value = text.lower()
-        elif field == "noise":
+        elif field in REAL_SETTINGS:
             value = float(text)
         else:
             value = int(text)

@@ -179,7 +179,7 @@ def run_sweep(
     truth = training_data(replace(settings, noise=0.0))
     model = settings.joint_model
     regressor, exact = model.data_regressor(truth), truth.tau
-    validation = validation_data()
+    validation = validation_data(settings.true_joint)
     validation_regressor = model.data_regressor(validation)
     base = solve_least_squares(regressor, exact)
     uncertainty = parameter_uncertainty(base, settings.noise)

@@ -8,7 +8,7 @@ import sys
 
 from ..model import describe_models
 from ..motions import TRAINING_MOTIONS
-from ..settings import DEFAULT_SETTINGS, Settings, SettingsError, parse_setting
+from ..settings import DEFAULT_SETTINGS, FIELDS, Settings, SettingsError, parse_setting
 
 
 class UserError(Exception):
@@ -84,7 +84,7 @@ def add_model_argument(parser: argparse.ArgumentParser) -> None:
 
 
 def add_settings_arguments(parser: argparse.ArgumentParser) -> None:
-    """Add --motion, --noise, --samples and --seed with the lesson's defaults."""
+    """Add --motion, --noise, --samples, --seed and the synthetic joint's --true-* physics, with the lesson's defaults."""
     defaults = DEFAULT_SETTINGS
     flags = {
         "motion": (
@@ -98,10 +98,16 @@ def add_settings_arguments(parser: argparse.ArgumentParser) -> None:
         ),
         "samples": ("N", f"training samples over 0..8 s, 2 to 10000000; default {defaults.samples}"),
         "seed": ("S", f"noise seed, 0 to 4294967295; default {defaults.seed}"),
+        "true_coulomb": ("FC", "the synthetic joint's Coulomb friction: it adds FC*sign(qd), 0 to 10 N m; "
+                               "default 0"),
+        "true_bias": ("TAU0", "the torque sensor reads TAU0 too much on every sample, -10 to 10 N m; default 0"),
+        "true_angle_offset": ("Q0", "the encoder's zero is off: the logged angle is q_true - Q0, -0.5 to 0.5 rad; "
+                                    "default 0"),
     }
     for field, (metavar, help_text) in flags.items():
         parser.add_argument(
-            f"--{field}",
+            f"--{field.replace('_', '-')}",
+            dest=field,
             type=setting_type(field),
             default=getattr(defaults, field),
             metavar=metavar,
@@ -110,6 +116,5 @@ def add_settings_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def settings_from(args: argparse.Namespace) -> Settings:
-    """The Settings named by parsed --motion/--noise/--samples/--seed/--model arguments."""
-    return Settings(motion=args.motion, noise=args.noise, samples=args.samples, seed=args.seed,
-                    model=getattr(args, "model", DEFAULT_SETTINGS.model))
+    """The Settings named by the parsed synthetic-setting arguments (and --model, where the command has it)."""
+    return Settings(**{field: getattr(args, field, getattr(DEFAULT_SETTINGS, field)) for field in FIELDS})

@@ -1,6 +1,6 @@
 """`jointid fit --csv`: the options and the run for fitting CSV joint logs.
 
-Synthetic settings (--motion, --noise, --samples, --seed) describe generated
+Synthetic settings (--motion, --noise, --samples, --seed, --true-*) describe generated
 data, so they cannot apply to a log: giving them with --csv is an error (one
 line, exit 2) rather than something silently ignored. To tell a flag the user
 typed from its default, `fit` parses them with default None and fills the
@@ -20,7 +20,7 @@ from ..present.readouts import readouts_text, uncertainty_text
 from ..settings import DEFAULT_SETTINGS
 from .arguments import UserError, whole_number
 
-SETTING_FLAGS = ("motion", "noise", "samples", "seed")
+SETTING_FLAGS = ("motion", "noise", "samples", "seed", "true_coulomb", "true_bias", "true_angle_offset")
 """Synthetic-experiment options that a log fit rejects."""
 
 LOG_ONLY_FLAGS = ("heldout", "degrees", "window", "order")
@@ -31,8 +31,8 @@ def add_log_arguments(parser: argparse.ArgumentParser) -> None:
     """Add --csv, --heldout, --degrees, --window and --order, and make setting flags detectable."""
     group = parser.add_argument_group(
         "joint logs (CSV: t, q, qd, qdd, tau by header name)",
-        "Fit a logged joint instead of a synthetic experiment; --motion, --noise, --samples and --seed "
-        "describe synthetic data and are refused with --csv.",
+        "Fit a logged joint instead of a synthetic experiment; --motion, --noise, --samples, --seed and "
+        "--true-* describe synthetic data and are refused with --csv.",
     )
     group.add_argument("--csv", metavar="TRAIN.csv", help="fit this log instead of a synthetic experiment")
     group.add_argument("--heldout", metavar="TEST.csv",
@@ -70,7 +70,7 @@ def derivative_options(args: argparse.Namespace) -> tuple[int, int]:
 
 def load_logs(args: argparse.Namespace) -> tuple[JointLog, JointLog | None]:
     """The --csv and --heldout logs, after checking the options; UserError (one line) on any problem."""
-    given = [f"--{name}" for name in SETTING_FLAGS if getattr(args, name) is not None]
+    given = [f"--{name.replace('_', '-')}" for name in SETTING_FLAGS if getattr(args, name) is not None]
     if given:
         raise UserError(f"synthetic settings ({', '.join(given)}) cannot apply to a --csv log; drop them")
     window, order = derivative_options(args)

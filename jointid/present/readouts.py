@@ -59,9 +59,11 @@ def readouts(result: FitResult) -> tuple[Readout, ...]:
 
 def readouts_text(result: FitResult) -> str:
     """Every readout on its own line, label padded, then the status sentence."""
+    items = readouts(result)
+    width = max(28, *(len(r.label) + 1 for r in items))  # other models' labels may be longer
     lines = [
-        f"{r.label:<28}{r.text:>12}" + (f"  fails {r.failed_requirement}" if r.sign_failure else "")
-        for r in readouts(result)
+        f"{r.label:<{width}}{r.text:>12}" + (f"  fails {r.failed_requirement}" if r.sign_failure else "")
+        for r in items
     ]
     return "\n".join(lines) + "\n\n" + result.message
 

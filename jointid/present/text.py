@@ -55,4 +55,12 @@ def settings_header(settings: Settings, *, motion: bool = True, seeds: str | Non
               seeds or f"seed {settings.seed}"]
     if settings.model != Settings.model:  # the lesson's texts stay as they were
         parts.append(f"model {settings.model}")
-    return ", ".join(parts)
+    return ", ".join(parts + missing_physics(settings))
+
+
+def missing_physics(settings: Settings) -> list[str]:
+    """The synthetic joint's effects beyond the plain model, e.g. ['true Coulomb friction 0.3 N m'] ([] for none)."""
+    joint = settings.true_joint
+    named = [("Coulomb friction", joint.coulomb, "N m"), ("sensor bias", joint.bias, "N m"),
+             ("encoder offset", joint.angle_offset, "rad")]
+    return [f"true {name} {value:g} {unit}" for name, value, unit in named if value]
