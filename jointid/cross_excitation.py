@@ -99,7 +99,7 @@ def cross_excitation(settings: Settings) -> CrossExcitationTable:
                 prediction_motion=motion,
                 rmse=None
                 if fit.estimate is None
-                else rms(fitted_torque(regressors[motion], fit.estimate) - target.tau),
+                else rms(fitted_torque(regressors[motion], fit.column_estimate) - target.tau),
                 is_training_data=motion == training_motion,
             )
             for motion, target in targets.items()

@@ -45,21 +45,29 @@ class FitResult:
         return self.solution.column_count
 
     @property
-    def estimate(self) -> np.ndarray | None:
-        """(p,) Fitted parameters in the model's term order, or None when the rank is deficient."""
+    def column_estimate(self) -> np.ndarray | None:
+        """(p,) Fitted coefficients of the regressor's columns, or None when the rank is deficient."""
         return self.solution.estimate
+
+    @cached_property
+    def estimate(self) -> np.ndarray | None:
+        """(p,) Fitted parameters as the model reports them (its `names`), or None when the rank is deficient.
+
+        The same as `column_estimate` except for an angle offset's h and q0.
+        """
+        return None if self.column_estimate is None else self.model.report(self.column_estimate)
 
     @cached_property
     def training_predictions(self) -> np.ndarray | None:
         """(N,) Fitted torque at the training states, or None without a unique fit."""
-        return None if self.estimate is None else fitted_torque(self.training_regressor, self.estimate)
+        return None if self.estimate is None else fitted_torque(self.training_regressor, self.column_estimate)
 
     @cached_property
     def heldout_predictions(self) -> np.ndarray | None:
         """(M,) Fitted torque at the held-out states, or None."""
         if self.estimate is None or self.heldout is None:
             return None
-        return fitted_torque(self.model.data_regressor(self.heldout), self.estimate)
+        return fitted_torque(self.model.data_regressor(self.heldout), self.column_estimate)
 
     @cached_property
     def training_rmse(self) -> float | None:
@@ -93,12 +101,12 @@ class FitResult:
     @cached_property
     def uncertainty(self) -> ParameterUncertainty | None:
         """Standard errors, intervals and verdicts per parameter, or None without a unique fit."""
-        return parameter_uncertainty(self.solution, self.noise_bound)
+        return parameter_uncertainty(self.solution, self.noise_bound, self.model)
 
     @cached_property
     def identifiable(self) -> IdentifiableSubset:
         """The parameters the training data determine on their own, at any rank."""
-        return identifiable_subset(self.solution, self.model.names)
+        return identifiable_subset(self.solution, self.model.column_names)
 
     @property
     def condition_number(self) -> float:

@@ -61,7 +61,7 @@ class ResidualData:
 def residual_data(result: FitResult) -> ResidualData:
     """The training residuals of a fit, with their time, angle, velocity and acceleration."""
     data = result.training
-    theta = result.estimate if result.estimate is not None else result.solution.basic_estimate
+    theta = result.column_estimate if result.column_estimate is not None else result.solution.basic_estimate
     residuals = data.tau - fitted_torque(result.training_regressor, theta)
     axes = {"t": data.time_axis, "q": data.q, "qd": data.qd, "qdd": data.qdd}
     return ResidualData(

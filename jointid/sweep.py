@@ -182,7 +182,7 @@ def run_sweep(
     validation = validation_data(settings.true_joint)
     validation_regressor = model.data_regressor(validation)
     base = solve_least_squares(regressor, exact)
-    uncertainty = parameter_uncertainty(base, settings.noise)
+    uncertainty = parameter_uncertainty(base, settings.noise, model)
     result = SweepResult(
         settings=settings,
         seeds=seeds,
@@ -207,7 +207,7 @@ def run_sweep(
         stop = min(start + step, seed_count)
         measured = exact + torque_noise(settings.noise, settings.samples, seeds[start:stop])  # (k, N)
         theta = solve_least_squares(regressor, measured.T).estimate  # (p, k)
-        estimates[:, start:stop] = theta
+        estimates[:, start:stop] = model.report(theta)
         training_rmse[start:stop] = _row_rms(fitted_torque(regressor, theta) - measured)
         heldout_rmse[start:stop] = _row_rms(fitted_torque(validation_regressor, theta) - validation.tau)
         if progress is not None:

@@ -63,6 +63,12 @@ class TrueJoint:
         q_true = np.asarray(q_true, dtype=float)
         return q_true - self.angle_offset if self.angle_offset else q_true
 
+    def values_for(self, model) -> np.ndarray:
+        """(p,) This joint's value of each of a model's reported parameters (a JointModel's `names`)."""
+        values = {"I": self.inertia, "h": self.mass_moment, "B": self.damping, "Fc": self.coulomb,
+                  "tau0": self.bias, "q0": self.angle_offset}
+        return np.array([values[name] for name in model.names])
+
     def description(self) -> str:
         """The joint as one short line, naming only the effects present."""
         parts = [f"I = {self.inertia:g} kg m²", f"h = {self.mass_moment:g} kg m", f"B = {self.damping:g} N m s/rad"]

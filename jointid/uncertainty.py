@@ -139,14 +139,23 @@ class ParameterUncertainty:
 
 
 def parameter_uncertainty(
-    solution: LeastSquaresSolution, noise_bound: float | None = None
+    solution: LeastSquaresSolution, noise_bound: float | None = None, model=None
 ) -> ParameterUncertainty | None:
-    """Uncertainty of a single-RHS fit's estimate, or None when the rank gives no unique fit."""
+    """Uncertainty of a single-RHS fit's estimate, or None when the rank gives no unique fit.
+
+    With a `model` (jointid.model.JointModel) whose reported parameters differ
+    from its columns (an angle offset's h and q0), the estimate is reported and
+    the covariance factor carried over by the delta method, J (X^T X)^-1 J^T.
+    """
     if solution.estimate is None:
         return None
+    estimate, factor = solution.estimate, covariance_factor(solution)
+    jacobian = None if model is None else model.report_jacobian(estimate)
+    if jacobian is not None:
+        estimate, factor = model.report(estimate), jacobian @ factor @ jacobian.T
     return ParameterUncertainty(
-        estimate=solution.estimate,
-        covariance_factor=covariance_factor(solution),
+        estimate=estimate,
+        covariance_factor=factor,
         residual_norm=float(solution.residual_norm),
         row_count=solution.row_count,
         noise_bound=noise_bound,

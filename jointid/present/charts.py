@@ -156,14 +156,14 @@ def sweep_histograms(sweep: SweepResult) -> list[HistogramData]:
     return [
         HistogramData(
             titles=(
-                f"{term.symbol_with_unit}, {sweep.seed_count} seeds; true {true:g} at │",
-                f"{term.symbol_with_unit}; true {true:g} at │",
-                f"{term.name}; true {true:g} at │",
+                f"{parameter.symbol_with_unit}, {sweep.seed_count} seeds; true {true:g} at │",
+                f"{parameter.symbol_with_unit}; true {true:g} at │",
+                f"{parameter.name}; true {true:g} at │",
             ),
-            values=sweep.values(term.name),
+            values=sweep.values(parameter.name),
             true_value=float(true),
         )
-        for term, true in zip(model.terms, model.true_values())
+        for parameter, true in zip(model.parameters, sweep.settings.true_joint.values_for(model))
     ]
 
 

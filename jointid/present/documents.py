@@ -45,6 +45,19 @@ def settings_object(settings: Settings) -> dict:
     return vars(settings).copy()
 
 
+def column_estimate_object(result: FitResult) -> dict:
+    """{"column_estimate": {"h_c": ..., "h_s": ...}} for a model that reports other parameters than its
+    columns (an angle offset: the raw coefficients behind h and q0); {} otherwise."""
+    offset = result.model.angle_offset
+    if offset is None:
+        return {}
+    estimate = result.column_estimate
+    columns = [result.model.column_names[i] for i in (offset.cosine, offset.sine)]
+    values = None if estimate is None else {name: float(estimate[result.model.column_names.index(name)])
+                                            for name in columns}
+    return {"column_estimate": values}
+
+
 def result_to_dict(result: FitResult) -> dict:
     """The fit as plain JSON-ready values, full float precision, None where unavailable."""
     return {
@@ -52,6 +65,7 @@ def result_to_dict(result: FitResult) -> dict:
         "samples": result.training.count,
         "rank": result.rank,
         "estimate": estimate_object(result),
+        **column_estimate_object(result),
         "training_rmse": result.training_rmse,
         "heldout_rmse": result.heldout_rmse,
         "accel_rms": result.accel_rms,

@@ -41,12 +41,12 @@ def readouts(result: FitResult) -> tuple[Readout, ...]:
         return Readout(key, label, UNAVAILABLE if value is None else format_number(value))
 
     parameters = []
-    for index, term in enumerate(result.model.terms):
+    for index, parameter in enumerate(result.model.parameters):
         if estimate is None:
-            parameters.append(Readout(term.name, term.readout_label, UNAVAILABLE))
+            parameters.append(Readout(parameter.name, parameter.readout_label, UNAVAILABLE))
             continue
-        failed = term.requirement if term.name in result.sign_failures else ""
-        parameters.append(Readout(term.name, term.readout_label, format_number(estimate[index]), failed))
+        failed = parameter.requirement if parameter.name in result.sign_failures else ""
+        parameters.append(Readout(parameter.name, parameter.readout_label, format_number(estimate[index]), failed))
     return (
         Readout("rank", "Regressor rank", f"{result.rank} / {result.parameter_count}"),
         *parameters,
@@ -99,14 +99,16 @@ def parameter_notes(result: FitResult) -> tuple[PrecisionNote, ...]:
     model = result.model
     if uncertainty is None:
         subset = result.identifiable
+        reported = model.report(subset.basic_estimate)
+        zero = dict(zip(model.column_names, subset.zero_columns))
         notes = []
-        for index, term in enumerate(model.terms):
-            name = term.name
-            if name in subset.values:
-                alone = f"{name} = {format_number(subset.values[name])}"
+        for index, parameter in enumerate(model.parameters):
+            name, columns = parameter.name, model.columns_behind(parameter.name)
+            if all(column in subset.values for column in columns):
+                alone = f"{name} = {format_number(reported[index])}"
                 notes.append(PrecisionNote(name, f"{alone}, determined alone", short=f"{alone} determined alone"))
-            elif subset.zero_columns[index]:
-                reason = term.invisible_when
+            elif any(zero[column] for column in columns):
+                reason = parameter.invisible_when
                 notes.append(PrecisionNote(name, f"not determined: {reason}", short=f"{name} unavailable: {reason}"))
             else:
                 notes.append(PrecisionNote(name, "cannot be separated from the others",
@@ -158,8 +160,8 @@ def uncertainty_text(result: FitResult) -> str:
     else:
         errors = uncertainty.verdict_std_error
         basis = uncertainty.verdict_basis
-        for i, term in enumerate(model.terms):
-            label = term.symbol_with_unit
+        for i, parameter in enumerate(model.parameters):
+            label = parameter.symbol_with_unit
             if errors is None:
                 lines.append(f"{label:<17}{format_number(uncertainty.estimate[i]):>11}   no standard error")
                 continue

@@ -53,7 +53,7 @@ def accuracy_sentences(result: FitResult) -> tuple[str, ...]:
         values = ", ".join(f"{name} {format_number(errors[name])}" for name in names)
         plural = "s" if len(names) > 1 else ""
         return (
-            f"{join_words([model.term(name).label for name in names])} {'are' if plural else 'is'}",
+            f"{join_words([model.parameter(name).label for name in names])} {'are' if plural else 'is'}",
             f"({basis} standard error{plural} {values})",
         )
 
@@ -81,7 +81,7 @@ def subset_sentences(result: FitResult) -> tuple[str, ...]:
         own = "its" if len(subset.values) == 1 else "their"
         sentences.append(f"The data still determine {known} on {own} own.")
     free = subset.undetermined
-    zero = [name for name in free if subset.zero_columns[model.names.index(name)]]
+    zero = [name for name in free if subset.zero_columns[model.column_names.index(name)]]
     if zero:
         reasons = join_words(list(dict.fromkeys(model.term(name).invisible_when for name in zero)))
         subject = join_words([model.term(name).label for name in zero])
@@ -138,11 +138,11 @@ def status_message(result: FitResult) -> str:
         parts.append(f"Held-out torque RMSE is {format_number(result.heldout_rmse)} N m{measured}.")
     model = result.model
     for name in result.sign_failures:
-        term = model.term(name)
+        parameter = model.parameter(name)
         value = result.estimate[model.names.index(name)]
         parts.append(
-            f"Fitted {term.label} {format_number(value)} {term.unit} "
-            f"fails this joint model's requirement {term.requirement}."
+            f"Fitted {parameter.label} {format_number(value)} {parameter.unit} "
+            f"fails this joint model's requirement {parameter.requirement}."
         )
     if not result.sign_failures:
         parts.append("Positive parameter signs alone do not establish an accurate physical model.")

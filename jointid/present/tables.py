@@ -43,7 +43,7 @@ def sweep_message(sweep: SweepResult) -> str:
             "the torques), so no seed gives a unique fit and the sweep has no estimates."
         )
     failing = [
-        f"{sweep.model.term(name).label} fails its sign check in {100 * fraction:.1f} % of seeds"
+        f"{sweep.model.parameter(name).label} fails its sign check in {100 * fraction:.1f} % of seeds"
         for name, fraction in sweep.sign_failure_fractions.items()
         if fraction > 0
     ]
@@ -66,14 +66,14 @@ def sweep_table(sweep: SweepResult) -> str:
         return "-" if value is None else format_number(value)
 
     rows = [
-        [cell(value) for value in model.true_values()] + blank_rmse,
+        [cell(value) for value in sweep.settings.true_joint.values_for(model)] + blank_rmse,
         [cell(stats[name].mean) for name in names],
         [cell(stats[name].std) for name in names],
         [cell(value) for value in expected] + blank_rmse,
         [cell(stats[name].p5) for name in names],
         [cell(stats[name].p50) for name in names],
         [cell(stats[name].p95) for name in names],
-        [f"{100 * fractions[name]:.1f} %" if model.term(name).sign else "-" for name in model.names] + blank_rmse,
+        [f"{100 * fractions[name]:.1f} %" if model.parameter(name).sign else "-" for name in model.names] + blank_rmse,
     ]
     header = ["statistic", *model.names, *RMSE_COLUMNS.values()]
     return text_table(header, [[label, *row] for label, row in zip(SWEEP_ROW_LABELS, rows)])
@@ -83,7 +83,7 @@ def sign_failure_line(sweep: SweepResult) -> str:
     """How often any sign check fails, naming the requirements ('' without estimates)."""
     if sweep.sign_failure_fraction is None:
         return ""
-    checks = ", ".join(term.requirement for term in sweep.model.terms if term.requirement)
+    checks = ", ".join(parameter.requirement for parameter in sweep.model.parameters if parameter.requirement)
     return f"Seeds failing a sign check ({checks}): {100 * sweep.sign_failure_fraction:.1f} %."
 
 

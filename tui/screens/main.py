@@ -25,13 +25,14 @@ from textual.widgets import Static
 
 from jointid.experiment import run_experiment
 from jointid.fit import FitResult
-from jointid.model import G
+from jointid.model import PLAIN, G
 from jointid.motions import TRAINING_MOTIONS
 from jointid.present.charts import heldout_chart, training_chart
 from jointid.present.documents import fit_document
 from jointid.present.readouts import precision, readouts
 from jointid.present.status import log_status
 from jointid.settings import DEFAULT_SETTINGS, Settings
+from jointid.truth import LESSON_JOINT, TrueJoint
 
 from ..widgets.charts import TorqueChart
 from ..controls import FIELD_LABELS, STEP_RANGES
@@ -86,21 +87,32 @@ def cached_experiment(settings: Settings) -> FitResult:
     return run_experiment(settings)
 
 
-def known_parameters_text(compact: bool = False) -> str:
+def known_parameters_text(joint: TrueJoint = LESSON_JOINT, compact: bool = False) -> str:
     """The synthetic joint's true parameters and conventions, as shown beside the controls.
 
     Compact: two lines of at most 38 columns, which also give the units of the
-    compact readout rows.
+    compact readout rows, and a third naming any missing physics.
     """
-    from jointid.model import PLAIN
-
-    values = dict(zip(PLAIN.names, PLAIN.true_values()))
-    inertia, mass_moment, damping = (PLAIN.term(name) for name in PLAIN.names)
+    values = dict(zip(PLAIN.names, joint.values_for(PLAIN)))
+    unit = {parameter.name: parameter.unit for parameter in PLAIN.parameters}
+    extras = [f"{name} {value:g} {PHYSICS_UNITS[name]}" for name, value in missing_physics(joint)]
     if compact:
-        return (f"Known: I {values['I']:g} {inertia.unit}, h {values['h']:g} {mass_moment.unit}, g {G:g}\n"
-                f"B {values['B']:g} {damping.unit}; q from +x, ccw")
-    known = ", ".join(f"{term.name} = {values[term.name]:g} {term.unit}" for term in PLAIN.terms)
-    return f"Known joint: {known}, g = {G:g} m/s²; q from +x, counter-clockwise."
+        text = (f"Known: I {values['I']:g} {unit['I']}, h {values['h']:g} {unit['h']}, g {G:g}\n"
+                f"B {values['B']:g} {unit['B']}; q from +x, ccw")
+        return text + (f"\nTrue: {', '.join(extras)}" if extras else "")
+    known = ", ".join(f"{name} = {values[name]:g} {unit[name]}" for name in PLAIN.names)
+    text = f"Known joint: {known}, g = {G:g} m/s²; q from +x, counter-clockwise."
+    return text + (f" Also: {', '.join(extras)}." if extras else "")
+
+
+PHYSICS_UNITS = {"Fc": "N m", "tau0": "N m", "q0": "rad"}
+"""Units of the missing physics, by the symbol the model ladder gives it."""
+
+
+def missing_physics(joint: TrueJoint) -> list[tuple[str, float]]:
+    """(symbol, value) of each effect beyond the plain model that the joint has."""
+    return [(name, value) for name, value in (("Fc", joint.coulomb), ("tau0", joint.bias), ("q0", joint.angle_offset))
+            if value]
 
 
 def log_note(logs: LoadedLogs, compact: bool = False) -> str:
@@ -157,6 +169,7 @@ class MainScreen(Screen):
         """The loaded log and its fit; while set, it is the source shown."""
         self.result: FitResult | None = None
         """The fit on screen, of whichever source is shown."""
+        self._known_joint = settings.true_joint
 
     def compose(self) -> ComposeResult:
         """Side panel with controls and readouts, chart column, too-small message, footer."""
@@ -181,7 +194,7 @@ class MainScreen(Screen):
                     yield ActionButton("Reset", on_press=self.action_reset, id="reset")
                     yield Static(STEPPER_HINT, id="stepper-hint", markup=False)
                 yield Static("", id="log-note", markup=False)
-                yield Static(known_parameters_text(compact), id="known", markup=False)
+                yield Static(known_parameters_text(self.settings.true_joint, compact), id="known", markup=False)
                 yield ReadoutPanel(id="readouts", compact=compact)
             with Vertical(id="charts"):
                 yield TorqueChart(id="training-chart")
@@ -201,7 +214,7 @@ class MainScreen(Screen):
         compact = classes["-compact"]
         switched = compact != self.has_class("-compact")
         if switched:
-            self.query_one("#known", Static).update(known_parameters_text(compact))
+            self.show_known()
             self.query_one(ReadoutPanel).set_compact(compact)
         self.update_classes(classes)  # restyles the screen only when a class changes
         if switched:
@@ -241,6 +254,9 @@ class MainScreen(Screen):
             stepper.disabled = logs is not None
             stepper.show_value(FROM_LOG if logs is not None else getattr(settings, steps.field))
         self.show_log_note()
+        if settings.true_joint != self._known_joint:  # a Static update repaints; skip it when equal
+            self._known_joint = settings.true_joint
+            self.show_known()
         if logs is None:
             result = cached_experiment(settings)
             training, heldout = training_chart(result), heldout_chart(result)
@@ -257,6 +273,11 @@ class MainScreen(Screen):
             self.query_one("#heldout-chart", TorqueChart).show(heldout)
         self.query_one(ReadoutPanel).show(readouts(result), precision(result))
         self.query_one("#status", FittingLine).show((Content(status),))
+
+    def show_known(self) -> None:
+        """The synthetic joint beside the controls (its missing physics included when present)."""
+        self.query_one("#known", Static).update(
+            known_parameters_text(self.settings.true_joint, self.has_class("-compact")))
 
     def show_log_note(self) -> None:
         """The note on the off controls, one line on compact screens (80x24 has no room for more)."""
