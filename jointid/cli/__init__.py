@@ -9,12 +9,20 @@ from __future__ import annotations
 
 import sys
 
-from . import explorer_command, fit_command, matrix_command, simulate_command, sweep_command, torque_command
+from . import (
+    compare_command,
+    explorer_command,
+    fit_command,
+    matrix_command,
+    simulate_command,
+    sweep_command,
+    torque_command,
+)
 from .arguments import OneLineParser, UserError, add_model_argument, add_settings_arguments
 from .log_fit import add_log_arguments
 from .version import VersionAction
 
-SUBCOMMANDS = (fit_command, torque_command, sweep_command, matrix_command, simulate_command)
+SUBCOMMANDS = (fit_command, compare_command, torque_command, sweep_command, matrix_command, simulate_command)
 """Modules that define the subcommands, in help order."""
 
 

@@ -7,6 +7,7 @@ model's term names, e.g. {"I": ..., "h": ..., "B": ...} for the plain model.
 
 from __future__ import annotations
 
+import math
 from typing import TYPE_CHECKING
 
 from ..uncertainty import finite_or_none
@@ -165,4 +166,38 @@ def matrix_document(table: CrossExcitationTable) -> dict:
         "model": table.settings.model,
         "prediction_motions": list(table.prediction_motions),
         "rows": rows,
+    }
+
+
+def comparison_document(comparison, *, settings: Settings | None = None, source=None) -> dict:
+    """`jointid compare --json`: one object per ladder model, BIC's choice and the sentences (ladder.Comparison)."""
+    from .comparison import comparison_sentences  # the sentences live beside the table they explain
+
+    models = []
+    for row in comparison.rows:
+        uncertainty = row.uncertainty
+        names = row.model.names
+        perfect = row.bic == -math.inf
+        worst = row.worst_determined
+        models.append({
+            "model": row.model.name,
+            "terms": list(names),
+            "rank": row.rank,
+            "estimate": None if row.estimate is None else dict(zip(names, map(float, row.estimate))),
+            "std_error": per_parameter(names, uncertainty and uncertainty.verdict_std_error),
+            "training_rmse": row.training_rmse,
+            "heldout_rmse": row.heldout_rmse,
+            "bic": None if perfect else row.bic,
+            **({"bic_note": "zero residual: BIC is minus infinity"} if perfect else {}),
+            "condition_number": finite_or_none(row.condition_number),
+            "worst_determined": None if worst is None else {"name": worst[0], "relative_std_pct": worst[1]},
+        })
+    preferred = comparison.preferred
+    return {
+        "settings": None if settings is None else settings_object(settings),
+        "source": source,
+        "samples": comparison.samples,
+        "preferred": None if preferred is None else preferred.model.name,
+        "models": models,
+        "message": " ".join(comparison_sentences(comparison)),
     }

@@ -1,0 +1,49 @@
+"""`jointid compare`: fit every model of the ladder on the same data and let BIC choose."""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+from ..ladder import compare_experiment, compare_models
+from ..model import LADDER
+from ..present.comparison import comparison_text
+from ..present.documents import comparison_document
+from ..present.text import settings_header
+from .arguments import add_settings_arguments, settings_from
+from .log_fit import add_log_arguments, load_logs, with_default_settings
+
+NAME = "compare"
+
+
+def add_parser(subparsers) -> None:
+    """Attach the `compare` subcommand."""
+    parser = subparsers.add_parser(
+        NAME,
+        help="fit every model of the ladder on the same data and say which one BIC prefers",
+        description=f"Fit the models {', '.join(LADDER)} on the same training data (a synthetic "
+        "experiment or a --csv log) and print one row each: terms, rank, training and held-out RMSE, "
+        "BIC = N ln(RSS/N) + k ln N, the condition number of the column-scaled regressor and the worst "
+        "determined parameter; then the model BIC prefers and what the others show.",
+    )
+    add_settings_arguments(parser)
+    parser.add_argument("--json", action="store_true", help="print one JSON object instead of text")
+    add_log_arguments(parser)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Compare the ladder on the experiment (or the --csv log) and print text or JSON; exit status 0."""
+    if args.csv is not None:
+        training, heldout = load_logs(args)
+        comparison = compare_models(training.data, None if heldout is None else heldout.data)
+        heading = f"Training log {training.source_text()}"
+        settings, source = None, {"training": training.path, "heldout": None if heldout is None else heldout.path}
+    else:
+        settings = settings_from(with_default_settings(args))
+        comparison = compare_experiment(settings)
+        heading, source = settings_header(settings), None
+    if args.json:
+        print(json.dumps(comparison_document(comparison, settings=settings, source=source), indent=2))
+    else:
+        print(comparison_text(comparison, heading))
+    return 0

@@ -1,0 +1,119 @@
+"""The model ladder's comparison: a table row per model, BIC's choice, and what the other models show."""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING
+
+from ..uncertainty import NOT_DETERMINED
+from .status import condition_text
+from .text import UNAVAILABLE, format_number, join_words, text_table
+
+if TYPE_CHECKING:
+    from ..ladder import Comparison, LadderRow
+
+PREFERRED_MARK = "←"
+"""Marks the row BIC prefers."""
+SHIFT_IN_ERRORS = 3.0
+"""A shared parameter moved by more than this many of the preferred fit's standard errors is named."""
+CONDITION_RISE = 2.0
+"""A condition number at least this many times the preferred model's is named."""
+COMPARISON_HEADER = ["model", "terms", "rank", "train RMSE", "held RMSE", "BIC", "cond.", "worst determined"]
+"""Columns of the comparison table."""
+
+
+def bic_text(bic: float | None) -> str:
+    """BIC to two decimals, '-inf' for a perfect fit, 'unavailable' without a unique fit."""
+    if bic is None:
+        return UNAVAILABLE
+    return "-inf" if bic == -math.inf else f"{bic:.2f}"
+
+
+def comparison_rows(comparison: Comparison) -> list[list[str]]:
+    """One row of text cells per model, in ladder order; BIC's choice marked."""
+    preferred = comparison.preferred
+    rows = []
+    for row in comparison.rows:
+        worst = row.worst_determined
+        rows.append([
+            row.model.name + (f" {PREFERRED_MARK}" if row is preferred else ""),
+            ", ".join(row.model.names),
+            f"{row.rank}/{row.model.size}",
+            UNAVAILABLE if row.training_rmse is None else format_number(row.training_rmse),
+            "-" if row.heldout_rmse is None else format_number(row.heldout_rmse),
+            bic_text(row.bic),
+            condition_text(row.condition_number),
+            "-" if worst is None else f"{worst[0]} {worst[1]:.1f} %",
+        ])
+    return rows
+
+
+def comparison_table(comparison: Comparison) -> str:
+    """The ladder as an aligned text table."""
+    return text_table(COMPARISON_HEADER, comparison_rows(comparison))
+
+
+def comparison_sentences(comparison: Comparison) -> tuple[str, ...]:
+    """BIC's choice in a sentence, then what the simpler and the larger models show beside it."""
+    preferred = comparison.preferred
+    if preferred is None:
+        return ("No model of the ladder gives a unique fit: the motion cannot separate their columns.",)
+    sentences = [f"BIC prefers {preferred.model.name} ({', '.join(preferred.model.names)})."]
+    for row in comparison.rows:
+        if row is preferred or row.estimate is None:
+            continue
+        own, theirs = set(row.model.names), set(preferred.model.names)
+        if own < theirs:
+            sentences += _absorbed(row, preferred)
+        elif own > theirs:
+            sentences += _superfluous(row, preferred)
+    return tuple(sentences)
+
+
+def _absorbed(simpler: LadderRow, preferred: LadderRow) -> list[str]:
+    """What a model without some of the preferred terms moves to make up for them."""
+    errors = preferred.uncertainty.verdict_std_error if preferred.uncertainty is not None else None
+    if errors is None:
+        return []
+    missing = [preferred.model.parameter(n).label for n in preferred.model.names if n not in simpler.model.names]
+    shifts = []
+    for index, name in enumerate(simpler.model.names):
+        theirs = preferred.model.names.index(name)
+        shift = abs(simpler.estimate[index] - preferred.estimate[theirs]) / max(errors[theirs], 1e-300)
+        shifts.append((shift, name, simpler.estimate[index], preferred.estimate[theirs]))
+    shift, name, value, reference = max(shifts)
+    if shift <= SHIFT_IN_ERRORS:
+        return []
+    label = simpler.model.parameter(name).label
+    ratio = f" ({value / reference:.1f}x)" if reference and value / reference > 0 else ""
+    return [f"Without {join_words(missing)}, {simpler.model.name} moves its {label} to {format_number(value)} "
+            f"against {format_number(reference)}{ratio} to absorb it, and its held-out error is "
+            f"{_rmse(simpler.heldout_rmse)} against {_rmse(preferred.heldout_rmse)}."]
+
+
+def _superfluous(larger: LadderRow, preferred: LadderRow) -> list[str]:
+    """What extra terms cost: a higher condition number, undetermined parameters."""
+    extra = [n for n in larger.model.names if n not in preferred.model.names]
+    labels = join_words([larger.model.parameter(n).label for n in extra])
+    costs = []
+    if larger.condition_number >= CONDITION_RISE * preferred.condition_number:
+        costs.append(f"raises the condition number from {condition_text(preferred.condition_number)} "
+                     f"to {condition_text(larger.condition_number)}")
+    verdicts = larger.uncertainty.verdicts if larger.uncertainty is not None else None
+    if verdicts is not None:
+        loose = [n for n in extra if verdicts[larger.model.names.index(n)] == NOT_DETERMINED]
+        if loose:
+            costs.append(f"leaves {join_words(loose)} not determined")
+    if not costs:
+        return []
+    return [f"Adding {labels} ({larger.model.name}) {join_words(costs)}."]
+
+
+def _rmse(value: float | None) -> str:
+    """An RMSE with its unit, or 'unavailable'."""
+    return UNAVAILABLE if value is None else f"{format_number(value)} N m"
+
+
+def comparison_text(comparison: Comparison, heading: str) -> str:
+    """`jointid compare`'s text: heading, table, then the sentences."""
+    return "\n".join((heading, comparison_table(comparison), "", " ".join(comparison_sentences(comparison))))
