@@ -38,6 +38,7 @@ def run_experiment(settings: Settings = Settings()) -> FitResult:
         training_data(settings),
         validation_data(settings.true_joint),
         model=settings.joint_model,
+        constrained=settings.constrained,
         heldout_is_noiseless=True,
         noise_bound=settings.noise,
     )

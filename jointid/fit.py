@@ -9,6 +9,7 @@ import numpy as np
 
 from .dataset import JointData, rms
 from .identifiable import IdentifiableSubset, identifiable_subset
+from .bounded import BoundedSolution, bounded_least_squares, lower_bounds
 from .model import PLAIN, JointModel
 from .present.status import fit_warnings, status_message
 from .solver import LeastSquaresSolution, solve_least_squares
@@ -31,6 +32,8 @@ class FitResult:
     """(N, p) The model's regressor at the training states."""
     model: JointModel = PLAIN
     """The fitted model: its terms name, order and judge the parameters."""
+    constrained: bool = False
+    """True for a fit subject to the model's sign rules (jointid.bounded)."""
     noise_bound: float | None = None
     """Known bound b of uniform torque noise on [-b, b] (synthetic data), else None."""
 
@@ -44,10 +47,29 @@ class FitResult:
         """p, the number of fitted parameters (the model's terms)."""
         return self.solution.column_count
 
+    @cached_property
+    def bounded(self) -> BoundedSolution | None:
+        """The sign-constrained solution of a constrained full-rank fit, else None."""
+        if not self.constrained or self.solution.estimate is None:
+            return None
+        return bounded_least_squares(self.solution, lower_bounds(self.model))
+
     @property
     def column_estimate(self) -> np.ndarray | None:
-        """(p,) Fitted coefficients of the regressor's columns, or None when the rank is deficient."""
-        return self.solution.estimate
+        """(p,) Fitted coefficients of the regressor's columns (within bounds when constrained), or None below full rank."""
+        return self.solution.estimate if self.bounded is None else self.bounded.estimate
+
+    @property
+    def unconstrained_estimate(self) -> np.ndarray | None:
+        """(p,) The reported parameters of the plain least-squares fit (the same as `estimate` unconstrained)."""
+        return None if self.solution.estimate is None else self.model.report(self.solution.estimate)
+
+    @cached_property
+    def at_bound(self) -> tuple[str, ...]:
+        """Names of the parameters a constrained fit holds at their bounds (empty otherwise)."""
+        if self.bounded is None:
+            return ()
+        return tuple(name for name, held in zip(self.model.names, self.bounded.active) if held)
 
     @cached_property
     def estimate(self) -> np.ndarray | None:
@@ -101,7 +123,7 @@ class FitResult:
     @cached_property
     def uncertainty(self) -> ParameterUncertainty | None:
         """Standard errors, intervals and verdicts per parameter, or None without a unique fit."""
-        return parameter_uncertainty(self.solution, self.noise_bound, self.model)
+        return parameter_uncertainty(self.solution, self.noise_bound, self.model, self.bounded)
 
     @cached_property
     def identifiable(self) -> IdentifiableSubset:
@@ -142,10 +164,12 @@ def fit_joint(
     heldout: JointData | None = None,
     *,
     model: JointModel = PLAIN,
+    constrained: bool = False,
     heldout_is_noiseless: bool = False,
     noise_bound: float | None = None,
 ) -> FitResult:
-    """Fit `model`'s parameters to the training data by pivoted QR and evaluate on the held-out data."""
+    """Fit `model`'s parameters to the training data by pivoted QR (subject to their sign rules when
+    `constrained`) and evaluate on the held-out data."""
     X = model.data_regressor(training)
     return FitResult(
         training=training,
@@ -154,5 +178,6 @@ def fit_joint(
         solution=solve_least_squares(X, training.tau),
         training_regressor=X,
         model=model,
+        constrained=constrained,
         noise_bound=noise_bound,
     )

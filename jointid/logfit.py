@@ -70,10 +70,11 @@ class LoadedLogs:
         return tuple(note for log in self.logs for note in log.notes)
 
 
-def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointModel = PLAIN) -> LoadedLogs:
-    """Fit the training log and score it on the held-out log's measured torques."""
+def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointModel = PLAIN,
+             constrained: bool = False) -> LoadedLogs:
+    """Fit the training log (subject to the sign rules when `constrained`) and score it on the held-out log."""
     result = fit_joint(training.data, None if heldout is None else heldout.data, model=model,
-                       heldout_is_noiseless=False)
+                       constrained=constrained, heldout_is_noiseless=False)
     return LoadedLogs(training, heldout, result)
 
 

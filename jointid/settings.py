@@ -54,6 +54,8 @@ class Settings:
     """Torque sensor bias TAU0 (N m): every reading is TAU0 too much."""
     true_angle_offset: float = 0.0
     """Encoder offset Q0 (rad): the logged angle is q_true - Q0."""
+    constrained: bool = False
+    """Fit subject to the model's sign rules (never the default: the lesson shows the unconstrained failure)."""
 
     def __post_init__(self):
         for field in FIELDS:
@@ -70,7 +72,8 @@ class Settings:
         return TrueJoint(coulomb=self.true_coulomb, bias=self.true_bias, angle_offset=self.true_angle_offset)
 
 
-FIELDS = ("motion", "noise", "samples", "seed", "model", "true_coulomb", "true_bias", "true_angle_offset")
+FIELDS = ("motion", "noise", "samples", "seed", "model", "true_coulomb", "true_bias", "true_angle_offset",
+          "constrained")
 """Every setting, in display order."""
 
 
@@ -78,6 +81,8 @@ def describe_range(field: str) -> str:
     """The allowed values of a setting, as a phrase for error messages and help."""
     if field == "motion":
         return "one of " + ", ".join(TRAINING_MOTIONS)
+    if field == "constrained":
+        return "true or false"
     if field == "model":
         return describe_models()
     if field in REAL_SETTINGS:
@@ -101,6 +106,8 @@ def check_setting(field: str, value) -> None:
         (low, high), _ = REAL_SETTINGS[field]
         ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
         ok = ok and low <= value <= high
+    elif field == "constrained":
+        ok = isinstance(value, bool)
     elif field in ("samples", "seed"):
         low, high = SAMPLES_LIMITS if field == "samples" else SEED_LIMITS
         ok = isinstance(value, int) and not isinstance(value, bool) and low <= value <= high

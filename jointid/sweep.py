@@ -23,6 +23,7 @@ import numpy as np
 from .experiment import training_data, validation_data
 from .fit import fitted_torque
 from .model import JointModel
+from .bounded import bounded_least_squares, lower_bounds
 from .noise import MODULUS, torque_noise
 from .settings import Settings
 from .solver import solve_least_squares
@@ -88,6 +89,15 @@ class SweepResult:
     """(K,) RMSE on the noiseless validation motion, or None."""
     expected_std_error: np.ndarray | None
     """(p,) Standard errors the noise bound implies (the same for every seed), or None."""
+    held: np.ndarray | None = None
+    """(p, K) True where a constrained fit held a seed's parameter at its bound; None unconstrained."""
+
+    @cached_property
+    def constraint_active_fraction(self) -> float | None:
+        """Fraction of seeds whose constrained fit holds at least one parameter at its bound (None unconstrained)."""
+        if self.held is None:
+            return None
+        return float(np.mean(self.held.any(axis=0)))
 
     @property
     def model(self) -> JointModel:
@@ -198,6 +208,8 @@ def run_sweep(
             progress(seed_count, seed_count)
         return result
     step = chunk_size or max(1, CHUNK_ELEMENTS // max(1, settings.samples))
+    lower = lower_bounds(model) if settings.constrained else None
+    held = np.zeros((model.size, seed_count), dtype=bool) if settings.constrained else None
     estimates = np.empty((model.size, seed_count))
     training_rmse = np.empty(seed_count)
     heldout_rmse = np.empty(seed_count)
@@ -206,13 +218,17 @@ def run_sweep(
             raise SweepCancelled(f"sweep cancelled after {start} of {seed_count} seeds")
         stop = min(start + step, seed_count)
         measured = exact + torque_noise(settings.noise, settings.samples, seeds[start:stop])  # (k, N)
-        theta = solve_least_squares(regressor, measured.T).estimate  # (p, k)
+        solution = solve_least_squares(regressor, measured.T)
+        theta = solution.estimate  # (p, k)
+        if lower is not None:
+            bounded = bounded_least_squares(solution, lower)
+            theta, held[:, start:stop] = bounded.estimate, bounded.active
         estimates[:, start:stop] = model.report(theta)
         training_rmse[start:stop] = _row_rms(fitted_torque(regressor, theta) - measured)
         heldout_rmse[start:stop] = _row_rms(fitted_torque(validation_regressor, theta) - validation.tau)
         if progress is not None:
             progress(stop, seed_count)
-    return replace(result, estimates=estimates, training_rmse=training_rmse, heldout_rmse=heldout_rmse)
+    return replace(result, estimates=estimates, training_rmse=training_rmse, heldout_rmse=heldout_rmse, held=held)
 
 
 def _row_rms(rows: np.ndarray) -> np.ndarray:

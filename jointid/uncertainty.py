@@ -23,12 +23,15 @@ from functools import cached_property
 
 import numpy as np
 
+from .bounded import reduced_matrix
 from .solver import LeastSquaresSolution, back_substitute
 from .student_t import student_t_quantile
 
 WELL_DETERMINED = "well determined"
 WEAK = "weak"
 NOT_DETERMINED = "not determined"
+AT_BOUND = "at bound"
+"""Not a verdict: a constrained fit held this parameter at its bound, so it has no standard error."""
 
 WELL_DETERMINED_LIMIT = 10.0
 """Relative standard error (% of |estimate|) at or below which a parameter is well determined."""
@@ -72,11 +75,14 @@ class ParameterUncertainty:
     """N, the number of samples fitted."""
     noise_bound: float | None
     """Known bound b of uniform noise on [-b, b], or None for measured data."""
+    held: np.ndarray | None = None
+    """(p,) True for parameters a constrained fit holds at their bounds (no standard error), or None."""
 
     @property
     def degrees_of_freedom(self) -> int:
-        """N - p, the residual degrees of freedom (may be zero or negative)."""
-        return self.row_count - len(self.estimate)
+        """N - p, the residual degrees of freedom (p counts only free parameters; may be zero or negative)."""
+        held = 0 if self.held is None else int(self.held.sum())
+        return self.row_count - len(self.estimate) + held
 
     @cached_property
     def residual_variance(self) -> float | None:
@@ -90,14 +96,18 @@ class ParameterUncertainty:
         """(p,) Empirical standard errors sqrt(s^2 diag((X^T X)^-1)), or None when N - p <= 0."""
         if self.residual_variance is None:
             return None
-        return np.sqrt(self.residual_variance * np.diag(self.covariance_factor))
+        return self._without_held(np.sqrt(self.residual_variance * np.diag(self.covariance_factor)))
 
     @cached_property
     def expected_std_error(self) -> np.ndarray | None:
         """(p,) Standard errors the known noise bound implies, sqrt(b^2/3 diag((X^T X)^-1)), or None."""
         if self.noise_bound is None:
             return None
-        return np.sqrt(self.noise_bound**2 / 3.0 * np.diag(self.covariance_factor))
+        return self._without_held(np.sqrt(self.noise_bound**2 / 3.0 * np.diag(self.covariance_factor)))
+
+    def _without_held(self, errors: np.ndarray) -> np.ndarray:
+        """Standard errors with NaN for the parameters held at their bounds."""
+        return errors if self.held is None else np.where(self.held, np.nan, errors)
 
     @property
     def verdict_basis(self) -> str | None:
@@ -127,7 +137,9 @@ class ParameterUncertainty:
         """Verdict per parameter from `relative_std_pct`, or None without any standard error."""
         if self.relative_std_pct is None:
             return None
-        return tuple(verdict(float(value)) for value in self.relative_std_pct)
+        held = np.zeros(len(self.estimate), dtype=bool) if self.held is None else self.held
+        return tuple(AT_BOUND if at_bound else verdict(float(value))
+                     for value, at_bound in zip(self.relative_std_pct, held))
 
     @cached_property
     def interval95(self) -> np.ndarray | None:
@@ -139,27 +151,45 @@ class ParameterUncertainty:
 
 
 def parameter_uncertainty(
-    solution: LeastSquaresSolution, noise_bound: float | None = None, model=None
+    solution: LeastSquaresSolution, noise_bound: float | None = None, model=None, bounded=None
 ) -> ParameterUncertainty | None:
     """Uncertainty of a single-RHS fit's estimate, or None when the rank gives no unique fit.
 
     With a `model` (jointid.model.JointModel) whose reported parameters differ
     from its columns (an angle offset's h and q0), the estimate is reported and
     the covariance factor carried over by the delta method, J (X^T X)^-1 J^T.
+    With `bounded` (a jointid.bounded.BoundedSolution), the estimate is the
+    constrained one and the covariance that of the free parameters with the held
+    ones fixed at their bounds, (M_F^T M_F)^-1; held parameters have none.
     """
     if solution.estimate is None:
         return None
     estimate, factor = solution.estimate, covariance_factor(solution)
+    residual, held = float(solution.residual_norm), None
+    if bounded is not None and bounded.active.any():
+        estimate, held, residual = bounded.estimate, bounded.active, float(bounded.residual_norm)
+        factor = free_covariance_factor(solution, ~held)
     jacobian = None if model is None else model.report_jacobian(estimate)
     if jacobian is not None:
         estimate, factor = model.report(estimate), jacobian @ factor @ jacobian.T
     return ParameterUncertainty(
         estimate=estimate,
         covariance_factor=factor,
-        residual_norm=float(solution.residual_norm),
+        residual_norm=residual,
         row_count=solution.row_count,
         noise_bound=noise_bound,
+        held=held,
     )
+
+
+def free_covariance_factor(solution: LeastSquaresSolution, free: np.ndarray) -> np.ndarray:
+    """(p, p) (X_F^T X_F)^-1 on the free columns and zeros elsewhere (held parameters vary with nothing)."""
+    matrix = reduced_matrix(solution)[:, free]
+    r_free = np.linalg.qr(matrix, mode="r")
+    inverse = back_substitute(r_free, np.eye(r_free.shape[1]))
+    factor = np.zeros((solution.column_count, solution.column_count))
+    factor[np.ix_(free, free)] = inverse @ inverse.T
+    return factor
 
 
 def finite_or_none(value: float) -> float | None:

@@ -34,7 +34,8 @@ def test_fit_json_has_the_documented_keys_at_full_precision(capsys):
     document = json.loads(capsys.readouterr().out)
     result = run_experiment(Settings(motion="rich", noise=0.2))
     assert document["settings"] == {"motion": "rich", "noise": 0.2, "samples": 24, "seed": 7, "model": "plain",
-                                    "true_coulomb": 0.0, "true_bias": 0.0, "true_angle_offset": 0.0}
+                                    "true_coulomb": 0.0, "true_bias": 0.0, "true_angle_offset": 0.0,
+                                    "constrained": False}
     assert document["samples"] == 24 and document["rank"] == 3
     assert document["estimate"] == dict(zip("IhB", result.estimate.tolist()))
     assert document["training_rmse"] == result.training_rmse

@@ -155,7 +155,8 @@ def test_synthetic_json_gains_null_source_and_derivatives(capsys):
     document = fit_json(capsys)
     assert document["source"] is None and document["derivatives"] is None
     assert document["settings"] == {"motion": "rich", "noise": 0.0, "samples": 24, "seed": 7, "model": "plain",
-                                    "true_coulomb": 0.0, "true_bias": 0.0, "true_angle_offset": 0.0}
+                                    "true_coulomb": 0.0, "true_bias": 0.0, "true_angle_offset": 0.0,
+                                    "constrained": False}
 
 
 @pytest.mark.parametrize(

@@ -78,9 +78,12 @@ def whole_number(low: int, high: int | None = None):
 
 
 def add_model_argument(parser: argparse.ArgumentParser) -> None:
-    """Add --model, the fitted model (for synthetic experiments and logs alike)."""
+    """Add --model and --constrained, how to fit (for synthetic experiments and logs alike)."""
     parser.add_argument("--model", type=setting_type("model"), default=DEFAULT_SETTINGS.model, metavar="NAME",
                         help=f"fitted model: {describe_models()}; default {DEFAULT_SETTINGS.model}")
+    parser.add_argument("--constrained", action="store_true",
+                        help="fit subject to the sign rules (I at least 1e-6 kg m², h, B, Fc at least 0), "
+                        "beside the unconstrained fit; off by default")
 
 
 def add_settings_arguments(parser: argparse.ArgumentParser) -> None:

@@ -86,7 +86,7 @@ def load_logs(args: argparse.Namespace) -> tuple[JointLog, JointLog | None]:
 
 def run_log_fit(args: argparse.Namespace) -> int:
     """Load the training (and held-out) log, fit, and print text or JSON; exit status 0."""
-    logs = fit_logs(*load_logs(args), model=model_named(args.model))
+    logs = fit_logs(*load_logs(args), model=model_named(args.model), constrained=args.constrained)
     if args.json:
         print(json.dumps(logs.document(), indent=2))
         return 0

@@ -59,6 +59,19 @@ def column_estimate_object(result: FitResult) -> dict:
     return {"column_estimate": values}
 
 
+def constraint_object(result: FitResult) -> dict:
+    """For a constrained fit: {"constrained": true, "at_bound": [...], "unconstrained_estimate": {...}}; {} otherwise."""
+    if not result.constrained:
+        return {}
+    unconstrained = result.unconstrained_estimate
+    return {
+        "constrained": True,
+        "at_bound": list(result.at_bound),
+        "unconstrained_estimate": None if unconstrained is None
+        else dict(zip(result.model.names, map(float, unconstrained))),
+    }
+
+
 def result_to_dict(result: FitResult) -> dict:
     """The fit as plain JSON-ready values, full float precision, None where unavailable."""
     return {
@@ -67,6 +80,7 @@ def result_to_dict(result: FitResult) -> dict:
         "rank": result.rank,
         "estimate": estimate_object(result),
         **column_estimate_object(result),
+        **constraint_object(result),
         "training_rmse": result.training_rmse,
         "heldout_rmse": result.heldout_rmse,
         "accel_rms": result.accel_rms,
@@ -142,6 +156,7 @@ def sweep_document(sweep: SweepResult) -> dict:
         "expected_std_error": per_parameter(names, sweep.expected_std_error),
         "sign_failure_fraction": sweep.sign_failure_fraction,
         "sign_failure_fractions": sweep.sign_failure_fractions,
+        **({} if sweep.held is None else {"constraint_active_fraction": sweep.constraint_active_fraction}),
         "message": sweep.message,
     }
 

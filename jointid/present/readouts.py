@@ -10,6 +10,7 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+from ..uncertainty import AT_BOUND
 from .status import CONDITION_CAVEAT, CONDITION_CAVEAT_SHORT, DEPENDENT_COLUMNS, condition_text
 from .text import UNAVAILABLE, format_number
 
@@ -118,7 +119,7 @@ def parameter_notes(result: FitResult) -> tuple[PrecisionNote, ...]:
     if errors is None:
         return tuple(PrecisionNote(name, "no standard error: N - p = 0") for name in model.names)
     return tuple(
-        PrecisionNote(name, f"± {format_number(error)}", verdict)
+        PrecisionNote(name, AT_BOUND) if verdict == AT_BOUND else PrecisionNote(name, f"± {format_number(error)}", verdict)
         for name, error, verdict in zip(model.names, errors, uncertainty.verdicts)
     )
 
@@ -165,6 +166,9 @@ def uncertainty_text(result: FitResult) -> str:
             if errors is None:
                 lines.append(f"{label:<17}{format_number(uncertainty.estimate[i]):>11}   no standard error")
                 continue
+            if uncertainty.verdicts[i] == AT_BOUND:
+                lines.append(f"{label:<17}{format_number(uncertainty.estimate[i]):>11}   {AT_BOUND} (no standard error)")
+                continue
             relative = uncertainty.relative_std_pct[i]
             lines.append(
                 f"{label:<17}{format_number(uncertainty.estimate[i]):>11} ± {format_number(errors[i]):<10}"
@@ -176,15 +180,19 @@ def uncertainty_text(result: FitResult) -> str:
                 "(uniform, variance b²/3)."
             )
         if uncertainty.std_error is not None:
-            from_residuals = ", ".join(
-                f"{name} {format_number(v)}" for name, v in zip(model.names, uncertainty.std_error)
-            )
+            free = [i for i, v in enumerate(uncertainty.verdicts or ()) if v != AT_BOUND] or range(model.size)
+            from_residuals = ", ".join(f"{model.names[i]} {format_number(uncertainty.std_error[i])}" for i in free)
             lines.append(f"From the residuals (N - p = {uncertainty.degrees_of_freedom}): {from_residuals}.")
             intervals = ", ".join(
-                f"{name} [{format_number(low)}, {format_number(high)}]"
-                for name, (low, high) in zip(model.names, uncertainty.interval95)
+                f"{model.names[i]} [{format_number(uncertainty.interval95[i][0])}, "
+                f"{format_number(uncertainty.interval95[i][1])}]"
+                for i in free
             )
             lines.append(f"95 % intervals (Student t): {intervals}.")
+    if result.constrained and result.unconstrained_estimate is not None:
+        values = ", ".join(f"{name} {format_number(value)}"
+                           for name, value in zip(model.names, result.unconstrained_estimate))
+        lines.append(f"Without the sign constraint the fit is {values}.")
     condition = result.condition_number
     label = "Condition number (column-scaled regressor)"
     if math.isfinite(condition):

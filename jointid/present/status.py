@@ -130,6 +130,8 @@ def status_message(result: FitResult) -> str:
             ]
         )
     parts = [f"Rank {rank} of {total}: a unique least-squares fit."]
+    if result.constrained:
+        parts.append(constraint_sentence(result))
     if result.heldout_rmse is None:
         parts.append("No held-out data, so predictions are untested.")
     else:
@@ -148,6 +150,19 @@ def status_message(result: FitResult) -> str:
         parts.append("Positive parameter signs alone do not establish an accurate physical model.")
     parts.extend(accuracy_sentences(result))
     return " ".join(parts)
+
+
+def constraint_sentence(result: FitResult) -> str:
+    """What the sign constraint did, and that correct signs are not accuracy."""
+    model = result.model
+    if not result.at_bound:
+        return "Fitted subject to the sign rules; no bound is active, so this is the unconstrained fit."
+    held = join_words([
+        f"the {model.parameter(name).label} at its bound {format_number(result.estimate[model.names.index(name)])} "
+        f"{model.parameter(name).unit}" for name in result.at_bound
+    ])
+    return (f"Fitted subject to the sign rules, which hold {held}. Correct signs are not accuracy: "
+            "the held-out error shows how well this fit predicts.")
 
 
 def condition_text(condition: float) -> str:

@@ -48,6 +48,9 @@ def sweep_message(sweep: SweepResult) -> str:
         if fraction > 0
     ]
     verdict = "; ".join(failing) if failing else "every seed passes the sign checks"
+    if sweep.constraint_active_fraction is not None:
+        verdict += (f" (fitted subject to the sign rules: a bound is active in "
+                    f"{100 * sweep.constraint_active_fraction:.1f} % of seeds)")
     return f"{head}: {verdict}."
 
 

@@ -55,6 +55,8 @@ def settings_header(settings: Settings, *, motion: bool = True, seeds: str | Non
               seeds or f"seed {settings.seed}"]
     if settings.model != Settings.model:  # the lesson's texts stay as they were
         parts.append(f"model {settings.model}")
+    if settings.constrained:
+        parts.append("constrained")
     return ", ".join(parts + missing_physics(settings))
 
 
