@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .model import TRUE_VALUES, predict_torque
+from .model import TRUE_VALUES, G
 
 COULOMB_LIMITS = (0.0, 10.0)
 """Allowed true Coulomb friction (N m)."""
@@ -46,9 +46,9 @@ class TrueJoint:
 
     def actuator_torque(self, q_true, qd, qdd) -> np.ndarray:
         """The torque the actuator applies (N m) at true states: I*qdd + h*g*cos(q_true) + B*qd + FC*sign(qd)."""
-        # The plain part exactly as the plain model predicts it, and the extras added only when
-        # present: the lesson's torques stay bit for bit as they were.
-        torque = predict_torque(q_true, qd, qdd, (self.inertia, self.mass_moment, self.damping))
+        # Plain arithmetic, not the regressor: it works on scalars too, cheaply (the simulation
+        # check evaluates it at every integrator step), and the extras are added only when present.
+        torque = self.inertia * qdd + self.mass_moment * G * np.cos(q_true) + self.damping * qd
         if self.coulomb:
             torque = torque + self.coulomb * np.sign(qd)
         return torque
