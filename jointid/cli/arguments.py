@@ -53,6 +53,18 @@ def finite_float(text: str) -> float:
     return value
 
 
+def bounded_number(low: float, high: float):
+    """An argparse type for a finite number from `low` to `high`."""
+
+    def parse(text: str) -> float:
+        value = finite_float(text)
+        if not low <= value <= high:
+            raise argparse.ArgumentTypeError(f"must be a number from {low:g} to {high:g}; got {text!r}")
+        return value
+
+    return parse
+
+
 def positive_number(text: str) -> float:
     """An argparse type for a finite number greater than zero."""
     value = finite_float(text)

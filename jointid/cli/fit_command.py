@@ -6,10 +6,12 @@ import argparse
 import json
 
 from ..experiment import run_experiment
-from ..present.documents import fit_document
+from ..present.documents import fit_document, simulation_object
 from ..present.readouts import readouts_text, uncertainty_text
+from ..present.status import simulation_text
 from ..present.text import settings_header
-from .arguments import add_model_argument, add_settings_arguments, settings_from
+from ..simulation import DEFAULT_HORIZON, HORIZON_LIMITS, simulation_check
+from .arguments import add_model_argument, add_settings_arguments, bounded_number, settings_from
 from .log_fit import add_log_arguments, run_log_fit, with_default_settings
 
 NAME = "fit"
@@ -26,6 +28,13 @@ def add_parser(subparsers) -> None:
     )
     add_settings_arguments(parser)
     add_model_argument(parser)
+    parser.add_argument("--simulate", action="store_true",
+                        help="also integrate the fitted model under the true torque of the validation motion "
+                        "(synthetic experiments; needs scipy, about 0.1 s)")
+    low, high = HORIZON_LIMITS
+    parser.add_argument("--horizon", type=bounded_number(low, high), default=None, metavar="H",
+                        help=f"seconds between restarts from the true state in the simulation, {low:g} to {high:g}; "
+                        f"default {DEFAULT_HORIZON:g} (implies --simulate)")
     parser.add_argument("--json", action="store_true", help="print one JSON object instead of text")
     add_log_arguments(parser)
 
@@ -36,11 +45,18 @@ def run(args: argparse.Namespace) -> int:
         return run_log_fit(args)
     settings = settings_from(with_default_settings(args))
     result = run_experiment(settings)
+    simulate = args.simulate or args.horizon is not None
+    horizon = DEFAULT_HORIZON if args.horizon is None else args.horizon
+    check = simulation_check(result, settings.true_joint, horizon) if simulate else None
     if args.json:
-        print(json.dumps(fit_document(result, settings=settings), indent=2))
+        extra = simulation_object(check) if simulate else {}
+        print(json.dumps(fit_document(result, settings=settings, **extra), indent=2))
     else:
         print(settings_header(settings))
         print(readouts_text(result))
         print()
         print(uncertainty_text(result))
+        if simulate:
+            print()
+            print(simulation_text(check))
     return 0

@@ -26,6 +26,9 @@ SETTING_FLAGS = ("motion", "noise", "samples", "seed", "true_coulomb", "true_bia
 LOG_ONLY_FLAGS = ("heldout", "degrees", "window", "order")
 """Options that mean something only with --csv."""
 
+SYNTHETIC_ONLY_FLAGS = ("simulate", "horizon")
+"""Options that need the synthetic joint's true torque, which a log does not have."""
+
 
 def add_log_arguments(parser: argparse.ArgumentParser) -> None:
     """Add --csv, --heldout, --degrees, --window and --order, and make setting flags detectable."""
@@ -73,6 +76,10 @@ def load_logs(args: argparse.Namespace) -> tuple[JointLog, JointLog | None]:
     given = [f"--{name.replace('_', '-')}" for name in SETTING_FLAGS if getattr(args, name) is not None]
     if given:
         raise UserError(f"synthetic settings ({', '.join(given)}) cannot apply to a --csv log; drop them")
+    simulated = [f"--{name}" for name in SYNTHETIC_ONLY_FLAGS if getattr(args, name, None) not in (None, False)]
+    if simulated:
+        raise UserError(f"{', '.join(simulated)}: needs the synthetic joint's true torque, which a log does not "
+                        "have; drop it")
     window, order = derivative_options(args)
     try:
         training = load_log(args.csv, degrees=args.degrees, window=window, order=order)

@@ -112,6 +112,15 @@ def uncertainty_to_dict(result: FitResult) -> dict:
     }
 
 
+def simulation_object(check) -> dict:
+    """{"simulation_horizon", "simulation_rmse", "simulation_diverged_windows", "simulation_windows"} (simulation.SimulationCheck or None)."""
+    if check is None:
+        return {"simulation_horizon": None, "simulation_rmse": None, "simulation_diverged_windows": None,
+                "simulation_windows": None}
+    return {"simulation_horizon": check.horizon, "simulation_rmse": check.rmse,
+            "simulation_diverged_windows": check.diverged_windows, "simulation_windows": len(check.window_errors)}
+
+
 def fit_document(result: FitResult, *, settings: Settings | None = None, source=None, derivatives=None,
                  **extra) -> dict:
     """The command line's JSON object for one fit: `settings` (None for a log), `source`, `derivatives`, the fit.

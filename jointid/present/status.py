@@ -179,3 +179,19 @@ def log_status(logs) -> str:
     """A log fit's status sentence, then what was read and the loaders' notes (logfit.LoadedLogs)."""
     sources = (log.source_text() for log in logs.logs)
     return " ".join((logs.result.message, *map(as_sentence, (*sources, *logs.notes()))))
+
+
+def simulation_text(check, label_width: int = 28) -> str:
+    """The simulation check as a readout line and a sentence (simulation.SimulationCheck; None: no unique fit)."""
+    if check is None:
+        return f"{'Simulation error':<{label_width}}unavailable: no unique fit to integrate."
+    windows = len(check.window_errors)
+    label = f"Simulation error (H = {check.horizon:g} s)"
+    value = "diverged" if check.rmse is None else f"{format_number(check.rmse)} rad"
+    sentence = (f"The fitted model, driven by the true torque of the validation motion and restarted from the "
+                f"true state every {check.horizon:g} s, follows it to this RMS angle error; "
+                f"{check.diverged_windows} of {windows} windows diverged (angle error above 1 rad) and are "
+                "not averaged in.")
+    if check.smoothed:
+        sentence += " Coulomb friction's sign(qd) is smoothed as tanh(qd/0.01) in the simulation only."
+    return f"{label:<{label_width}}{value}\n{sentence}"
