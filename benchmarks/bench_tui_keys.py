@@ -59,6 +59,8 @@ IDLE = 0.03
 """Pause before each key so presses do not overlap (a held key is coalesced anyway)."""
 CLAMP_TIMEOUT = 0.25
 """A key that changes no setting (already at a range end) is counted, not timed."""
+SETTLE_TIMEOUT = 10.0
+"""Seconds a press may take to leave the screen settled before the benchmark stops with an error."""
 
 ROUND = [
     ("#noise", ["right"] * 4 + ["shift+right", "left", "shift+left"]),
@@ -153,7 +155,10 @@ async def measure(tune_gc: bool = True) -> tuple[list[float], int, int, int]:
                     except asyncio.TimeoutError:  # clamped at a range end: nothing to show
                         unchanged += 1
                         continue
-                    await press["updated"].wait()
+                    try:  # a frame that never settles would be a bug: say so instead of waiting forever
+                        await asyncio.wait_for(press["updated"].wait(), SETTLE_TIMEOUT)
+                    except asyncio.TimeoutError:
+                        raise SystemExit(f"{selector} {key}: the screen never settled after the push-down")
                     changed += 1
                     latency = (press["done_at"] - start) * 1000
                     latencies.append(latency)

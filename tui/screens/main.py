@@ -243,9 +243,10 @@ class MainScreen(Screen):
     def show_source(self) -> None:
         """Fit the source shown (or take the log's fit) and push the result down to every widget."""
         logs, settings = self.logs, self.settings
+        if (logs is not None) != self.has_class("-log"):
+            self.refresh_bindings()  # Close log appears or goes
         self.set_class(logs is not None, "-log")
         self.set_class(logs is not None and logs.heldout is None, "-no-heldout")
-        self.refresh_bindings()  # Close log appears or goes
         motion = self.query_one("#motion", ChoiceList)
         motion.set_option("motion-log", label=None if logs is None else f"Log: {logs.name}", shown=logs is not None)
         motion.show_pressed("motion-log" if logs is not None else f"motion-{settings.motion}")

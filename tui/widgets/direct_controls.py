@@ -96,14 +96,16 @@ class ChoiceList(Widget, can_focus=True):
             self.refresh()
 
     def set_option(self, option: str, label: str | None = None, shown: bool | None = None) -> None:
-        """Relabel an option, or show or hide it."""
+        """Relabel an option, or show or hide it (a relayout only when that changes anything)."""
+        before = (self.labels.get(option), option in self.hidden)
         if label is not None:
             self.labels[option] = label
         if shown:
             self.hidden.discard(option)
         elif shown is not None:
             self.hidden.add(option)
-        self.refresh(layout=True)
+        if (self.labels.get(option), option in self.hidden) != before:
+            self.refresh(layout=True)
 
     def action_move(self, step: int) -> None:
         """Move the highlight to the next or previous option shown, wrapping around."""
