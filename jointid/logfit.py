@@ -82,6 +82,7 @@ def load_request(
     request: LoadRequest,
     current: LoadedLogs | None = None,
     model: JointModel = PLAIN,
+    constrained: bool = False,
     progress: Callable[[int, int], None] | None = None,
     cancel: Callable[[], bool] | None = None,
 ) -> LoadedLogs:
@@ -91,5 +92,5 @@ def load_request(
     if request.role == HELDOUT:
         if current is None:
             raise ValueError("a held-out log needs a training log")
-        return fit_logs(current.training, log, model)
-    return fit_logs(log, None if current is None else current.heldout, model)
+        return fit_logs(current.training, log, model, constrained)
+    return fit_logs(log, None if current is None else current.heldout, model, constrained)

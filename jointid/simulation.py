@@ -22,7 +22,7 @@ from functools import cached_property
 import numpy as np
 
 from .fit import FitResult
-from .model import G
+from .model import G, JointModel
 from .motions import DURATION, VALIDATION_MOTION, Motion
 from .truth import TrueJoint
 
@@ -89,17 +89,22 @@ def check_horizon(horizon: float) -> None:
 
 def simulation_check(result: FitResult, joint: TrueJoint, horizon: float = DEFAULT_HORIZON,
                      motion: Motion = VALIDATION_MOTION) -> SimulationCheck | None:
-    """Integrate the fit along `motion` under the joint's true torque, restarting every `horizon` s.
+    """Integrate a fit along `motion` under the joint's true torque, restarting every `horizon` s.
 
-    None when the fit has no unique estimate or no inertia term (nothing to integrate).
+    None when the fit has no unique estimate (nothing to integrate).
     """
+    return simulate_model(result.model, result.column_estimate, joint, horizon, motion)
+
+
+def simulate_model(model: JointModel, column_estimate: np.ndarray | None, joint: TrueJoint,
+                   horizon: float = DEFAULT_HORIZON, motion: Motion = VALIDATION_MOTION) -> SimulationCheck | None:
+    """Integrate a model with these column coefficients (None: no unique fit, returns None); see simulation_check."""
     from scipy.integrate import solve_ivp  # lazy: only this check needs scipy
 
     check_horizon(horizon)
-    model = result.model
-    if result.column_estimate is None or "I" not in model.column_names:
+    if column_estimate is None or "I" not in model.column_names:
         return None
-    theta = dict(zip(model.column_names, map(float, result.column_estimate)))
+    theta = dict(zip(model.column_names, map(float, column_estimate)))
     inertia = theta.pop("I")
     others = [(value, SIMULATED_COLUMNS[name]) for name, value in theta.items()]
 

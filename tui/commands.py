@@ -26,6 +26,19 @@ TOUR_NOTES = (
 """What each tour stop shows, as palette help text."""
 
 
+PHYSICS_STOPS = (
+    ("Coulomb friction, plain model", replace(DEFAULT_SETTINGS, noise=0.05, true_coulomb=0.3),
+     "the plain model absorbs friction in its damping (about 0.45) and mispredicts; e, 3: a step at qd = 0"),
+    ("Coulomb friction, Coulomb model", replace(DEFAULT_SETTINGS, noise=0.05, true_coulomb=0.3, model="coulomb"),
+     "the Fc*sign(qd) term finds the friction and the held-out error drops"),
+    ("Sensor bias", replace(DEFAULT_SETTINGS, noise=0.05, true_bias=0.2, model="bias"),
+     "a bias term finds it, but trades with gravity: condition number about 17"),
+    ("Angle offset", replace(DEFAULT_SETTINGS, noise=0.05, true_angle_offset=0.1, model="angle-offset"),
+     "a g*sin(q) column recovers the encoder offset q0 = 0.1 rad and h"),
+)
+"""Stops beyond the lesson, where real joints are: (palette title, settings, what it shows)."""
+
+
 def tour_title(index: int, settings: Settings) -> str:
     """Palette text for one tour stop, e.g. 'Tour 2: Rich motion, noise 0.20'."""
     label = TRAINING_MOTIONS[settings.motion].label
@@ -33,15 +46,19 @@ def tour_title(index: int, settings: Settings) -> str:
 
 
 class TourCommands(Provider):
-    """Command palette entries that set all four controls to one of the lesson's tour stops."""
+    """Command palette entries that set every control to one of the tour's stops (the lesson's four, then
+    missing physics)."""
 
     def _entries(self):
-        screen = self.screen
-        for index, settings in enumerate(TOUR):
-            callback = getattr(screen, "apply_settings", None)
-            if callback is None:  # palette opened over a screen without controls (help)
-                return
-            yield tour_title(index, settings), TOUR_NOTES[index], (lambda s=settings: callback(s))
+        callback = getattr(self.screen, "apply_settings", None)
+        if callback is None:  # palette opened over a screen without controls (help)
+            return
+        stops = [(tour_title(index, settings), note, settings) for index, (settings, note)
+                 in enumerate(zip(TOUR, TOUR_NOTES))]
+        stops += [(f"Tour {len(TOUR) + index + 1}: {title}", note, settings)
+                  for index, (title, settings, note) in enumerate(PHYSICS_STOPS)]
+        for title, note, settings in stops:
+            yield title, note, (lambda s=settings: callback(s))
 
     async def discover(self) -> Hits:
         """List the tour stops when the palette opens with no query."""

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from jointid.settings import SEED_LIMITS, Settings, SettingsError
+from jointid.truth import ANGLE_OFFSET_LIMITS, BIAS_LIMITS, COULOMB_LIMITS
 
 from .widgets.stepper import StepRange
 
@@ -33,3 +34,17 @@ def check_explorer_settings(settings: Settings) -> None:
                 f"the explorer's --{steps.field} is {steps.describe()}; got {steps.format(value)}. "
                 f"Use `jointid fit --{steps.field} {steps.format(value)}` for larger values.",
             )
+
+PHYSICS_RANGES = (
+    StepRange("true_coulomb", *COULOMB_LIMITS, 0.05, 0.5, decimals=2, unit="N m"),
+    StepRange("true_bias", *BIAS_LIMITS, 0.05, 0.5, decimals=2, unit="N m"),
+    StepRange("true_angle_offset", *ANGLE_OFFSET_LIMITS, 0.01, 0.05, decimals=2, unit="rad"),
+)
+"""The physics dialog's fields: the synthetic joint's Coulomb friction, sensor bias and encoder offset."""
+
+PHYSICS_LABELS = {
+    "true_coulomb": "Coulomb friction FC (N m)",
+    "true_bias": "Torque sensor bias TAU0 (N m)",
+    "true_angle_offset": "Encoder offset Q0 (rad)",
+}
+"""Label beside each physics field."""

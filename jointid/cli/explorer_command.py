@@ -36,7 +36,7 @@ def run(args) -> int:
     logs = load_logs(args) if args.csv is not None else None
     derivatives = derivative_options(args)  # also for logs opened later with Ctrl+O
     settings = settings_from(with_default_settings(args) if logs is None else _defaults(args))
-    loaded = None if logs is None else fit_logs(*logs, model=model_named(settings.model))
+    loaded = None if logs is None else fit_logs(*logs, model=model_named(settings.model), constrained=settings.constrained)
     explore = load_explorer()
     try:
         return explore(settings, loaded, derivatives)

@@ -117,3 +117,23 @@ def _rmse(value: float | None) -> str:
 def comparison_text(comparison: Comparison, heading: str) -> str:
     """`jointid compare`'s text: heading, table, then the sentences."""
     return "\n".join((heading, comparison_table(comparison), "", " ".join(comparison_sentences(comparison))))
+
+
+def simulation_cell(check) -> str:
+    """A model's simulation error for a table cell: '0.003949', '0.276394 (1/8 diverged)' or 'diverged'."""
+    if check is None:
+        return UNAVAILABLE
+    windows = len(check.window_errors)
+    if check.rmse is None:
+        return f"diverged ({windows}/{windows})"
+    suffix = f" ({check.diverged_windows}/{windows} diverged)" if check.diverged_windows else ""
+    return format_number(check.rmse) + suffix
+
+
+def simulation_table(comparison: Comparison, checks: dict, horizon: float) -> str:
+    """Each model's simulation error (rad) beside its held-out torque error; models not yet simulated read '…'."""
+    header = ["model", "held RMSE (N m)", f"simulation error, H = {horizon:g} s (rad)"]
+    rows = [[row.model.name, "-" if row.heldout_rmse is None else format_number(row.heldout_rmse),
+             simulation_cell(checks[row.model.name]) if row.model.name in checks else "…"]
+            for row in comparison.rows]
+    return text_table(header, rows)

@@ -70,6 +70,8 @@ MOTION_KEYS = {"1": ("rich", "Rich"), "2": ("slow", "Slow"), "3": ("holds", "Hol
 """Global keys that select a training motion, with the palette's short name."""
 MOTION_GROUP = Binding.Group("Motion")
 """The motion keys share one footer entry."""
+VIEWS_GROUP = Binding.Group("Views")
+"""The analysis views' keys: an entry each where the footer has room, one shared entry at 80 columns."""
 
 
 def size_classes(width: int, height: int) -> dict[str, bool]:
@@ -91,18 +93,17 @@ def known_parameters_text(joint: TrueJoint = LESSON_JOINT, compact: bool = False
     """The synthetic joint's true parameters and conventions, as shown beside the controls.
 
     Compact: two lines of at most 38 columns, which also give the units of the
-    compact readout rows, and a third naming any missing physics.
+    compact readout rows (missing physics in place of the conventions).
     """
     values = dict(zip(PLAIN.names, joint.values_for(PLAIN)))
     unit = {parameter.name: parameter.unit for parameter in PLAIN.parameters}
     extras = [f"{name} {value:g} {PHYSICS_UNITS[name]}" for name, value in missing_physics(joint)]
-    if compact:
-        text = (f"Known: I {values['I']:g} {unit['I']}, h {values['h']:g} {unit['h']}, g {G:g}\n"
-                f"B {values['B']:g} {unit['B']}; q from +x, ccw")
-        return text + (f"\nTrue: {', '.join(extras)}" if extras else "")
+    if compact:  # the missing physics take the conventions' place: 80x24 has two rows for this
+        return (f"Known: I {values['I']:g} {unit['I']}, h {values['h']:g} {unit['h']}, g {G:g}\n"
+                f"B {values['B']:g} {unit['B']}; " + (", ".join(extras) if extras else "q from +x, ccw"))
     known = ", ".join(f"{name} = {values[name]:g} {unit[name]}" for name in PLAIN.names)
     text = f"Known joint: {known}, g = {G:g} m/s²; q from +x, counter-clockwise."
-    return text + (f" Also: {', '.join(extras)}." if extras else "")
+    return text + (f" It also has {', '.join(extras)}." if extras else "")
 
 
 PHYSICS_UNITS = {"Fc": "N m", "tau0": "N m", "q0": "rad"}
@@ -141,11 +142,18 @@ class MainScreen(Screen):
         Binding("q", "quit", "Quit", priority=True, tooltip="Leave the explorer"),
         # The analysis views; s and m are not number characters, so they work in a number
         # field too, while e stays typeable there (1e-2), like the motion keys' digits.
-        Binding("s", "sweep", "Sweep", priority=True,
+        Binding("s", "sweep", "Sweep", priority=True, group=VIEWS_GROUP,
                 tooltip="Seed sweep: this experiment under many noise seeds"),
-        Binding("m", "matrix", "Matrix", priority=True,
+        Binding("m", "matrix", "Matrix", priority=True, group=VIEWS_GROUP,
                 tooltip="Cross-excitation: fit each motion, predict every motion"),
-        Binding("e", "residuals", "Residuals", tooltip="Training residuals against t, q, qd, qdd"),
+        Binding("e", "residuals", "Residuals", group=VIEWS_GROUP, tooltip="Training residuals against t, q, qd, qdd"),
+        Binding("l", "ladder", "Ladder", priority=True, group=VIEWS_GROUP,
+                tooltip="Fit every model of the ladder, BIC's choice, and a simulation of each"),
+        Binding("p", "physics", "Physics", priority=True,
+                tooltip="Missing physics of the true joint, the fitted model, the sign constraint"),
+        # Not in the footer (80 columns have no room; the physics dialog has the same choice).
+        Binding("k", "constrain", "Constrain", priority=True, show=False,
+                tooltip="Fit subject to the sign rules, or not (toggle)"),
         # c is active only while a log is shown (check_action).
         Binding("ctrl+o", "open_log", "Open log", priority=True,
                 tooltip="Load a CSV joint log as training or held-out data"),
@@ -170,6 +178,7 @@ class MainScreen(Screen):
         self.result: FitResult | None = None
         """The fit on screen, of whichever source is shown."""
         self._known_joint = settings.true_joint
+        self._title_text = ""
 
     def compose(self) -> ComposeResult:
         """Side panel with controls and readouts, chart column, too-small message, footer."""
@@ -247,6 +256,7 @@ class MainScreen(Screen):
             self.refresh_bindings()  # Close log appears or goes
         self.set_class(logs is not None, "-log")
         self.set_class(logs is not None and logs.heldout is None, "-no-heldout")
+        self.set_class(settings.joint_model.size > PLAIN.size or settings.true_joint.has_missing_physics, "-extended")
         motion = self.query_one("#motion", ChoiceList)
         motion.set_option("motion-log", label=None if logs is None else f"Log: {logs.name}", shown=logs is not None)
         motion.show_pressed("motion-log" if logs is not None else f"motion-{settings.motion}")
@@ -269,11 +279,22 @@ class MainScreen(Screen):
             heldout = heldout_chart(result, log_name=logs.heldout_name, columns=columns)
             status = log_status(logs)
         self.result = result
+        self.show_title()
         self.query_one("#training-chart", TorqueChart).show(training)
         if heldout is not None:  # without a held-out log its chart is hidden (-no-heldout)
             self.query_one("#heldout-chart", TorqueChart).show(heldout)
         self.query_one(ReadoutPanel).show(readouts(result), precision(result))
         self.query_one("#status", FittingLine).show((Content(status),))
+
+    def show_title(self) -> None:
+        """The title line, naming the fitted model and the constraint when they are not the lesson's."""
+        settings, title = self.settings, self.app.format_title(self.app.title, self.app.sub_title)
+        notes = ([f"model {settings.model}"] if settings.model != DEFAULT_SETTINGS.model else []) + (
+            ["constrained"] if settings.constrained else [])
+        text = f"{title} · {', '.join(notes)}" if notes else title
+        if text != self._title_text:  # a Static update repaints; skip it when equal
+            self._title_text = text
+            self.query_one("#title", Static).update(text)
 
     def show_known(self) -> None:
         """The synthetic joint beside the controls (its missing physics included when present)."""
@@ -291,6 +312,18 @@ class MainScreen(Screen):
         """A number field committed a value (its callback)."""
         self.set_settings(replace(self.settings, **{field: value}))
 
+    def change_fit(self, field: str, value) -> None:
+        """A setting from the physics dialog or the constraint key: a log is refitted with the new model
+        or constraint (the true joint's physics apply to synthetic data only)."""
+        settings = replace(self.settings, **{field: value})
+        if self.logs is None or field not in ("model", "constrained"):
+            self.set_settings(settings)
+            return
+        from jointid.logfit import fit_logs
+
+        self.settings = settings
+        self.set_logs(fit_logs(self.logs.training, self.logs.heldout, settings.joint_model, settings.constrained))
+
     def choose_motion(self, button_id: str) -> None:
         """The motion list's choice (choosing the log's own entry changes nothing)."""
         if button_id != "motion-log":
@@ -307,6 +340,37 @@ class MainScreen(Screen):
     def action_reset(self) -> None:
         """Restore the default settings."""
         self.set_settings(DEFAULT_SETTINGS)
+
+    def action_physics(self) -> None:
+        """Open the physics dialog: the true joint's missing physics, the fitted model, the constraint."""
+        from .physics import PhysicsScreen
+
+        def changed(field: str, value) -> None:
+            self.change_fit(field, value)
+            dialog.show(self.settings)
+
+        dialog = PhysicsScreen(self.settings, changed)
+        self.app.push_screen(dialog)
+
+    def action_constrain(self) -> None:
+        """Toggle the fit's sign constraint."""
+        self.change_fit("constrained", not self.settings.constrained)
+
+    def action_ladder(self) -> None:
+        """Open the model-ladder view on the data shown (the synthetic experiment or the log)."""
+        from jointid.experiment import training_data, validation_data
+        from jointid.present.text import settings_header
+
+        from .ladder import LadderScreen
+
+        if self.logs is None:
+            settings = self.settings
+            self.app.push_screen(LadderScreen(settings_header(settings), training_data(settings),
+                                              validation_data(settings.true_joint), noise_bound=settings.noise,
+                                              joint=settings.true_joint))
+        else:
+            self.app.push_screen(LadderScreen(f"log {self.logs.name}", self.logs.training.data,
+                                              None if self.logs.heldout is None else self.logs.heldout.data))
 
     def action_help(self) -> None:
         """Open the help screen."""
@@ -393,7 +457,7 @@ class MainScreen(Screen):
 
         app = self.app
         try:
-            logs = load_request(request, current, self.settings.joint_model,
+            logs = load_request(request, current, self.settings.joint_model, self.settings.constrained,
                                 lambda done, total: app.call_from_thread(dialog.advance, done, total),
                                 dialog.cancelled.is_set)
         except LoadCancelled:

@@ -18,6 +18,13 @@ class KeyEntry:
     keys: str
     description: str
     enabled: bool = True
+    parts: tuple[KeyEntry, ...] = ()
+    """A group's own entries, shown one by one when the width has room (see EXPANDED_WHEN_ROOM)."""
+
+
+EXPANDED_WHEN_ROOM = {"Views"}
+"""Groups whose keys get an entry each when they fit ("s Sweep  m Matrix ..."), and one shared
+entry ("s m e l Views") only when the footer is tight; other groups always share one."""
 
 
 def key_entries(screen: Screen, app: App) -> tuple[tuple[KeyEntry, ...], KeyEntry | None]:
@@ -36,7 +43,9 @@ def key_entries(screen: Screen, app: App) -> tuple[tuple[KeyEntry, ...], KeyEntr
         members = list(members)
         if group is not None and len(members) > 1:
             keys = " ".join(app.get_key_display(binding) for binding, _ in members)
-            entries.append(KeyEntry(keys, group.description, any(enabled for _, enabled in members)))
+            parts = tuple(KeyEntry(app.get_key_display(binding), binding.description, enabled)
+                          for binding, enabled in members) if group.description in EXPANDED_WHEN_ROOM else ()
+            entries.append(KeyEntry(keys, group.description, any(enabled for _, enabled in members), parts))
         else:
             entries.extend(KeyEntry(app.get_key_display(binding), binding.description, enabled)
                            for binding, enabled in members)
@@ -64,9 +73,22 @@ at all), roomiest first; the last fits every main-screen key in 80 columns."""
 def footer_line(entries: tuple[KeyEntry, ...], palette: KeyEntry | None, width: int) -> Content:
     """The roomiest arrangement that fits the width, the palette's key at the right end.
 
-    When even the tightest is too wide, the keys that fit and "…"; help and the
-    palette list every key.
+    Groups in EXPANDED_WHEN_ROOM show their keys one by one while any arrangement fits
+    that way. When even the tightest is too wide, the keys that fit and "…"; help and
+    the palette list every key.
     """
+    expanded = tuple(part for entry in entries for part in (entry.parts or (entry,)))
+    if expanded != entries:
+        line = _arranged(expanded, palette, width)
+        if line is not None:
+            return line
+    return _arranged(entries, palette, width, truncate=True)
+
+
+def _arranged(entries: tuple[KeyEntry, ...], palette: KeyEntry | None, width: int,
+              truncate: bool = False) -> Content | None:
+    """The roomiest arrangement of these entries that fits; None when none does (or, with `truncate`, the
+    tightest with the keys that fit and "…")."""
     for separator, gap, palette_shown in ARRANGEMENTS:
         right = Content("")
         if palette is not None and palette_shown is not None:
@@ -77,6 +99,8 @@ def footer_line(entries: tuple[KeyEntry, ...], palette: KeyEntry | None, width: 
         if line.cell_length <= room:
             break
     else:
+        if not truncate:
+            return None
         kept = []
         for entry in entries:
             if Content(separator).join([*kept, entry_content(entry, gap), Content("…")]).cell_length > room:

@@ -20,6 +20,10 @@ RESERVED_FAILURE_LINES = 2
 motion with much noise breaks two requirements, I > 0 and B ≥ 0)."""
 COMPACT_RESERVED_FAILURE_LINES = 1
 """Compact rows kept for sign-failure notes: 80x24 has room for one."""
+COMPACT_PARAMETER_ROWS = 3
+"""Parameters compact rows show beside every other readout; a model with more drops MOTION_RMS_KEYS."""
+MOTION_RMS_KEYS = ("accel_rms", "speed_rms")
+"""Readouts of the motion rather than the fit, the first to give way on a small terminal."""
 
 INDENT = "  "
 """Precision lines sit under their readout, indented."""
@@ -153,7 +157,7 @@ class ReadoutPanel(Widget):
             return 0
         parameters = 0 if self.precision is None else len(self.precision.notes)
         if self.compact:
-            return len(self.items) + COMPACT_RESERVED_FAILURE_LINES + 1
+            return len(self.compact_items()) + COMPACT_RESERVED_FAILURE_LINES + 1
         return len(self.items) + parameters + RESERVED_FAILURE_LINES + 3
 
     def rows(self, width: int) -> int:
@@ -168,10 +172,18 @@ class ReadoutPanel(Widget):
             self._lines_key = key
         return self._lines
 
+    def compact_items(self) -> tuple[Readout, ...]:
+        """The readouts compact rows show: all of them for the lesson's three parameters; with more, the motion's
+        RMS rows give way (80x24 has no more rows; the full layout, the CLI and JSON keep them)."""
+        parameters = 0 if self.precision is None else len(self.precision.notes)
+        if parameters <= COMPACT_PARAMETER_ROWS:
+            return self.items
+        return tuple(item for item in self.items if item.key not in MOTION_RMS_KEYS)
+
     def _build_compact(self, width: int) -> list[Content]:
         notes = {} if self.precision is None else {note.key: note for note in self.precision.notes}
         lines = []
-        for item in self.items:
+        for item in self.compact_items():
             note = notes.get(item.key)
             if note is None:  # rank and the RMS readouts keep their labels
                 lines.append(Content(item.label.ljust(COMPACT_LABEL_WIDTH) + item.text))
