@@ -39,7 +39,7 @@ def test_slow_motion_constrained_holds_the_inertia_at_its_floor_like_lsq_linear(
     rich = run_experiment(Settings(motion="rich", noise=0.2))
     assert constrained.heldout_rmse > 10 * rich.heldout_rmse  # correct signs are not accuracy
     assert constrained.uncertainty.verdicts[0] == "at bound"
-    assert "Correct signs are not accuracy" in constrained.message
+    assert "correct signs are not accuracy" in constrained.message
 
 
 def test_an_inactive_constraint_is_the_unconstrained_fit_bit_for_bit():

@@ -20,6 +20,8 @@ CONDITION_RISE = 2.0
 """A condition number at least this many times the preferred model's is named."""
 COMPARISON_HEADER = ["model", "terms", "rank", "train RMSE", "held RMSE", "BIC", "cond.", "worst determined"]
 """Columns of the comparison table."""
+COMPACT_HEADER = ["model", "rank", "train", "held", "BIC", "cond.", "worst"]
+"""The same without the terms (the model's name gives them), for 80 columns."""
 
 
 def bic_text(bic: float | None) -> str:
@@ -48,8 +50,10 @@ def comparison_rows(comparison: Comparison) -> list[list[str]]:
     return rows
 
 
-def comparison_table(comparison: Comparison) -> str:
-    """The ladder as an aligned text table."""
+def comparison_table(comparison: Comparison, compact: bool = False) -> str:
+    """The ladder as an aligned text table (compact: without the terms column, about 76 columns)."""
+    if compact:
+        return text_table(COMPACT_HEADER, [[row[0], *row[2:]] for row in comparison_rows(comparison)])
     return text_table(COMPARISON_HEADER, comparison_rows(comparison))
 
 

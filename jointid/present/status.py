@@ -146,7 +146,7 @@ def status_message(result: FitResult) -> str:
             f"Fitted {parameter.label} {format_number(value)} {parameter.unit} "
             f"fails this joint model's requirement {parameter.requirement}."
         )
-    if not result.sign_failures:
+    if not result.sign_failures and not result.at_bound:  # the constraint's sentence says it already
         parts.append("Positive parameter signs alone do not establish an accurate physical model.")
     parts.extend(accuracy_sentences(result))
     return " ".join(parts)
@@ -161,8 +161,7 @@ def constraint_sentence(result: FitResult) -> str:
         f"the {model.parameter(name).label} at its bound {format_number(result.estimate[model.names.index(name)])} "
         f"{model.parameter(name).unit}" for name in result.at_bound
     ])
-    return (f"Fitted subject to the sign rules, which hold {held}. Correct signs are not accuracy: "
-            "the held-out error shows how well this fit predicts.")
+    return f"The sign rules hold {held}; correct signs are not accuracy."
 
 
 def condition_text(condition: float) -> str:

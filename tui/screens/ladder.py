@@ -26,6 +26,8 @@ SIMULATION_NOTE = (
     "diverged). Coulomb terms' sign(qd) is smoothed as tanh(qd/0.01) for the integrator."
 )
 """What the simulation column means, under its table."""
+WIDE_TABLE = 100
+"""Columns from which the comparison table shows each model's terms."""
 
 
 class LadderScreen(Screen):
@@ -59,11 +61,17 @@ class LadderScreen(Screen):
         """Title, the comparison table, what it shows, the simulations, footer."""
         yield Static(f"Model ladder: {self.title_text}", id="ladder-title", markup=False)
         with VerticalScroll(id="ladder-body"):
-            yield Static(comparison_table(self.comparison), id="ladder-table", markup=False)
+            yield Static(comparison_table(self.comparison, compact=self.app.size.width < WIDE_TABLE),
+                         id="ladder-table", markup=False)
             yield Static(" ".join(comparison_sentences(self.comparison)), id="ladder-sentences", markup=False)
             yield Static("", id="ladder-simulation", markup=False)
             yield Static("", id="ladder-simulation-note", markup=False)
         yield KeyFooter()
+
+    def on_resize(self) -> None:
+        """The table without its terms column below WIDE_TABLE columns."""
+        self.query_one("#ladder-table", Static).update(
+            comparison_table(self.comparison, compact=self.size.width < WIDE_TABLE))
 
     def on_mount(self) -> None:
         """Start the simulations (synthetic data only: a log has no true torque to drive them)."""

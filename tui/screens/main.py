@@ -256,7 +256,8 @@ class MainScreen(Screen):
             self.refresh_bindings()  # Close log appears or goes
         self.set_class(logs is not None, "-log")
         self.set_class(logs is not None and logs.heldout is None, "-no-heldout")
-        self.set_class(settings.joint_model.size > PLAIN.size or settings.true_joint.has_missing_physics, "-extended")
+        self.set_class(settings.joint_model.size > PLAIN.size or settings.true_joint.has_missing_physics
+                       or settings.constrained, "-extended")
         motion = self.query_one("#motion", ChoiceList)
         motion.set_option("motion-log", label=None if logs is None else f"Log: {logs.name}", shown=logs is not None)
         motion.show_pressed("motion-log" if logs is not None else f"motion-{settings.motion}")
