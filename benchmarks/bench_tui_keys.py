@@ -47,6 +47,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from textual import events  # noqa: E402
 
+from jointid.settings import Settings  # noqa: E402
 from tui import third_party  # noqa: E402
 from tui.app import JointIdApp  # noqa: E402
 from tui.screens.main import MainScreen, cached_experiment  # noqa: E402
@@ -127,8 +128,8 @@ def forget_everything(screen) -> None:
         plot._cache.clear()
 
 
-async def measure(tune_gc: bool = True) -> tuple[list[float], int, int, int]:
-    app = JointIdApp()
+async def measure(tune_gc: bool = True, model: str = "plain") -> tuple[list[float], int, int, int]:
+    app = JointIdApp(Settings(model=model))
     app.tune_gc = tune_gc
     latencies: list[float] = []
     changed = unchanged = 0
@@ -190,13 +191,34 @@ def summary(latencies: list[float]) -> str:
             f"{sum(ms > 33.3 for ms in latencies)} over 33.3 ms")
 
 
+def compare_models_latency(model: str, rounds: int) -> None:
+    """Key latency with `model` against the plain model, alternating fresh apps (A B B A ...)."""
+    third_party.activate()
+    third_party.after_compositor_refresh(after_refresh)
+    everything: dict[str, list[float]] = {"plain": [], model: []}
+    order = [name for pair in range(rounds) for name in (("plain", model) if pair % 2 == 0 else (model, "plain"))]
+    for name in order:
+        latencies, _, _, _ = asyncio.run(measure(model=name))
+        everything[name] += latencies
+        print(f"{name}: {summary(latencies)}")
+    plain, other = everything["plain"], everything[model]
+    print(f"{model} / plain, all presses: median {statistics.median(other) / statistics.median(plain):.2f}, "
+          f"p95 {percentile(other, 0.95) / percentile(plain, 0.95):.2f}")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--gc", choices=("tuned", "stock", "both"), default="tuned",
                         help="the app's garbage-collection tuning (JointIdApp.on_ready) on, off, or "
                              "alternating run by run (default: tuned, as the app ships)")
     parser.add_argument("--runs", type=int, default=RUNS, help=f"fresh apps per mode (default {RUNS})")
+    parser.add_argument("--model", default=None, metavar="NAME",
+                        help="also time the explorer fitting this model, alternating with the plain model, "
+                             "and print the ratio (e.g. coulomb+bias)")
     args = parser.parse_args()
+    if args.model is not None:
+        compare_models_latency(args.model, args.runs)
+        return
     modes = ["tuned", "stock"] if args.gc == "both" else [args.gc]
 
     for line in third_party.activate():  # as the app does when it starts; the gauge below needs it too

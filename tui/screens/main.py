@@ -339,8 +339,9 @@ class MainScreen(Screen):
         self.set_settings(replace(self.settings, motion=name))
 
     def action_reset(self) -> None:
-        """Restore the default settings."""
-        self.set_settings(DEFAULT_SETTINGS)
+        """Restore the four controls' defaults; the model, the constraint and the physics stay (p sets them)."""
+        defaults = {field: getattr(DEFAULT_SETTINGS, field) for field in ("motion", "noise", "samples", "seed")}
+        self.set_settings(replace(self.settings, **defaults))
 
     def action_physics(self) -> None:
         """Open the physics dialog: the true joint's missing physics, the fitted model, the constraint."""
