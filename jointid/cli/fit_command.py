@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 
 from ..experiment import run_experiment
 from ..present.documents import fit_document
@@ -11,6 +10,7 @@ from ..present.readouts import readouts_text, uncertainty_text
 from ..present.text import settings_header
 from .arguments import add_model_argument, add_settings_arguments, settings_from
 from .log_fit import add_log_arguments, run_log_fit, with_default_settings
+from .output import print_json
 
 NAME = "fit"
 
@@ -37,7 +37,7 @@ def run(args: argparse.Namespace) -> int:
     settings = settings_from(with_default_settings(args))
     result = run_experiment(settings)
     if args.json:
-        print(json.dumps(fit_document(result, settings=settings), indent=2))
+        print_json(fit_document(result, settings=settings))
     else:
         print(settings_header(settings))
         print(readouts_text(result))

@@ -10,7 +10,6 @@ defaults in afterwards (`with_default_settings`).
 from __future__ import annotations
 
 import argparse
-import json
 
 from ..csvlog import JointLog, LogError, load_log
 from ..derivatives import DEFAULT_ORDER, DEFAULT_WINDOW, FilterSettingError, check_filter
@@ -19,6 +18,7 @@ from ..model import model_named
 from ..present.readouts import readouts_text, uncertainty_text
 from ..settings import DEFAULT_SETTINGS
 from .arguments import UserError, whole_number
+from .output import print_json
 
 SETTING_FLAGS = ("motion", "noise", "samples", "seed")
 """Synthetic-experiment options that a log fit rejects."""
@@ -88,7 +88,7 @@ def run_log_fit(args: argparse.Namespace) -> int:
     """Load the training (and held-out) log, fit, and print text or JSON; exit status 0."""
     logs = fit_logs(*load_logs(args), model=model_named(args.model))
     if args.json:
-        print(json.dumps(logs.document(), indent=2))
+        print_json(logs.document())
         return 0
     print("\n".join(logs.source_lines()))
     print(readouts_text(logs.result))

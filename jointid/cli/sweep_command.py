@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import argparse
-import json
 
 from ..present.documents import sweep_document
 from ..present.tables import sweep_text
 from ..sweep import DEFAULT_SEED_COUNT, SEED_COUNT_LIMITS, run_sweep
 from .arguments import add_model_argument, add_settings_arguments, settings_from, whole_number
+from .output import print_json
 
 NAME = "sweep"
 
@@ -39,5 +39,8 @@ def add_parser(subparsers) -> None:
 def run(args: argparse.Namespace) -> int:
     """Run the sweep and print text or JSON; exit status 0."""
     sweep = run_sweep(settings_from(args), args.seeds)
-    print(json.dumps(sweep_document(sweep), indent=2) if args.json else sweep_text(sweep))
+    if args.json:
+        print_json(sweep_document(sweep))
+    else:
+        print(sweep_text(sweep))
     return 0
