@@ -16,6 +16,8 @@ from functools import cached_property
 
 import numpy as np
 
+from .norms import column_norms, row_norms
+
 RANK_TOLERANCE = 1e-10
 """A remaining scaled column norm at or below this is numerically dependent."""
 
@@ -110,7 +112,8 @@ def solve_least_squares(X, y, tolerance: float = RANK_TOLERANCE) -> LeastSquares
     if X.ndim != 2 or y.ndim not in (1, 2) or y.shape[0] != X.shape[0]:
         raise ValueError(f"X must be (N, p) and y (N,) or (N, K); got {X.shape} and {y.shape}")
     rows, columns = X.shape
-    norms = np.sqrt(np.einsum("ij,ij->j", X, X))
+    # Overflow-safe: a column of 1e200s has a norm, not an infinite one that would scale it to zero.
+    norms = column_norms(X)
     scales = np.where(norms > 0, norms, 1.0)
     # A scaled copy in column-major order, so each column operation is contiguous.
     work = np.empty((rows, columns), order="F")
@@ -133,7 +136,7 @@ def solve_least_squares(X, y, tolerance: float = RANK_TOLERANCE) -> LeastSquares
             permutation[[k, pivot]] = permutation[[pivot, k]]
         _reflect(work, targets, k, remaining[pivot - k])
         rank += 1
-    residual_norms = np.sqrt(np.square(targets[:, rank:]).sum(axis=1))
+    residual_norms = row_norms(targets[:, rank:])
     qty = np.array(targets[:, :rank].T, order="C")
     return LeastSquaresSolution(
         rank=rank,

@@ -24,6 +24,7 @@ from .experiment import training_data, validation_data
 from .fit import fitted_torque
 from .model import JointModel
 from .noise import MODULUS, torque_noise
+from .norms import row_rms
 from .settings import Settings
 from .solver import solve_least_squares
 from .present.tables import sweep_message
@@ -208,13 +209,8 @@ def run_sweep(
         measured = exact + torque_noise(settings.noise, settings.samples, seeds[start:stop])  # (k, N)
         theta = solve_least_squares(regressor, measured.T).estimate  # (p, k)
         estimates[:, start:stop] = theta
-        training_rmse[start:stop] = _row_rms(fitted_torque(regressor, theta) - measured)
-        heldout_rmse[start:stop] = _row_rms(fitted_torque(validation_regressor, theta) - validation.tau)
+        training_rmse[start:stop] = row_rms(fitted_torque(regressor, theta) - measured)
+        heldout_rmse[start:stop] = row_rms(fitted_torque(validation_regressor, theta) - validation.tau)
         if progress is not None:
             progress(stop, seed_count)
     return replace(result, estimates=estimates, training_rmse=training_rmse, heldout_rmse=heldout_rmse)
-
-
-def _row_rms(rows: np.ndarray) -> np.ndarray:
-    """(K,) Root mean square of each row of a (K, M) array, as `dataset.rms` computes one row."""
-    return np.sqrt(np.mean(np.square(rows), axis=1))
