@@ -525,6 +525,18 @@ def check_time(table: LogTable, uniform: bool) -> float | None:
     return step
 
 
+def _check_estimates(table: LogTable, step: float, estimates, missing: tuple[str, ...]) -> None:
+    """Raise LogError when an estimated derivative is not finite (a tiny time step, or a huge q)."""
+    for name, values in estimates:
+        if name in missing and not np.isfinite(values).all():
+            raise table.error(
+                f"{name} estimated from q at a time step of {step:.3g} s overflows double precision; "
+                "give t in seconds and q in radians (or degrees with --degrees)",
+                None,
+                "t",
+            )
+
+
 def load_log(
     path,
     *,
@@ -551,7 +563,10 @@ def load_log(
     q = columns["q"] * scale if degrees else columns["q"]
     estimate = None
     if missing:
-        velocity, acceleration = differentiate(q, step, window, order)
+        # A step like 1e-302 s makes the filter's 1/dt^2 overflow: checked just below, by name.
+        with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+            velocity, acceleration = differentiate(q, step, window, order)
+        _check_estimates(table, step, (("qd", velocity), ("qdd", acceleration)), missing)
         half = window // 2
         keep = slice(half, table.count - half)
         qd = columns["qd"][keep] * scale if "qd" in columns else velocity
