@@ -34,6 +34,9 @@ SEED_COUNT_LIMITS = (1, 1_000_000)
 """Allowed number of seeds in one sweep."""
 DEFAULT_SEED_COUNT = 1000
 """Seeds in a sweep unless told otherwise."""
+WORK_BUDGET = 100_000_000
+"""Samples x seeds a sweep takes without being asked twice: about 10 s here (1,000,000 samples x 1,000
+seeds took 3 minutes). The command line refuses more unless forced; see `sweep_work`."""
 CHUNK_ELEMENTS = 2**21
 """Torque values (seeds x samples) handled per chunk: about 16 MB per array."""
 RMSE_QUANTITIES = ("training_rmse", "heldout_rmse")
@@ -62,6 +65,11 @@ def describe(values: np.ndarray) -> Distribution:
     p5, p50, p95 = np.percentile(values, [5, 50, 95])
     std = float(np.std(values, ddof=1)) if len(values) > 1 else None
     return Distribution(float(np.mean(values)), std, float(p5), float(p50), float(p95))
+
+
+def sweep_work(settings: Settings, seed_count: int) -> int:
+    """Samples x seeds: the torque values a sweep generates and fits, which its time grows with."""
+    return settings.samples * seed_count
 
 
 def sweep_seeds(first_seed: int, count: int) -> np.ndarray:
