@@ -89,13 +89,13 @@ def check_filter(window: int, order: int) -> None:
         raise FilterSettingError(
             "window", f"must be at most {MAX_WINDOW} samples (wider costs time and smooths away the motion); got {window}"
         )
-    if order > MAX_ORDER:
-        raise FilterSettingError(
-            "order", f"must be at most {MAX_ORDER} (higher orders follow the noise and cost time); got {order}"
-        )
     if not 2 <= order < window:
         raise FilterSettingError(
             "order", f"must be less than the window {window} and at least 2 (for acceleration); got {order}"
+        )
+    if order > MAX_ORDER:
+        raise FilterSettingError(
+            "order", f"must be at most {MAX_ORDER} (higher orders follow the noise and cost time); got {order}"
         )
 
 
