@@ -74,7 +74,8 @@ whitespace inside a number ('3e 2' is 300 to pandas), and true/false in any case
 every spelling has an a or a u, and the numbers 'inf' and 'infinity' have neither).
 Found by fuzzing the two readers against each other; see tests/test_csvlog.py."""
 
-_NUMBER = re.compile(r"[+-]?(\d+\.?\d*([eE][+-]?\d+)?|\.\d+([eE][+-]?\d+)?|nan|inf|infinity)", re.I)
+# ASCII: to re, "٣" is a digit (\d), but neither reader takes it as one.
+_NUMBER = re.compile(r"[+-]?(\d+\.?\d*([eE][+-]?\d+)?|\.\d+([eE][+-]?\d+)?|nan|inf|infinity)", re.I | re.ASCII)
 
 ProgressCallback = Callable[[int, int], None]
 """progress(bytes_read, total_bytes), called after each chunk."""
