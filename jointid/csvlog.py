@@ -11,8 +11,10 @@ Rows in messages are 1-based line numbers in the file, so an editor's "go to
 line" finds them; columns are 1-based positions with their header name.
 
 Only regular files are read: a FIFO would block the open forever and
-/dev/zero would fill memory, so both are refused before anything is read, and
-no line may be longer than MAX_LINE_BYTES, which bounds what one line can cost.
+/dev/zero would fill memory, so both are refused before anything is read. A
+line running on past MAX_LINE_BYTES is refused as soon as reading has to hold
+it whole (the header, or a data line that does not fit in one chunk), so no
+single line costs more memory than a chunk plus MAX_LINE_BYTES.
 
 Checks: every recognised cell a finite number; t, when present, strictly
 increasing. Uniform sampling (every step within 1 % of the median) is required
@@ -56,8 +58,9 @@ CHUNK_BYTES = 1 << 21
 measured alike here (load + fit of 1,000,000 rows within 0.29-0.31 s), so pandas' per-call cost does not matter."""
 
 MAX_LINE_BYTES = 1 << 20
-"""Longest line accepted (1 MiB, tens of thousands of columns): a file with no newline in its first
-megabyte is not a log of one sample per line, and reading on would hold all of it in memory."""
+"""Longest line reading will hold whole (1 MiB, tens of thousands of columns): a file with no newline in
+its first megabyte is not a log of one sample per line, and reading on would hold all of it in memory.
+Shorter data lines are always read; longer ones inside a chunk are left to the row checks."""
 
 UNIFORM_TOLERANCE = 0.01
 """Largest allowed relative departure of a time step from the median step."""
