@@ -121,7 +121,8 @@ def solve_least_squares(X, y, tolerance: float = RANK_TOLERANCE) -> LeastSquares
     if X.ndim != 2 or y.ndim not in (1, 2) or y.shape[0] != X.shape[0]:
         raise ValueError(f"X must be (N, p) and y (N,) or (N, K); got {X.shape} and {y.shape}")
     for name, values in (("the regressor X", X), ("the observations y", y)):
-        if not np.isfinite(values).all():
+        # min and max propagate NaN and reach any infinity, without an (N, p) temporary.
+        if values.size and not (math.isfinite(values.min()) and math.isfinite(values.max())):
             raise NonFiniteError(f"{name} holds values that are not finite numbers")
     rows, columns = X.shape
     # Overflow-safe: a column of 1e200s has a norm, not an infinite one that would scale it to zero.

@@ -256,6 +256,15 @@ def test_every_good_json_output_parses_strictly(capsys, in_tmp, argv):
         assert document["model"] == argv[argv.index("--model") + 1]
 
 
+@pytest.mark.parametrize("argv", GOOD_JSON, ids=[" ".join(case) for case in GOOD_JSON])
+def test_every_good_invocation_prints_text_without_an_error(capsys, in_tmp, argv):
+    if any(name in argv for name in ("enc.csv", "big.csv", "tiny.csv")):
+        write_special_logs(capsys, in_tmp)
+    status, out, err = run(capsys, argv)
+    assert (status, err) == (0, ""), err
+    assert out and " nan" not in out and "inf " not in out
+
+
 def write_special_logs(capsys, folder):
     """enc.csv (an encoder log, t, q, tau) and the x.csv log with qd, qdd and tau scaled by 1e154 and 1e-170."""
     assert run(capsys, ["simulate", "--rate", "200", "--duration", "4", "--encoder-counts", "4096",
