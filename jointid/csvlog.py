@@ -505,7 +505,8 @@ def _line_of_data_row(path: str, offset: int, index: int) -> int:
 
 def _long_line(path: str, line: int) -> LogError:
     """The error for a line longer than MAX_LINE_BYTES."""
-    return LogError(path, f"line is longer than {MAX_LINE_BYTES // (1 << 20)} MiB: not a CSV log of one sample per line", line)
+    size = f"{MAX_LINE_BYTES // (1 << 20)} MiB"
+    return LogError(path, f"line is longer than {size}: not a CSV log of one sample per line", line)
 
 
 def _shorten(text: str, limit: int = 30) -> str:

@@ -42,4 +42,3 @@ class JointData:
     def time_axis(self) -> np.ndarray:
         """(N,) Times for plotting: `t` when known, else the sample index."""
         return self.t if self.t is not None else np.arange(self.count, dtype=float)
-

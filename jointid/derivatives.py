@@ -87,7 +87,8 @@ def check_filter(window: int, order: int) -> None:
         raise FilterSettingError("window", f"must be an odd number of samples, at least 3; got {window}")
     if window > MAX_WINDOW:
         raise FilterSettingError(
-            "window", f"must be at most {MAX_WINDOW} samples (wider costs time and smooths away the motion); got {window}"
+            "window",
+            f"must be at most {MAX_WINDOW} samples (wider costs time and smooths away the motion); got {window}",
         )
     if not 2 <= order < window:
         raise FilterSettingError(

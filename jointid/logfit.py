@@ -93,7 +93,9 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
         scores = ((training, result.training_rmse), (heldout, result.heldout_rmse))
     for log, rmse in scores:
         if rmse is not None and not math.isfinite(rmse):
-            raise LogError(log.path, "its predicted torques overflow double precision; rescale its columns (other units)")
+            raise LogError(
+                log.path, "its predicted torques overflow double precision; rescale its columns (other units)"
+            )
     return LoadedLogs(training, heldout, result)
 
 

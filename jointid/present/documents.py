@@ -41,12 +41,12 @@ def json_text(document, *, ensure_ascii: bool = True) -> str:
         raise NonFiniteValue(key) from None
 
 
-def _non_finite_key(value, key: str = "the document") -> str | None:
-    """The dotted key of the first inf or NaN float inside nested dicts and lists, or None."""
+def _non_finite_key(value, key: str = "") -> str | None:
+    """The dotted key ('statistics.I.std', 'rows[1]') of the first inf or NaN float in nested dicts and lists."""
     if isinstance(value, float):
-        return None if math.isfinite(value) else key
+        return None if math.isfinite(value) else key or "the document"
     if isinstance(value, dict):
-        items = ((f"{name}" if key == "the document" else f"{key}.{name}", item) for name, item in value.items())
+        items = ((f"{key}.{name}" if key else str(name), item) for name, item in value.items())
     elif isinstance(value, (list, tuple)):
         items = ((f"{key}[{index}]", item) for index, item in enumerate(value))
     else:
