@@ -111,7 +111,7 @@ def bad_invocations() -> list[list[str]]:
     cases += cases_for(["simulate", *out], "--samples", ["1", "٣", "2.5", "inf", "10000001"])
     cases += cases_for(["simulate", *out], "--rate", ["0", "-5", "nan", "inf", "-inf", "٣", "1e308", "2e9"])
     cases += cases_for(["simulate", *out], "--duration", ["0", "-1", "nan", "inf", "1e308", "２", "1e7"])
-    cases += cases_for(["simulate", *out], "--encoder-counts", ["1", "0", "-2", "2.5", "٣", "nan"])
+    cases += cases_for(["simulate", *out], "--encoder-counts", ["1", "0", "-2", "2.5", "٣", "nan", "4294967297", "1" + "0" * 400])
     cases += cases_for(["simulate", *out], "--motion", ["fast", "", "RICH!"])
     cases += cases_for([], "--noise", ["٣", "-inf", "nan", "5", "1.5", "101"])  # the explorer: 0 to 1.00 N m
     cases += cases_for([], "--samples", ["1", "241", "1000", "٣"])  # the explorer: 2 to 240

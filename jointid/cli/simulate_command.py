@@ -29,6 +29,8 @@ ENCODER_COLUMNS = ("t", "q", "tau")
 DURATION_LIMIT = 1e6
 """Longest time span (s), about 11.6 days: beyond about 1e15 s the motion's sines have no correct digits,
 and at 1e308 s they are NaN."""
+ENCODER_COUNT_LIMIT = 2**32
+"""Most counts per turn (a 32-bit encoder): more is no encoder, and 10**400 is no float."""
 RATE_LIMIT = 1e9
 """Highest sample rate (Hz): with DURATION_LIMIT it keeps duration*rate a finite, exactly rounded count."""
 
@@ -43,6 +45,14 @@ def bounded_positive(high: float):
         return value
 
     return parse
+
+
+def encoder_counts(text: str) -> int:
+    """An argparse type for counts per turn: a whole number from 2 to ENCODER_COUNT_LIMIT."""
+    value = whole_number(2)(text)  # its message for a count below 2, as before
+    if value > ENCODER_COUNT_LIMIT:
+        raise argparse.ArgumentTypeError(f"must be a whole number from 2 to {ENCODER_COUNT_LIMIT:,}; got {text!r}")
+    return value
 
 
 def motion_name(text: str) -> str:
@@ -79,8 +89,9 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--duration", type=bounded_positive(DURATION_LIMIT), default=None, metavar="S",
                         help=f"time span from the first to the last sample (s), at most {DURATION_LIMIT:g}; "
                         f"default {DURATION:g}")
-    parser.add_argument("--encoder-counts", type=whole_number(2), default=None, metavar="C",
-                        help="write only t, q and tau, with q quantised to 2*pi/C rad like an encoder")
+    parser.add_argument("--encoder-counts", type=encoder_counts, default=None, metavar="C",
+                        help="write only t, q and tau, with q quantised to 2*pi/C rad like an encoder "
+                        f"(C up to {ENCODER_COUNT_LIMIT:,})")
     parser.add_argument("--out", required=True, metavar="FILE", help="the CSV file to write")
     parser.add_argument("--force", action="store_true", help="replace FILE if it exists")
 
