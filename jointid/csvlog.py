@@ -10,6 +10,12 @@ as the header. Cells are not quoted.
 Rows in messages are 1-based line numbers in the file, so an editor's "go to
 line" finds them; columns are 1-based positions with their header name.
 
+Only regular files are read: a FIFO would block the open forever and
+/dev/zero would fill memory, so both are refused before anything is read. A
+line running on past MAX_LINE_BYTES is refused as soon as reading has to hold
+it whole (the header, or a data line that does not fit in one chunk), so no
+single line costs more memory than a chunk plus MAX_LINE_BYTES.
+
 Checks: every recognised cell a finite number; t, when present, strictly
 increasing. Uniform sampling (every step within 1 % of the median) is required
 only when qd or qdd must be estimated, since only the differentiator uses t:
@@ -34,6 +40,7 @@ import io
 import math
 import os
 import re
+import stat
 from bisect import bisect_right
 from dataclasses import dataclass
 from typing import Callable
@@ -50,6 +57,11 @@ CHUNK_BYTES = 1 << 21
 """Bytes read and parsed at a time (2 MiB): progress every ~2 % of 100 MB. With pandas' reader, 1-16 MiB
 measured alike here (load + fit of 1,000,000 rows within 0.29-0.31 s), so pandas' per-call cost does not matter."""
 
+MAX_LINE_BYTES = 1 << 20
+"""Longest line reading will hold whole (1 MiB, tens of thousands of columns): a file with no newline in
+its first megabyte is not a log of one sample per line, and reading on would hold all of it in memory.
+Shorter data lines are always read; longer ones inside a chunk are left to the row checks."""
+
 UNIFORM_TOLERANCE = 0.01
 """Largest allowed relative departure of a time step from the median step."""
 
@@ -65,7 +77,8 @@ whitespace inside a number ('3e 2' is 300 to pandas), and true/false in any case
 every spelling has an a or a u, and the numbers 'inf' and 'infinity' have neither).
 Found by fuzzing the two readers against each other; see tests/test_csvlog.py."""
 
-_NUMBER = re.compile(r"[+-]?(\d+\.?\d*([eE][+-]?\d+)?|\.\d+([eE][+-]?\d+)?|nan|inf|infinity)", re.I)
+# ASCII: to re, "٣" is a digit (\d), but neither reader takes it as one.
+_NUMBER = re.compile(r"[+-]?(\d+\.?\d*([eE][+-]?\d+)?|\.\d+([eE][+-]?\d+)?|nan|inf|infinity)", re.I | re.ASCII)
 
 ProgressCallback = Callable[[int, int], None]
 """progress(bytes_read, total_bytes), called after each chunk."""
@@ -172,10 +185,7 @@ def read_table(
 ) -> LogTable:
     """Read and check the header and every row of a CSV log; raise LogError on the first problem."""
     path = os.fspath(path)
-    try:
-        handle = open(path, "rb")
-    except OSError as error:
-        raise LogError(path, f"cannot open: {error.strerror or error}") from None
+    handle = _open_regular_file(path)
     try:
         with handle:
             total = os.fstat(handle.fileno()).st_size
@@ -183,6 +193,33 @@ def read_table(
             return reader.read()
     except OSError as error:  # e.g. a directory, or a read error mid-file
         raise LogError(path, f"cannot read: {error.strerror or error}") from None
+
+
+def _open_regular_file(path: str):
+    """The file opened for binary reading; LogError if it cannot be, or if it is not a regular file."""
+    try:
+        # Looked at before opening: opening a FIFO waits for a writer, and opening a device can act on it.
+        kind = _file_kind(os.stat(path).st_mode)
+        if kind is None:
+            # Non-blocking, so that a FIFO swapped in since the stat cannot hang the open; fstat checks
+            # what was actually opened. (The flag changes nothing for regular files.)
+            descriptor = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0))
+            kind = _file_kind(os.fstat(descriptor).st_mode)
+            if kind is None:
+                return os.fdopen(descriptor, "rb")
+            os.close(descriptor)
+    except OSError as error:
+        raise LogError(path, f"cannot open: {error.strerror or error}") from None
+    raise LogError(path, f"cannot read: {kind}, not a regular file")
+
+
+def _file_kind(mode: int) -> str | None:
+    """None for a regular file, else what it is ('a directory', 'a named pipe (FIFO)', ...)."""
+    if stat.S_ISREG(mode):
+        return None
+    kinds = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a named pipe (FIFO)"),
+             (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"))
+    return next((name for test, name in kinds if test(mode)), "a special file")
 
 
 class _ChunkReader:
@@ -246,12 +283,18 @@ class _ChunkReader:
         """Skip leading comments and blank lines; return the header's line number and names."""
         line = 0
         while True:
-            raw = self.handle.readline()
+            raw = self.handle.readline(MAX_LINE_BYTES + 1)
             if not raw:
                 raise LogError(self.path, "is empty: no header row")
             line += 1
+            if len(raw) > MAX_LINE_BYTES:
+                raise _long_line(self.path, line)
             if line == 1 and raw.startswith(b"\xef\xbb\xbf"):  # a UTF-8 byte order mark
                 raw = raw[3:]
+            if b"\x00" in raw:  # UTF-8 and ASCII text never hold a NUL byte; UTF-16 text is full of them
+                raise LogError(
+                    self.path, "holds NUL bytes: binary data or UTF-16/32 text; save it as UTF-8 or ASCII text", line
+                )
             text = raw.decode("utf-8", errors="replace").strip()
             if text and not text.startswith("#"):
                 return line, [cell.strip().strip('"').strip() for cell in text.split(",")]
@@ -265,6 +308,8 @@ class _ChunkReader:
             if cut:  # give back the partial last line; the next chunk starts with it
                 self.handle.seek(offset + cut)
                 return offset, data[:cut]
+            if len(data) > MAX_LINE_BYTES:  # no newline yet: refuse before holding the whole line
+                raise _long_line(self.path, _count_newlines(self.path, offset) + 1)
             more = self.handle.read(self.chunk_bytes)  # one line longer than a chunk
             if not more:
                 break
@@ -458,6 +503,12 @@ def _line_of_data_row(path: str, offset: int, index: int) -> int:
     raise IndexError("data row beyond the end of the file")
 
 
+def _long_line(path: str, line: int) -> LogError:
+    """The error for a line longer than MAX_LINE_BYTES."""
+    size = f"{MAX_LINE_BYTES // (1 << 20)} MiB"
+    return LogError(path, f"line is longer than {size}: not a CSV log of one sample per line", line)
+
+
 def _shorten(text: str, limit: int = 30) -> str:
     """The text, cut with an ellipsis when longer than `limit` characters."""
     return text if len(text) <= limit else text[: limit - 1] + "…"
@@ -525,6 +576,18 @@ def check_time(table: LogTable, uniform: bool) -> float | None:
     return step
 
 
+def _check_estimates(table: LogTable, step: float, estimates, missing: tuple[str, ...]) -> None:
+    """Raise LogError when an estimated derivative is not finite (a tiny time step, or a huge q)."""
+    for name, values in estimates:
+        if name in missing and not np.isfinite(values).all():
+            raise table.error(
+                f"{name} estimated from q at a time step of {step:.3g} s overflows double precision; "
+                "give t in seconds and q in radians (or degrees with --degrees)",
+                None,
+                "t",
+            )
+
+
 def load_log(
     path,
     *,
@@ -551,7 +614,10 @@ def load_log(
     q = columns["q"] * scale if degrees else columns["q"]
     estimate = None
     if missing:
-        velocity, acceleration = differentiate(q, step, window, order)
+        # A step like 1e-302 s makes the filter's 1/dt^2 overflow: checked just below, by name.
+        with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+            velocity, acceleration = differentiate(q, step, window, order)
+        _check_estimates(table, step, (("qd", velocity), ("qdd", acceleration)), missing)
         half = window // 2
         keep = slice(half, table.count - half)
         qd = columns["qd"][keep] * scale if "qd" in columns else velocity

@@ -7,6 +7,8 @@ from functools import cached_property
 
 import numpy as np
 
+from .norms import rms
+
 
 @dataclass(frozen=True, eq=False)
 class JointData:
@@ -40,8 +42,3 @@ class JointData:
     def time_axis(self) -> np.ndarray:
         """(N,) Times for plotting: `t` when known, else the sample index."""
         return self.t if self.t is not None else np.arange(self.count, dtype=float)
-
-
-def rms(values: np.ndarray) -> float:
-    """Root mean square of an array (0 for an empty one)."""
-    return float(np.sqrt(np.mean(np.square(values)))) if len(values) else 0.0

@@ -24,6 +24,14 @@ DEFAULT_WINDOW = 201
 DEFAULT_ORDER = 4
 """Default polynomial order: unbiased for quartics, so curvature inside the window costs little."""
 
+MAX_WINDOW = 4001
+"""Widest window (samples): 0.2 s at 20 kHz. The filter costs N*window operations (about 2 s for a
+million rows at this width), and 0.2 s already smooths the lesson's motions; wider only costs time."""
+
+MAX_ORDER = 10
+"""Highest polynomial order: beyond it the polynomial follows the noise, and its fit costs window*order^2
+(order 6999 over 7001 samples ran for minutes)."""
+
 
 @dataclass(frozen=True, eq=False)
 class DerivativeEstimate:
@@ -74,12 +82,21 @@ class FilterSettingError(ValueError):
 
 
 def check_filter(window: int, order: int) -> None:
-    """Raise FilterSettingError unless `window` is odd and at least 3 and 2 <= `order` < `window`."""
+    """Raise FilterSettingError unless `window` is odd, 3 to MAX_WINDOW, and 2 <= `order` < `window`, <= MAX_ORDER."""
     if window < 3 or window % 2 == 0:
         raise FilterSettingError("window", f"must be an odd number of samples, at least 3; got {window}")
+    if window > MAX_WINDOW:
+        raise FilterSettingError(
+            "window",
+            f"must be at most {MAX_WINDOW} samples (wider costs time and smooths away the motion); got {window}",
+        )
     if not 2 <= order < window:
         raise FilterSettingError(
             "order", f"must be less than the window {window} and at least 2 (for acceleration); got {order}"
+        )
+    if order > MAX_ORDER:
+        raise FilterSettingError(
+            "order", f"must be at most {MAX_ORDER} (higher orders follow the noise and cost time); got {order}"
         )
 
 

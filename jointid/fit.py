@@ -7,10 +7,11 @@ from functools import cached_property
 
 import numpy as np
 
-from .dataset import JointData, rms
+from .dataset import JointData
 from .identifiable import IdentifiableSubset, identifiable_subset
 from .bounded import BoundedSolution, bounded_least_squares, lower_bounds
 from .model import PLAIN, JointModel
+from .norms import rms
 from .present.status import fit_warnings, status_message
 from .solver import LeastSquaresSolution, solve_least_squares
 from .uncertainty import ParameterUncertainty, parameter_uncertainty

@@ -6,15 +6,19 @@ same way, so their readouts and JSON agree.
 
 from __future__ import annotations
 
+import math
 import os
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from .csvlog import JointLog, load_log
+import numpy as np
+
+from .csvlog import JointLog, LogError, load_log
 from .derivatives import DEFAULT_ORDER, DEFAULT_WINDOW
 from .fit import FitResult, fit_joint
 from .model import PLAIN, JointModel
 from .present.documents import log_fit_document
+from .solver import NonFiniteError
 
 TRAINING, HELDOUT = "training", "heldout"
 """The two roles a log can be loaded in."""
@@ -70,11 +74,26 @@ class LoadedLogs:
         return tuple(note for log in self.logs for note in log.notes)
 
 
+
 def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointModel = PLAIN,
              constrained: bool = False) -> LoadedLogs:
-    """Fit the training log (subject to the sign rules when `constrained`) and score it on the held-out log."""
-    result = fit_joint(training.data, None if heldout is None else heldout.data, model=model,
-                       constrained=constrained, heldout_is_noiseless=False)
+    """Fit the training log (subject to the sign rules when `constrained`) and score it on the held-out log.
+
+    LogError when the numbers leave double precision: an estimate or an RMSE
+    that overflows would otherwise be shown as if it were a result.
+    """
+    try:
+        result = fit_joint(training.data, None if heldout is None else heldout.data, model=model,
+                           constrained=constrained, heldout_is_noiseless=False)
+    except NonFiniteError as error:
+        raise LogError(training.path, f"cannot be fitted: {error}; rescale its columns (other units)") from None
+    with np.errstate(over="ignore", invalid="ignore"):  # checked here, with the file named
+        scores = ((training, result.training_rmse), (heldout, result.heldout_rmse))
+    for log, rmse in scores:
+        if rmse is not None and not math.isfinite(rmse):
+            raise LogError(
+                log.path, "its predicted torques overflow double precision; rescale its columns (other units)"
+            )
     return LoadedLogs(training, heldout, result)
 
 

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 from .model import ModelError, describe_models, model_named
 from .motions import TRAINING_MOTIONS
+from .number_text import parse_float, parse_int
 from .truth import ANGLE_OFFSET_LIMITS, BIAS_LIMITS, COULOMB_LIMITS, TrueJoint
 
 NOISE_LIMITS = (0.0, 100.0)
@@ -77,8 +78,8 @@ FIELDS = ("motion", "noise", "samples", "seed", "model", "true_coulomb", "true_b
 """Every setting, in display order."""
 
 
-def describe_range(field: str) -> str:
-    """The allowed values of a setting, as a phrase for error messages and help."""
+def describe_range(field: str, *, finite: bool = False) -> str:
+    """The allowed values of a setting, as a phrase for error messages and help ('a finite number' if `finite`)."""
     if field == "motion":
         return "one of " + ", ".join(TRAINING_MOTIONS)
     if field == "constrained":
@@ -87,7 +88,7 @@ def describe_range(field: str) -> str:
         return describe_models()
     if field in REAL_SETTINGS:
         (low, high), unit = REAL_SETTINGS[field]
-        return f"a number from {low:g} to {high:g} ({unit})"
+        return f"a {'finite ' if finite else ''}number from {low:g} to {high:g} ({unit})"
     low, high = SAMPLES_LIMITS if field == "samples" else SEED_LIMITS
     return f"a whole number from {low} to {high}"
 
@@ -118,21 +119,24 @@ def check_setting(field: str, value) -> None:
 
 
 def parse_setting(field: str, text: str):
-    """Convert typed text to a valid value of the named setting, or raise SettingsError."""
+    """Convert typed text (ASCII digits only) to a valid value of the named setting, or raise SettingsError."""
     text = text.strip()
+    value = None
     try:
         if field in ("motion", "model"):
             value = text.lower()
         elif field in REAL_SETTINGS:
-            value = float(text)
+            value = parse_float(text)
         else:
-            value = int(text)
+            value = parse_int(text)
         check_setting(field, value)
     except ValueError as error:
         if field == "model":  # the model's own message quotes the name and lists the choices
             raise SettingsError(field, str(error)) from None
+        # '-inf' and 'nan' are numbers, but not finite ones
+        allowed = describe_range(field, finite=isinstance(value, float) and not math.isfinite(value))
         # SettingsError too: quote what the user typed, not the parsed value
-        raise SettingsError(field, f"{field} must be {describe_range(field)}; got {text!r}") from None
+        raise SettingsError(field, f"{field} must be {allowed}; got {text!r}") from None
     return value
 
 

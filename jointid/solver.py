@@ -6,6 +6,10 @@ remaining column with the largest norm. When that norm is at most
 `RANK_TOLERANCE` the remaining columns are numerically dependent and the rank
 stops there. Only a full-rank problem gets an estimate; X^T X is never formed
 and memory stays O(N*p).
+
+Inputs must be finite, and a full-rank estimate is checked to be finite: a
+NaN compares false with the rank tolerance, so unchecked it would pass for a
+full-rank column and give a "unique fit" of NaNs.
 """
 
 from __future__ import annotations
@@ -16,8 +20,14 @@ from functools import cached_property
 
 import numpy as np
 
+from .norms import column_norms, row_norms
+
 RANK_TOLERANCE = 1e-10
 """A remaining scaled column norm at or below this is numerically dependent."""
+
+
+class NonFiniteError(ValueError):
+    """X or y holds infinity or NaN, or the estimate overflows double precision; one line for a user."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -104,13 +114,19 @@ def solve_least_squares(X, y, tolerance: float = RANK_TOLERANCE) -> LeastSquares
     them all: `qty` becomes (rank, K), `residual_norm` (K,), and the estimates
     (p, K). Column k of a multi-RHS solve equals, bit for bit, the solve of y[:, k]
     alone. Inputs are not modified. N may be smaller than p, and p may be zero.
+    NonFiniteError if X or y is not finite, or if a full-rank estimate overflows.
     """
     X = np.asarray(X, dtype=float)
     y = np.asarray(y, dtype=float)
     if X.ndim != 2 or y.ndim not in (1, 2) or y.shape[0] != X.shape[0]:
         raise ValueError(f"X must be (N, p) and y (N,) or (N, K); got {X.shape} and {y.shape}")
+    for name, values in (("the regressor X", X), ("the observations y", y)):
+        # min and max propagate NaN and reach any infinity, without an (N, p) temporary.
+        if values.size and not (math.isfinite(values.min()) and math.isfinite(values.max())):
+            raise NonFiniteError(f"{name} holds values that are not finite numbers")
     rows, columns = X.shape
-    norms = np.sqrt(np.einsum("ij,ij->j", X, X))
+    # Overflow-safe: a column of 1e200s has a norm, not an infinite one that would scale it to zero.
+    norms = column_norms(X)
     scales = np.where(norms > 0, norms, 1.0)
     # A scaled copy in column-major order, so each column operation is contiguous.
     work = np.empty((rows, columns), order="F")
@@ -133,9 +149,9 @@ def solve_least_squares(X, y, tolerance: float = RANK_TOLERANCE) -> LeastSquares
             permutation[[k, pivot]] = permutation[[pivot, k]]
         _reflect(work, targets, k, remaining[pivot - k])
         rank += 1
-    residual_norms = np.sqrt(np.square(targets[:, rank:]).sum(axis=1))
+    residual_norms = row_norms(targets[:, rank:])
     qty = np.array(targets[:, :rank].T, order="C")
-    return LeastSquaresSolution(
+    solution = LeastSquaresSolution(
         rank=rank,
         column_count=columns,
         row_count=rows,
@@ -145,6 +161,12 @@ def solve_least_squares(X, y, tolerance: float = RANK_TOLERANCE) -> LeastSquares
         qty=qty if y.ndim == 2 else qty[:, 0],
         residual_norm=residual_norms if y.ndim == 2 else float(residual_norms[0]),
     )
+    if solution.is_full_rank:
+        with np.errstate(over="ignore", invalid="ignore"):  # checked at once, with a message
+            estimate = solution.estimate
+        if not np.isfinite(estimate).all():
+            raise NonFiniteError("the estimate overflows double precision: the columns differ in scale by too much")
+    return solution
 
 
 def _reflect(work: np.ndarray, targets: np.ndarray, k: int, column_norm: float) -> None:

@@ -25,6 +25,7 @@ from .fit import fitted_torque
 from .model import JointModel
 from .bounded import bounded_least_squares, lower_bounds
 from .noise import MODULUS, torque_noise
+from .norms import row_rms
 from .settings import Settings
 from .solver import solve_least_squares
 from .present.tables import sweep_message
@@ -34,6 +35,9 @@ SEED_COUNT_LIMITS = (1, 1_000_000)
 """Allowed number of seeds in one sweep."""
 DEFAULT_SEED_COUNT = 1000
 """Seeds in a sweep unless told otherwise."""
+WORK_BUDGET = 100_000_000
+"""Samples x seeds a sweep takes without being asked twice: about 10 s here (1,000,000 samples x 1,000
+seeds took 3 minutes). The command line refuses more unless forced; see `sweep_work`."""
 CHUNK_ELEMENTS = 2**21
 """Torque values (seeds x samples) handled per chunk: about 16 MB per array."""
 RMSE_QUANTITIES = ("training_rmse", "heldout_rmse")
@@ -62,6 +66,11 @@ def describe(values: np.ndarray) -> Distribution:
     p5, p50, p95 = np.percentile(values, [5, 50, 95])
     std = float(np.std(values, ddof=1)) if len(values) > 1 else None
     return Distribution(float(np.mean(values)), std, float(p5), float(p50), float(p95))
+
+
+def sweep_work(settings: Settings, seed_count: int) -> int:
+    """Samples x seeds: the torque values a sweep generates and fits, which its time grows with."""
+    return settings.samples * seed_count
 
 
 def sweep_seeds(first_seed: int, count: int) -> np.ndarray:
@@ -224,13 +233,8 @@ def run_sweep(
             bounded = bounded_least_squares(solution, lower)
             theta, held[:, start:stop] = bounded.estimate, bounded.active
         estimates[:, start:stop] = model.report(theta)
-        training_rmse[start:stop] = _row_rms(fitted_torque(regressor, theta) - measured)
-        heldout_rmse[start:stop] = _row_rms(fitted_torque(validation_regressor, theta) - validation.tau)
+        training_rmse[start:stop] = row_rms(fitted_torque(regressor, theta) - measured)
+        heldout_rmse[start:stop] = row_rms(fitted_torque(validation_regressor, theta) - validation.tau)
         if progress is not None:
             progress(stop, seed_count)
     return replace(result, estimates=estimates, training_rmse=training_rmse, heldout_rmse=heldout_rmse, held=held)
-
-
-def _row_rms(rows: np.ndarray) -> np.ndarray:
-    """(K,) Root mean square of each row of a (K, M) array, as `dataset.rms` computes one row."""
-    return np.sqrt(np.mean(np.square(rows), axis=1))

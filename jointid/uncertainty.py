@@ -9,6 +9,11 @@ so X^T X is never formed. Two values of sigma^2 are used:
 - expected: b^2 / 3, the variance of noise uniform on [-b, b], when the data are
   synthetic and the bound b is known.
 
+Both are computed as sqrt(sigma^2 diag(R^-1 R^-T)) / column scale, with sigma
+and each scale first split into a power of two and the rest: for ordinary data
+that gives bit for bit the plain formula, and for data of extreme magnitude
+(1e200 N m, say) standard errors rather than an overflow.
+
 The verdict uses the expected standard error when the bound is known, because it
 describes the experiment (motion, samples, noise level) rather than one seed's
 luck, and the empirical one otherwise. Intervals are Student t with N - p
@@ -24,6 +29,7 @@ from functools import cached_property
 import numpy as np
 
 from .bounded import reduced_matrix
+from .norms import power_of_two_scale
 from .solver import LeastSquaresSolution, back_substitute
 from .student_t import student_t_quantile
 
@@ -42,8 +48,8 @@ CONFIDENCE = 0.95
 """Coverage of the reported Student-t interval."""
 
 
-def covariance_factor(solution: LeastSquaresSolution) -> np.ndarray:
-    """(p, p) (X^T X)^-1 in the original parameter order and units, from a full-rank R factor."""
+def scaled_covariance_factor(solution: LeastSquaresSolution) -> np.ndarray:
+    """(p, p) (R^T R)^-1 of the column-scaled regressor, in the original parameter order; needs full rank."""
     if not solution.is_full_rank:
         raise ValueError("(X^T X)^-1 exists only for a full-rank regressor")
     p = solution.column_count
@@ -51,7 +57,26 @@ def covariance_factor(solution: LeastSquaresSolution) -> np.ndarray:
     pivoted = r_inverse @ r_inverse.T  # (R^T R)^-1 for the scaled, pivoted columns
     unpivoted = np.empty((p, p))
     unpivoted[np.ix_(solution.permutation, solution.permutation)] = pivoted
-    return unpivoted / np.outer(solution.scales, solution.scales)
+    return unpivoted
+
+
+def covariance_factor(solution: LeastSquaresSolution) -> np.ndarray:
+    """(p, p) (X^T X)^-1 in the original parameter order and units, from a full-rank R factor."""
+    return scaled_covariance_factor(solution) / np.outer(solution.scales, solution.scales)
+
+
+def standard_errors(sigma: float, divisor: float, scaled_diagonal: np.ndarray, scales: np.ndarray) -> np.ndarray:
+    """(p,) sqrt(sigma**2 / divisor * scaled_diagonal / scales**2), without overflow in between.
+
+    sigma and each scale are split into a power of two and a factor near 1 first.
+    Those powers of two come out of the square root exactly, so the result equals
+    the plain formula bit for bit whenever that formula stays in range.
+    """
+    sigma_scale, column_scale = power_of_two_scale(abs(sigma)), power_of_two_scale(scales)
+    variance = (sigma / sigma_scale) ** 2 / divisor
+    diagonal = scaled_diagonal / ((scales / column_scale) * (scales / column_scale))
+    with np.errstate(over="ignore", under="ignore"):  # a standard error beyond double range is inf (or 0)
+        return np.sqrt(variance * diagonal) * (sigma_scale / column_scale)
 
 
 def verdict(relative_std_pct: float) -> str:
@@ -68,7 +93,12 @@ class ParameterUncertainty:
     estimate: np.ndarray
     """(p,) The fitted parameters."""
     covariance_factor: np.ndarray
-    """(p, p) (X^T X)^-1, which times the noise variance is the estimate's covariance."""
+    """(p, p) (X^T X)^-1, which times the noise variance is the estimate's covariance (may over- or
+    underflow for data of extreme magnitude; the standard errors do not use it)."""
+    scaled_diagonal: np.ndarray
+    """(p,) Diagonal of the column-scaled regressor's (R^T R)^-1, in parameter order."""
+    scales: np.ndarray
+    """(p,) The regressor's column norms: covariance_factor = scaled factor / outer(scales, scales)."""
     residual_norm: float
     """||y - X theta||, the square root of the residual sum of squares."""
     row_count: int
@@ -86,24 +116,26 @@ class ParameterUncertainty:
 
     @cached_property
     def residual_variance(self) -> float | None:
-        """s^2 = RSS / (N - p), or None when N - p <= 0."""
+        """s^2 = RSS / (N - p), or None when N - p <= 0 (inf if it overflows; std_error does not)."""
         if self.degrees_of_freedom <= 0:
             return None
-        return self.residual_norm**2 / self.degrees_of_freedom
+        with np.errstate(over="ignore"):
+            return float(np.square(self.residual_norm) / self.degrees_of_freedom)
 
     @cached_property
     def std_error(self) -> np.ndarray | None:
         """(p,) Empirical standard errors sqrt(s^2 diag((X^T X)^-1)), or None when N - p <= 0."""
-        if self.residual_variance is None:
+        if self.degrees_of_freedom <= 0:
             return None
-        return self._without_held(np.sqrt(self.residual_variance * np.diag(self.covariance_factor)))
+        return self._without_held(
+            standard_errors(self.residual_norm, self.degrees_of_freedom, self.scaled_diagonal, self.scales))
 
     @cached_property
     def expected_std_error(self) -> np.ndarray | None:
         """(p,) Standard errors the known noise bound implies, sqrt(b^2/3 diag((X^T X)^-1)), or None."""
         if self.noise_bound is None:
             return None
-        return self._without_held(np.sqrt(self.noise_bound**2 / 3.0 * np.diag(self.covariance_factor)))
+        return self._without_held(standard_errors(self.noise_bound, 3.0, self.scaled_diagonal, self.scales))
 
     def _without_held(self, errors: np.ndarray) -> np.ndarray:
         """Standard errors with NaN for the parameters held at their bounds."""
@@ -128,7 +160,7 @@ class ParameterUncertainty:
         if std is None:
             return None
         magnitude = np.abs(self.estimate)
-        with np.errstate(divide="ignore", invalid="ignore"):
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             relative = np.where(std == 0, 0.0, 100.0 * std / magnitude)
         return relative
 
@@ -164,17 +196,24 @@ def parameter_uncertainty(
     """
     if solution.estimate is None:
         return None
-    estimate, factor = solution.estimate, covariance_factor(solution)
+    scaled = scaled_covariance_factor(solution)
+    with np.errstate(over="ignore", under="ignore", divide="ignore"):  # extreme scales: see the field's docstring
+        unscaled = scaled / np.outer(solution.scales, solution.scales)
+    estimate, diagonal, scales = solution.estimate, np.diag(scaled).copy(), solution.scales
     residual, held = float(solution.residual_norm), None
     if bounded is not None and bounded.active.any():
         estimate, held, residual = bounded.estimate, bounded.active, float(bounded.residual_norm)
-        factor = free_covariance_factor(solution, ~held)
+        unscaled = free_covariance_factor(solution, ~held)
+        diagonal, scales = np.diag(unscaled).copy(), np.ones_like(scales)
     jacobian = None if model is None else model.report_jacobian(estimate)
     if jacobian is not None:
-        estimate, factor = model.report(estimate), jacobian @ factor @ jacobian.T
+        estimate, unscaled = model.report(estimate), jacobian @ unscaled @ jacobian.T
+        diagonal, scales = np.diag(unscaled).copy(), np.ones_like(scales)
     return ParameterUncertainty(
         estimate=estimate,
-        covariance_factor=factor,
+        covariance_factor=unscaled,
+        scaled_diagonal=diagonal,
+        scales=scales,
         residual_norm=residual,
         row_count=solution.row_count,
         noise_bound=noise_bound,

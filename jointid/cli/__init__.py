@@ -19,6 +19,7 @@ from . import (
     torque_command,
 )
 from .arguments import OneLineParser, UserError, add_model_argument, add_settings_arguments
+from .floating_point import strict_arithmetic
 from .log_fit import add_log_arguments
 from .version import VersionAction
 
@@ -55,8 +56,11 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     try:
         args = parser.parse_args(argv)
-        module = next((m for m in SUBCOMMANDS if m.NAME == args.command), explorer_command)
-        return module.run(args)
+        module = next((m for m in SUBCOMMANDS if m.NAME == args.command), None)
+        if module is None:
+            return explorer_command.run(args)  # guards its own loading; the app itself must not raise
+        with strict_arithmetic():
+            return module.run(args)
     except UserError as error:
         print(f"jointid: {error}", file=sys.stderr)
         return 2

@@ -4,10 +4,12 @@ from __future__ import annotations
 
 import argparse
 import math
+import re
 import sys
 
 from ..model import describe_models
 from ..motions import TRAINING_MOTIONS
+from ..number_text import parse_float, parse_int
 from ..settings import DEFAULT_SETTINGS, FIELDS, Settings, SettingsError, parse_setting
 
 
@@ -15,8 +17,41 @@ class UserError(Exception):
     """A mistake in the user's input; main prints its message as one line and exits 2."""
 
 
+_NEGATIVE_VALUE = re.compile(r"-(\d|\.\d|inf|nan)", re.IGNORECASE)
+"""A token argparse would take for an option although it is a number: '-inf', '-nan', '-1e5' (and '-2')."""
+
+
+def attach_negative_values(argv: list[str]) -> list[str]:
+    """['--noise', '-inf'] -> ['--noise=-inf'], so that a negative number after a flag is its value.
+
+    argparse reads only '-2'-like tokens as negative numbers; '-inf', '-nan' and
+    '-1e5' would be unknown options, and the flag would seem to lack its value.
+    """
+    joined: list[str] = []
+    for token in argv:
+        previous = joined[-1] if joined else ""
+        if previous.startswith("--") and previous != "--" and "=" not in previous and _NEGATIVE_VALUE.match(token):
+            joined[-1] = f"{previous}={token}"
+        else:
+            joined.append(token)
+    return joined
+
+
 class OneLineParser(argparse.ArgumentParser):
-    """An ArgumentParser whose errors are one line on stderr and exit status 2 (no usage dump)."""
+    """An ArgumentParser whose errors are one line on stderr and exit status 2 (no usage dump).
+
+    Whole option names only (`fit --n 5` must not mean --noise 5), also for the
+    subcommands' parsers, which argparse builds from this class; a negative
+    number after a flag is that flag's value.
+    """
+
+    def __init__(self, *args, allow_abbrev: bool = False, **kwargs):
+        super().__init__(*args, allow_abbrev=allow_abbrev, **kwargs)
+
+    def parse_known_args(self, args=None, namespace=None):
+        """argparse's parse_known_args after `attach_negative_values`."""
+        args = sys.argv[1:] if args is None else args
+        return super().parse_known_args(attach_negative_values(list(args)), namespace)
 
     def error(self, message: str):
         """Print `<prog>: <message>` and exit with status 2."""
@@ -43,9 +78,9 @@ def _without_field(message: str, field: str) -> str:
 
 
 def finite_float(text: str) -> float:
-    """An argparse type for any finite real number."""
+    """An argparse type for any finite real number in ASCII decimal notation."""
     try:
-        value = float(text)
+        value = parse_float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"must be a finite number; got {text!r}") from None
     if not math.isfinite(value):
@@ -79,7 +114,7 @@ def whole_number(low: int, high: int | None = None):
 
     def parse(text: str) -> int:
         try:
-            value = int(text.strip())
+            value = parse_int(text)
         except ValueError:
             value = None
         if value is None or value < low or (high is not None and value > high):

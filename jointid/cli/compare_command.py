@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 
 from ..ladder import compare_experiment, compare_models
 from ..model import LADDER
@@ -12,6 +11,7 @@ from ..present.documents import comparison_document
 from ..present.text import settings_header
 from .arguments import add_settings_arguments, settings_from
 from .log_fit import add_log_arguments, load_logs, with_default_settings
+from .output import print_json
 
 NAME = "compare"
 
@@ -43,7 +43,7 @@ def run(args: argparse.Namespace) -> int:
         comparison = compare_experiment(settings)
         heading, source = settings_header(settings), None
     if args.json:
-        print(json.dumps(comparison_document(comparison, settings=settings, source=source), indent=2))
+        print_json(comparison_document(comparison, settings=settings, source=source))
     else:
         print(comparison_text(comparison, heading))
     return 0

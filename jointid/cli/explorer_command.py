@@ -11,11 +11,10 @@ from __future__ import annotations
 
 from importlib.metadata import entry_points
 
-from ..logfit import fit_logs
-from ..model import model_named
 from ..settings import SettingsError
 from .arguments import UserError, settings_from
-from .log_fit import derivative_options, load_logs, with_default_settings
+from .floating_point import strict_arithmetic
+from .log_fit import derivative_options, fit_loaded_logs, with_default_settings
 from .version import ENTRY_POINT_GROUP
 
 ENTRY_POINT_NAME = "explorer"
@@ -33,10 +32,10 @@ def load_explorer():
 def run(args) -> int:
     """Open the explorer at the settings given by the flags, or on the --csv log; its exit status."""
     # A bad log is one line on stderr and status 2 before the app starts, as for `jointid fit --csv`.
-    logs = load_logs(args) if args.csv is not None else None
+    with strict_arithmetic():
+        loaded = fit_loaded_logs(args) if args.csv is not None else None
     derivatives = derivative_options(args)  # also for logs opened later with Ctrl+O
-    settings = settings_from(with_default_settings(args) if logs is None else _defaults(args))
-    loaded = None if logs is None else fit_logs(*logs, model=model_named(settings.model), constrained=settings.constrained)
+    settings = settings_from(with_default_settings(args) if loaded is None else _defaults(args))
     explore = load_explorer()
     try:
         return explore(settings, loaded, derivatives)

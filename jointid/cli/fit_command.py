@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import json
 
 from ..experiment import run_experiment
 from ..present.documents import fit_document, simulation_object
@@ -13,6 +12,7 @@ from ..present.text import settings_header
 from ..simulation import DEFAULT_HORIZON, HORIZON_LIMITS, simulation_check
 from .arguments import add_model_argument, add_settings_arguments, bounded_number, settings_from
 from .log_fit import add_log_arguments, run_log_fit, with_default_settings
+from .output import print_json
 
 NAME = "fit"
 
@@ -50,7 +50,7 @@ def run(args: argparse.Namespace) -> int:
     check = simulation_check(result, settings.true_joint, horizon) if simulate else None
     if args.json:
         extra = simulation_object(check) if simulate else {}
-        print(json.dumps(fit_document(result, settings=settings, **extra), indent=2))
+        print_json(fit_document(result, settings=settings, **extra))
     else:
         print(settings_header(settings))
         print(readouts_text(result))

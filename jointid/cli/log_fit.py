@@ -10,15 +10,15 @@ defaults in afterwards (`with_default_settings`).
 from __future__ import annotations
 
 import argparse
-import json
 
 from ..csvlog import JointLog, LogError, load_log
 from ..derivatives import DEFAULT_ORDER, DEFAULT_WINDOW, FilterSettingError, check_filter
-from ..logfit import fit_logs
+from ..logfit import LoadedLogs, fit_logs
 from ..model import model_named
 from ..present.readouts import readouts_text, uncertainty_text
 from ..settings import DEFAULT_SETTINGS
 from .arguments import UserError, whole_number
+from .output import print_json
 
 SETTING_FLAGS = ("motion", "noise", "samples", "seed", "true_coulomb", "true_bias", "true_angle_offset")
 """Synthetic-experiment options that a log fit rejects."""
@@ -91,11 +91,22 @@ def load_logs(args: argparse.Namespace) -> tuple[JointLog, JointLog | None]:
     return training, heldout
 
 
+def fit_loaded_logs(args: argparse.Namespace) -> LoadedLogs:
+    """The --csv (and --heldout) logs loaded and fitted with --model (and --constrained); UserError (one line)
+    on any problem."""
+    training, heldout = load_logs(args)
+    try:
+        return fit_logs(training, heldout, model=model_named(args.model),
+                        constrained=getattr(args, "constrained", False))
+    except LogError as error:  # numbers beyond double precision
+        raise UserError(str(error)) from None
+
+
 def run_log_fit(args: argparse.Namespace) -> int:
     """Load the training (and held-out) log, fit, and print text or JSON; exit status 0."""
-    logs = fit_logs(*load_logs(args), model=model_named(args.model), constrained=args.constrained)
+    logs = fit_loaded_logs(args)
     if args.json:
-        print(json.dumps(logs.document(), indent=2))
+        print_json(logs.document())
         return 0
     print("\n".join(logs.source_lines()))
     print(readouts_text(logs.result))

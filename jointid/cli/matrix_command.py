@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import argparse
-import json
 
 from ..cross_excitation import cross_excitation
 from ..present.documents import matrix_document
 from ..present.tables import matrix_text
 from .arguments import add_model_argument, add_settings_arguments, settings_from
+from .output import print_json
 
 NAME = "matrix"
 
@@ -31,5 +31,8 @@ def add_parser(subparsers) -> None:
 def run(args: argparse.Namespace) -> int:
     """Build the table and print text or JSON; exit status 0."""
     table = cross_excitation(settings_from(args))
-    print(json.dumps(matrix_document(table), indent=2) if args.json else matrix_text(table))
+    if args.json:
+        print_json(matrix_document(table))
+    else:
+        print(matrix_text(table))
     return 0

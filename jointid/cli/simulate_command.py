@@ -2,7 +2,9 @@
 
 Times are t_i = duration*i/(samples-1), so samples = duration*rate + 1. Any two
 of --samples, --rate and --duration fix the third; all three must agree; with
-fewer, the duration defaults to 8 s and then the samples to 24.
+fewer, the duration defaults to 8 s and then the samples to 24. The duration
+and rate are bounded (DURATION_LIMIT, RATE_LIMIT) so that every time and
+every sine of the motion is a finite number with digits to spare.
 """
 
 from __future__ import annotations
@@ -23,6 +25,34 @@ NAME = "simulate"
 
 FULL_COLUMNS = ("t", "q", "qd", "qdd", "tau")
 ENCODER_COLUMNS = ("t", "q", "tau")
+
+DURATION_LIMIT = 1e6
+"""Longest time span (s), about 11.6 days: beyond about 1e15 s the motion's sines have no correct digits,
+and at 1e308 s they are NaN."""
+ENCODER_COUNT_LIMIT = 2**32
+"""Most counts per turn (a 32-bit encoder): more is no encoder, and 10**400 is no float."""
+RATE_LIMIT = 1e9
+"""Highest sample rate (Hz): with DURATION_LIMIT it keeps duration*rate a finite, exactly rounded count."""
+
+
+def bounded_positive(high: float):
+    """An argparse type for a finite number greater than 0 and at most `high`."""
+
+    def parse(text: str) -> float:
+        value = positive_number(text)
+        if value > high:
+            raise argparse.ArgumentTypeError(f"must be a number greater than 0 and at most {high:g}; got {text!r}")
+        return value
+
+    return parse
+
+
+def encoder_counts(text: str) -> int:
+    """An argparse type for counts per turn: a whole number from 2 to ENCODER_COUNT_LIMIT."""
+    value = whole_number(2)(text)  # its message for a count below 2, as before
+    if value > ENCODER_COUNT_LIMIT:
+        raise argparse.ArgumentTypeError(f"must be a whole number from 2 to {ENCODER_COUNT_LIMIT:,}; got {text!r}")
+    return value
 
 
 def motion_name(text: str) -> str:
@@ -54,12 +84,14 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--samples", type=setting_type("samples"), default=None, metavar="N",
                         help=f"number of samples, 2 to 10000000; default {DEFAULT_SETTINGS.samples} "
                         "(or duration*rate + 1 with --rate)")
-    parser.add_argument("--rate", type=positive_number, default=None, metavar="HZ",
-                        help="sample rate (Hz); samples = duration*rate + 1")
-    parser.add_argument("--duration", type=positive_number, default=None, metavar="S",
-                        help=f"time span from the first to the last sample (s); default {DURATION:g}")
-    parser.add_argument("--encoder-counts", type=whole_number(2), default=None, metavar="C",
-                        help="write only t, q and tau, with q quantised to 2*pi/C rad like an encoder")
+    parser.add_argument("--rate", type=bounded_positive(RATE_LIMIT), default=None, metavar="HZ",
+                        help=f"sample rate (Hz), at most {RATE_LIMIT:g}; samples = duration*rate + 1")
+    parser.add_argument("--duration", type=bounded_positive(DURATION_LIMIT), default=None, metavar="S",
+                        help=f"time span from the first to the last sample (s), at most {DURATION_LIMIT:g}; "
+                        f"default {DURATION:g}")
+    parser.add_argument("--encoder-counts", type=encoder_counts, default=None, metavar="C",
+                        help="write only t, q and tau, with q quantised to 2*pi/C rad like an encoder "
+                        f"(C up to {ENCODER_COUNT_LIMIT:,})")
     parser.add_argument("--out", required=True, metavar="FILE", help="the CSV file to write")
     parser.add_argument("--force", action="store_true", help="replace FILE if it exists")
 
@@ -69,6 +101,11 @@ def timing(samples: int | None, rate: float | None, duration: float | None) -> t
     if rate is not None:
         if duration is None:
             duration = DURATION if samples is None else (samples - 1) / rate
+            if duration > DURATION_LIMIT:
+                raise UserError(
+                    f"--samples {samples} at --rate {rate:g} Hz span {duration:g} s; "
+                    f"at most {DURATION_LIMIT:g} s (--duration) is allowed"
+                )
         intervals = duration * rate
         whole = round(intervals)
         if abs(intervals - whole) > 1e-9 * max(1.0, intervals):
@@ -100,6 +137,8 @@ def run(args: argparse.Namespace) -> int:
     else:
         step = 2 * math.pi / args.encoder_counts
         names, table = ENCODER_COLUMNS, np.column_stack([t, np.round(states.q / step) * step, tau])
+    if not np.isfinite(table).all():  # the limits above should make this impossible: never write such a row
+        raise UserError("the simulated log would hold values that are not finite numbers; nothing written")
     truth = ", ".join(f"{n} = {v:g}" for n, v in zip(PARAMETER_NAMES, TRUE_PARAMETERS))
     quantised = "" if args.encoder_counts is None else f", q quantised to {args.encoder_counts} counts/rev"
     comment = (

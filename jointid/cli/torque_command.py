@@ -3,14 +3,25 @@
 from __future__ import annotations
 
 import argparse
-import json
 import math
+
+import numpy as np
 
 from ..present.text import format_number
 from ..model import TRUE_PARAMETERS, torque_breakdown
-from .arguments import finite_float
+from .arguments import UserError, finite_float
+from .output import print_json
 
 NAME = "torque"
+
+PARTS = {
+    "inertia": "the inertia torque I*qdd",
+    "gravity": "the gravity compensation h*g*cos(q)",
+    "damping": "the damping compensation B*qd",
+    "total": "the actuator torque",
+    "damper_power": "the damper's power B*qd²",
+}
+"""Each computed value's key and how a message names it."""
 
 
 def add_parser(subparsers) -> None:
@@ -41,18 +52,16 @@ def add_parser(subparsers) -> None:
 def run(args: argparse.Namespace) -> int:
     """Compute and print the breakdown; exit status 0."""
     q = math.radians(args.q) if args.deg else args.q
-    parts = torque_breakdown(q, args.qd, args.qdd, (args.I, args.h, args.B))
-    values = {
-        "inertia": float(parts.inertia),
-        "gravity": float(parts.gravity),
-        "damping": float(parts.damping),
-        "total": float(parts.total),
-        "damper_power": float(parts.damper_power),
-    }
+    with np.errstate(over="ignore", invalid="ignore"):  # checked below, with a message naming the value
+        parts = torque_breakdown(q, args.qd, args.qdd, (args.I, args.h, args.B))
+        values = {name: float(getattr(parts, name)) for name in PARTS}
+    for name, value in values.items():
+        if not math.isfinite(value):
+            raise UserError(f"{PARTS[name]} overflows double precision (beyond ±1.8e308); give smaller values")
     if args.json:
         state = {"q": q, "qd": args.qd, "qdd": args.qdd}
         parameters = {"I": args.I, "h": args.h, "B": args.B}
-        print(json.dumps({"state": state, "parameters": parameters, **values}, indent=2))
+        print_json({"state": state, "parameters": parameters, **values})
         return 0
     angle = f"{format_number(args.q)} deg = {format_number(q)} rad" if args.deg else f"{format_number(q)} rad"
     print(f"State: q = {angle}, qd = {format_number(args.qd)} rad/s, qdd = {format_number(args.qdd)} rad/s²")

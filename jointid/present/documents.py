@@ -3,10 +3,13 @@
 Plain JSON-ready values at full float precision; None (null) where a value is
 unavailable, infinite or NaN. Per-parameter values are objects keyed by the
 model's term names, e.g. {"I": ..., "h": ..., "B": ...} for the plain model.
+`json_text` turns any of them into strict JSON text: Python's json module
+would otherwise write Infinity and NaN, which strict parsers reject.
 """
 
 from __future__ import annotations
 
+import json
 import math
 from typing import TYPE_CHECKING
 
@@ -17,6 +20,38 @@ if TYPE_CHECKING:
     from ..fit import FitResult
     from ..settings import Settings
     from ..sweep import SweepResult
+
+
+class NonFiniteValue(ValueError):
+    """A document holds infinity or NaN, which strict JSON cannot carry; `key` says where."""
+
+    def __init__(self, key: str):
+        super().__init__(f"{key} is not a finite number")
+        self.key = key
+
+
+def json_text(document, *, ensure_ascii: bool = True) -> str:
+    """The document as strict JSON text (indent 2); NonFiniteValue naming the first inf or NaN in it."""
+    try:
+        return json.dumps(document, indent=2, allow_nan=False, ensure_ascii=ensure_ascii)
+    except ValueError:
+        key = _non_finite_key(document)
+        if key is None:
+            raise
+        raise NonFiniteValue(key) from None
+
+
+def _non_finite_key(value, key: str = "") -> str | None:
+    """The dotted key ('statistics.I.std', 'rows[1]') of the first inf or NaN float in nested dicts and lists."""
+    if isinstance(value, float):
+        return None if math.isfinite(value) else key or "the document"
+    if isinstance(value, dict):
+        items = ((f"{key}.{name}" if key else str(name), item) for name, item in value.items())
+    elif isinstance(value, (list, tuple)):
+        items = ((f"{key}[{index}]", item) for index, item in enumerate(value))
+    else:
+        return None
+    return next((found for path, item in items if (found := _non_finite_key(item, path)) is not None), None)
 
 
 def per_parameter(names: tuple[str, ...], values) -> dict:

@@ -171,7 +171,8 @@ def uncertainty_text(result: FitResult) -> str:
                 continue
             relative = uncertainty.relative_std_pct[i]
             lines.append(
-                f"{label:<17}{format_number(uncertainty.estimate[i]):>11} ± {format_number(errors[i]):<10}"
+                # At least one space before the verdict, however wide the error is.
+                f"{label:<17}{format_number(uncertainty.estimate[i]):>11} ± {format_number(errors[i]):<9} "
                 f"{uncertainty.verdicts[i]} ({relative:.1f} %)"
             )
         if basis == "expected":

@@ -11,9 +11,17 @@ UNAVAILABLE = "unavailable"
 COLUMN_GAP = "  "
 """Space between the columns of a text table."""
 
+FIXED_POINT_RANGE = (1e-30, 1e15)
+"""Nonzero magnitudes outside this range are written in scientific notation. Above: a 1e153 readout would
+be 160 characters wide. Below: 1e-170 would read 0.000000, as if nothing moved; ordinary data's rounding
+residues (about 1e-16 of their scale) stay well above it, so their zeros still read 0.000000."""
+
 
 def format_number(value: float, decimals: int = 6) -> str:
-    """Fixed-point text with `decimals` places and no negative zero."""
+    """Fixed-point text with `decimals` places and no negative zero (scientific outside FIXED_POINT_RANGE)."""
+    low, high = FIXED_POINT_RANGE
+    if 0 < abs(value) < low or high <= abs(value) < float("inf"):
+        return f"{value:.{decimals}e}"
     text = f"{value:.{decimals}f}"
     return text[1:] if text.startswith("-") and float(text) == 0 else text
 
