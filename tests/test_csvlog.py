@@ -1,6 +1,5 @@
 """Reading CSV joint logs: columns, comments, units, chunking, progress, cancelling and every bad-file message."""
 
-import json
 import math
 import tracemalloc
 

@@ -7,11 +7,10 @@ import asyncio
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
+from tui_support import make_app
 
 from tui.screens.main import VIEWS_GROUP, MainScreen
 from tui.widgets.footer import KeyEntry, KeyFooter, footer_line
-from tui.widgets.stepper import Stepper
-from tui_support import make_app
 
 
 def footer_text(size, focus: str | None = None) -> str:

@@ -8,13 +8,13 @@ Regenerate on purpose with `--snapshot-update` and look at the PNGs first.
 from __future__ import annotations
 
 import pytest
+from test_cli_csv import CORPUS
+from test_snapshots import COMPACT, WIDE, steady
+from tui_support import make_app
 
 from jointid.cli import main
 from jointid.csvlog import load_log
-from test_cli_csv import CORPUS
-from test_snapshots import COMPACT, WIDE, steady
 from jointid.logfit import LoadRequest, fit_logs
-from tui_support import make_app
 
 
 @pytest.fixture

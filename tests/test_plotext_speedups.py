@@ -10,11 +10,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from jointid.experiment import run_experiment
-from jointid.settings import Settings
 from jointid.present.charts import ChartData, heldout_chart, training_chart
+from jointid.settings import Settings
 from tui import plotext_speedups, third_party
-from tui.widgets.charts import draw_torque_chart
 from tui.third_party import build_matrix, new_figure
+from tui.widgets.charts import draw_torque_chart
 
 LINE_RGB, DOTS_RGB = (200, 120, 40), (60, 140, 220)
 

@@ -7,25 +7,24 @@ import functools
 import json
 
 import pytest
+from test_cli_csv import CORPUS, HEADER, good_rows
 from textual.widgets import Input
+from tui_support import displayed_readouts, make_app
 
+from jointid import logfit
 from jointid.cli import main
 from jointid.csvlog import LogError, load_log
 from jointid.derivatives import DEFAULT_ORDER, DEFAULT_WINDOW
 from jointid.fit import fit_joint
-from jointid.present.readouts import readouts
-from test_cli_csv import CORPUS, HEADER, good_rows
-from jointid import logfit
-from jointid.present import charts
-from tui.app import JointIdApp
-from tui.screens.main import MainScreen
-from tui.widgets.direct_controls import ChoiceList
-from tui.screens.main import FROM_LOG
 from jointid.logfit import HELDOUT, LoadRequest
+from jointid.present import charts
 from jointid.present.charts import ordinal
+from jointid.present.readouts import readouts
+from tui.app import JointIdApp
+from tui.screens.main import FROM_LOG, MainScreen
+from tui.widgets.direct_controls import ChoiceList
 from tui.widgets.readouts import ReadoutPanel
 from tui.widgets.stepper import Stepper
-from tui_support import displayed_readouts, make_app
 
 SIZE = (120, 40)
 

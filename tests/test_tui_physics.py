@@ -3,7 +3,6 @@ view, the palette's stops beyond the lesson, and a log refitted with another mod
 
 from __future__ import annotations
 
-import asyncio
 from dataclasses import replace
 
 import numpy as np
@@ -13,29 +12,14 @@ from jointid.experiment import run_experiment
 from jointid.ladder import compare_experiment
 from jointid.present.comparison import comparison_table
 from jointid.present.readouts import readouts
-from jointid.settings import DEFAULT_SETTINGS, Settings
+from jointid.settings import DEFAULT_SETTINGS
 from tui.commands import PHYSICS_STOPS
 from tui.screens.ladder import LadderScreen
 from tui.screens.physics import PhysicsScreen
 from tui.widgets.direct_controls import ChoiceList
 from tui.widgets.readouts import ReadoutPanel
 from tui.widgets.stepper import Stepper
-from tui_support import make_app
-
-SIZE = (120, 40)
-
-
-def run(scenario, settings: Settings | None = None, size=SIZE):
-    """Run an async scenario(pilot, app) against a fresh app and return its result."""
-
-    async def main():
-        app = make_app(settings)
-        async with app.run_test(size=size) as pilot:
-            await pilot.pause()
-            return await scenario(pilot, app)
-
-    return asyncio.run(main())
-
+from tui_support import run_app as run
 
 def shown_readouts(screen) -> tuple:
     return screen.query_one(ReadoutPanel).items

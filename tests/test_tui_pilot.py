@@ -2,38 +2,30 @@
 
 from __future__ import annotations
 
-import asyncio
 from dataclasses import replace
 
 import pytest
 from textual.widgets import Input
+from tui_support import run_app
 
 from jointid.experiment import run_experiment
-from jointid.present.readouts import readouts
 from jointid.motions import TRAINING_MOTIONS
+from jointid.present.readouts import readouts
 from jointid.settings import DEFAULT_SETTINGS, SEED_LIMITS, Settings
+from tui.commands import TOUR, tour_title
 from tui.controls import NOISE_RANGE, SAMPLES_RANGE, SEED_RANGE
 from tui.screens.main import MIN_SIZE, MOTION_KEYS, MainScreen
 from tui.widgets.charts import TorqueChart
-from tui.commands import TOUR, tour_title
 from tui.widgets.direct_controls import ChoiceList
 from tui.widgets.readouts import ReadoutPanel
 from tui.widgets.stepper import Stepper
-from tui_support import make_app
 
 SIZE = (120, 40)
 
 
 def run(scenario, settings: Settings | None = None, size=SIZE):
     """Run an async scenario(pilot, screen) against a fresh app and return its result."""
-
-    async def main():
-        app = make_app(settings)
-        async with app.run_test(size=size) as pilot:
-            await pilot.pause()
-            return await scenario(pilot, app.screen)
-
-    return asyncio.run(main())
+    return run_app(lambda pilot, app: scenario(pilot, app.screen), settings, size)
 
 
 def assert_shows(screen: MainScreen, settings: Settings) -> None:
@@ -395,8 +387,8 @@ def test_command_line_refuses_values_outside_the_explorer_ranges(argv, phrase, c
 
 def test_command_line_opens_the_explorer_at_the_given_settings(monkeypatch):
     """`jointid --motion slow --noise 0.2` builds the app with exactly those settings."""
-    from jointid.cli import main
     import tui.app
+    from jointid.cli import main
 
     opened = []
     monkeypatch.setattr(tui.app.JointIdApp, "run", lambda self: opened.append(self.initial_settings))

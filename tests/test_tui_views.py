@@ -2,27 +2,26 @@
 
 from __future__ import annotations
 
-import asyncio
 import time
 
 import numpy as np
 import pytest
+from tui_support import CANONICAL_STATES, READOUTS_DIR, run_app
 
 from jointid.cross_excitation import cross_excitation
 from jointid.experiment import run_experiment
+from jointid.present.tables import matrix_table
+from jointid.present.tables import sweep_table as statistics_table
 from jointid.residuals import AXES, AXIS_NOTES, residual_data
 from jointid.sweep import SweepCancelled, run_sweep
 from tui.screens import sweep as sweep_screen
 from tui.screens.main import MainScreen
-from jointid.present.tables import matrix_table
 from tui.screens.matrix import MatrixScreen
-from tui.widgets.small_plots import SmallPlot
-from tui.widgets.readouts import ReadoutPanel
 from tui.screens.residuals import AXIS_KEYS, ResidualScreen
-from tui.widgets.stepper import Stepper
-from jointid.present.tables import sweep_table as statistics_table
 from tui.screens.sweep import SweepScreen
-from tui_support import CANONICAL_STATES, READOUTS_DIR, make_app
+from tui.widgets.readouts import ReadoutPanel
+from tui.widgets.small_plots import SmallPlot
+from tui.widgets.stepper import Stepper
 
 SLOW = CANONICAL_STATES["slow_0.20"]
 HOLDS = CANONICAL_STATES["holds"]
@@ -30,15 +29,8 @@ SIZES = [(80, 24), (120, 40)]
 
 
 def run(scenario, settings=SLOW, size=(120, 40)):
-    """Run an async scenario(pilot, app) against a fresh app and return its result."""
-
-    async def main():
-        app = make_app(settings)
-        async with app.run_test(size=size) as pilot:
-            await pilot.pause()
-            return await scenario(pilot, app)
-
-    return asyncio.run(main())
+    """Run an async scenario(pilot, app) against a fresh app (slow motion at noise 0.20 unless told)."""
+    return run_app(scenario, settings, size)
 
 
 async def open_view(pilot, key: str):

@@ -7,8 +7,8 @@ from pathlib import Path
 
 from jointid.settings import DEFAULT_SETTINGS, Settings
 from tui.app import JointIdApp
-from tui.screens.main import MainScreen
 from tui.commands import TOUR
+from tui.screens.main import MainScreen
 from tui.widgets.readouts import ReadoutPanel
 
 THEME = "textual-dark"
@@ -44,6 +44,18 @@ def make_app(settings: Settings | None = None, logs=None) -> JointIdApp:
     app = JointIdApp(DEFAULT_SETTINGS if settings is None else settings, logs)
     app.theme = THEME
     return app
+
+
+def run_app(scenario, settings: Settings | None = None, size: tuple[int, int] = (120, 40)):
+    """Run an async scenario(pilot, app) against a fresh app at a terminal size and return its result."""
+
+    async def main():
+        app = make_app(settings)
+        async with app.run_test(size=size) as pilot:
+            await pilot.pause()
+            return await scenario(pilot, app)
+
+    return asyncio.run(main())
 
 
 def displayed_readouts(screen: MainScreen) -> str:
