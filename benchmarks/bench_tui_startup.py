@@ -29,6 +29,8 @@ EXPLORER = """
 from tui.app import JointIdApp
 
 class FirstFrame(JointIdApp):
+    restore_gc = False  # as `jointid` runs it (tui/entry.py): the process ends with the app
+
     def on_ready(self):
         self.call_after_refresh(self.exit)
 

@@ -58,6 +58,10 @@ class JointIdApp(App):
 
     tune_gc = True
     """Whether a run tunes the garbage collector (`on_ready`); the key benchmark's --gc compares."""
+    restore_gc = True
+    """Whether the run's end gives the collector back as it was. `jointid` (tui/entry.py) turns it off: its
+    process ends with the app, and unfreezing first made that exit walk the whole heap, about 0.1 s
+    (benchmarks/bench_tui_startup.py measures start-up to the process's end)."""
 
     def on_load(self) -> None:
         """Turn on the third-party adapters the installed versions allow, before the first chart; log which."""
@@ -95,7 +99,7 @@ class JointIdApp(App):
 
     def on_unmount(self) -> None:
         """Restore the collector's thresholds and unfreeze what `on_ready` froze (after a crash too)."""
-        if getattr(self, "_gc_restore", None) is not None:
+        if self.restore_gc and getattr(self, "_gc_restore", None) is not None:
             gc.set_threshold(*self._gc_restore)
             self._gc_restore = None
             if self._gc_unfreeze:

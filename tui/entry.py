@@ -26,5 +26,6 @@ def explore(settings: Settings, logs: LoadedLogs | None = None,
     from .app import JointIdApp  # after the check: a refused value costs no Textual import
 
     app = JointIdApp(settings, logs, derivatives=derivatives)
+    app.restore_gc = False  # the process ends with the app: see JointIdApp.restore_gc
     app.run()
     return app.return_code or 0

@@ -14,7 +14,9 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import lru_cache
-from importlib import metadata
+import importlib.util
+import os
+from pathlib import Path
 from typing import TYPE_CHECKING, Callable
 
 if TYPE_CHECKING:
@@ -67,11 +69,35 @@ _status: list[str] = []
 
 
 def installed_version(distribution: str) -> str | None:
-    """The installed version of a distribution, or None when it is not installed."""
+    """The installed version of a distribution, or None when it is not installed.
+
+    Read from the name of the `<name>-<version>.dist-info` folder beside the package
+    when there is one: importlib.metadata alone (with the email parser it loads)
+    cost about 10 ms of the explorer's start-up, for three version strings.
+    """
+    version = _version_beside_package(distribution)
+    if version is not None:
+        return version
+    from importlib import metadata  # an unusual installation: ask the standard way
+
     try:
         return metadata.version(distribution)
     except metadata.PackageNotFoundError:
         return None
+
+
+def _version_beside_package(distribution: str) -> str | None:
+    """The version in the name of the distribution's dist-info folder next to its package, or None."""
+    module = distribution.replace("-", "_")
+    spec = importlib.util.find_spec(module)
+    if spec is None or not spec.submodule_search_locations:
+        return None
+    folder = Path(next(iter(spec.submodule_search_locations))).parent
+    prefix = f"{module}-"
+    for entry in os.listdir(folder):
+        if entry.lower().startswith(prefix) and entry.endswith(".dist-info"):
+            return entry[len(prefix):-len(".dist-info")]
+    return None
 
 
 def check() -> tuple[dict[str, bool], list[str]]:

@@ -28,7 +28,6 @@ from jointid.fit import FitResult
 from jointid.model import PLAIN, G
 from jointid.motions import TRAINING_MOTIONS
 from jointid.present.charts import heldout_chart, training_chart
-from jointid.present.documents import fit_document
 from jointid.present.readouts import precision, readouts
 from jointid.present.status import log_status
 from jointid.settings import DEFAULT_SETTINGS, Settings
@@ -487,6 +486,8 @@ class MainScreen(Screen):
         """File stem and JSON document of the current result, as `jointid fit [--csv] --json` prints it."""
         if self.logs is not None:
             return f"{Path(self.logs.training.path).stem}-fit", self.logs.document()
+        from jointid.present.documents import fit_document  # json and the documents: only when exporting
+
         s = self.settings
         model = "" if s.model == DEFAULT_SETTINGS.model else f"-{s.model}"
         return (f"jointid-{s.motion}-{s.noise:.2f}-{s.samples}-{s.seed}{model}",
