@@ -175,6 +175,7 @@ def test_jointid_version_without_the_ui_packages(monkeypatch):
         return real(name)
 
     monkeypatch.setattr(metadata, "version", without_ui)
+    monkeypatch.setattr(third_party, "_version_beside_package", lambda name: None)  # no dist-info folders either
     text = version_text()
     assert "textual not installed" in text.splitlines()
     assert "  plotext not installed (expected 5.3.2): stock chart helpers" in text.splitlines()
