@@ -1,11 +1,39 @@
-"""Column-scaled, column-pivoted Householder least squares with a rank check.
+"""Column-scaled, column-pivoted Householder least squares with a rank check, by row blocks.
 
-Each nonzero column is scaled to unit Euclidean norm, then Householder
-reflections triangularise the scaled matrix, choosing at every step the
-remaining column with the largest norm. When that norm is at most
-`RANK_TOLERANCE` the remaining columns are numerically dependent and the rank
-stops there. Only a full-rank problem gets an estimate; X^T X is never formed
-and memory stays O(N*p).
+min ||y - X theta|| for X of shape (N, p) is solved in two stages.
+
+Reduction. Above `BLOCK_ROWS` rows, X is read one block of rows at a time:
+LAPACK's Householder QR (numpy.linalg.qr) of the current triangle R stacked on
+the next block gives the next R, and the same reflections applied to the current
+Q^T y stacked on the block's y give the next Q^T y. The rows of the reflected
+right-hand sides below R's lie outside X's column space for good: their squares
+are added to a running residual sum per right-hand side. Only R (p, p), Q^T y
+(p, K) and those sums are kept, so X is never copied whole and the temporaries
+are a few blocks' worth. Up to `BLOCK_ROWS` rows there is nothing to reduce and
+the second stage works on X itself.
+
+Rank-revealing step. Each nonzero column of R (or X) is scaled to unit norm,
+then Householder reflections triangularise the scaled matrix, choosing at
+every step the remaining column with the largest norm, recomputed exactly. When
+that norm is at most `RANK_TOLERANCE` the remaining columns are numerically
+dependent and the rank stops there. Only a full-rank problem gets an estimate;
+X^T X is never formed.
+
+Why pivoting R is pivoting X: X = Q R with Q's columns orthonormal, and Q keeps
+lengths and angles, so the distance of any column of X from the span of any
+other columns equals that of the same column of R. The column norms (hence the
+scales, computed from R) and every remaining norm the pivoting compares are
+such distances: in exact arithmetic R and X give the same pivots, the same
+rank, the same triangular factor up to row signs, and the same estimates and
+residual. In floating point they differ by the factorisations' backward error,
+which for Householder QR is small column by column, relative to each column's
+norm; that is also why X can be factored unscaled and R's columns scaled
+afterwards, saving a pass over the data.
+
+Right-hand sides are reflected with numpy row sums, never BLAS (whose kernels
+for one dot product and for many add in different orders), and the block
+boundaries depend on N alone, so column k of a K-column solve equals, bit for
+bit, the solve of y[:, k] alone, at any N.
 """
 
 from __future__ import annotations
@@ -18,6 +46,12 @@ import numpy as np
 
 RANK_TOLERANCE = 1e-10
 """A remaining scaled column norm at or below this is numerically dependent."""
+BLOCK_ROWS = 8192
+"""Rows of X per block of the reduction (the fastest measured, see benchmarks/README.md); fewer rows skip it."""
+BLOCK_TARGET_VALUES = 2**17
+"""Right-hand-side values (columns x rows) reflected at once in the reduction: 1 MB per temporary."""
+_SMALLEST_SAFE_SQUARES = np.finfo(float).tiny / np.finfo(float).eps
+"""A column's sum of squares below this may have lost digits to underflow (about 1e-292)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -97,27 +131,112 @@ def back_substitute(upper: np.ndarray, rhs: np.ndarray) -> np.ndarray:
     return x
 
 
-def solve_least_squares(X, y, tolerance: float = RANK_TOLERANCE) -> LeastSquaresSolution:
+def solve_least_squares(
+    X, y, tolerance: float = RANK_TOLERANCE, *, block_rows: int = BLOCK_ROWS
+) -> LeastSquaresSolution:
     """Factor column-scaled X (N, p) with pivoted Householder QR and solve for y (N,) or (N, K).
 
     With K right-hand sides (one column of y each) the one factorisation serves
     them all: `qty` becomes (rank, K), `residual_norm` (K,), and the estimates
     (p, K). Column k of a multi-RHS solve equals, bit for bit, the solve of y[:, k]
     alone. Inputs are not modified. N may be smaller than p, and p may be zero.
+    Above `block_rows` rows, X is first reduced to a triangle a block at a time.
     """
     X = np.asarray(X, dtype=float)
     y = np.asarray(y, dtype=float)
     if X.ndim != 2 or y.ndim not in (1, 2) or y.shape[0] != X.shape[0]:
         raise ValueError(f"X must be (N, p) and y (N,) or (N, K); got {X.shape} and {y.shape}")
+    if block_rows < 1:
+        raise ValueError(f"block_rows must be at least 1; got {block_rows}")
     rows, columns = X.shape
-    norms = np.sqrt(np.einsum("ij,ij->j", X, X))
+    if rows > block_rows and columns:
+        # Same least-squares problem, p rows: R theta ~ Q^T y, plus the rows already done.
+        triangle, targets, reduced_squares = _reduce_by_blocks(X, y, block_rows)
+    else:
+        triangle, reduced_squares = X, 0.0
+        # Right-hand sides as contiguous rows (K, N), one per y column: a single y is
+        # the K = 1 case of the same code, which is what makes many solves match one.
+        targets = np.array(y.T if y.ndim == 2 else y[None, :], order="C")
+    norms = _column_norms(triangle)
     scales = np.where(norms > 0, norms, 1.0)
     # A scaled copy in column-major order, so each column operation is contiguous.
-    work = np.empty((rows, columns), order="F")
-    np.divide(X, scales, out=work)
-    # Right-hand sides as contiguous rows (K, N), one per y column: a single y is
-    # the K = 1 case of the same code, which is what makes many solves match one.
-    targets = np.array(y.T if y.ndim == 2 else y[None, :], order="C")
+    work = np.empty(triangle.shape, order="F")
+    np.divide(triangle, scales, out=work)
+    rank, permutation = _pivoted_householder(work, targets, tolerance)
+    residual_norms = np.sqrt(np.square(targets[:, rank:]).sum(axis=1) + reduced_squares)
+    qty = np.array(targets[:, :rank].T, order="C")
+    return LeastSquaresSolution(
+        rank=rank,
+        column_count=columns,
+        row_count=rows,
+        scales=scales,
+        permutation=permutation,
+        r_factor=np.triu(work[:rank, :]),
+        qty=qty if y.ndim == 2 else qty[:, 0],
+        residual_norm=residual_norms if y.ndim == 2 else float(residual_norms[0]),
+    )
+
+
+def _column_norms(A: np.ndarray) -> np.ndarray:
+    """(p,) Euclidean norm of each column of A (M, p), without overflow or underflow."""
+    squares = np.einsum("ij,ij->j", A, A)
+    norms = np.sqrt(squares)
+    # Squares overflow above about 1e154 and lose digits below 1e-146: only such columns
+    # are divided by their largest magnitude first, so ordinary data take one pass.
+    for j in np.flatnonzero(~(squares >= _SMALLEST_SAFE_SQUARES) | np.isinf(squares)):
+        column = A[:, j]
+        largest = float(np.max(np.abs(column))) if len(column) else 0.0
+        if 0.0 < largest < math.inf:
+            unit = column / largest
+            norms[j] = largest * math.sqrt(float(unit @ unit))
+    return norms
+
+
+def _reduce_by_blocks(X: np.ndarray, y: np.ndarray, block_rows: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(R (n, p), Q^T y (K, n), residual sums of squares (K,)) of X (N, p) and y, n = min(N, p), by row blocks."""
+    rows, columns = X.shape
+    Y = y[:, None] if y.ndim == 1 else y
+    count = Y.shape[1]
+    triangle = np.zeros((0, columns))
+    qty = np.zeros((count, 0))
+    squares = np.zeros(count)
+    # Buffers reused by every block: [R; X block] column-major for LAPACK, and the
+    # right-hand sides [Q^T y; y block] as rows (K, n), as the rank-revealing step has them.
+    stacked_buffer = np.empty((block_rows + columns, columns), order="F")
+    chunk = max(1, BLOCK_TARGET_VALUES // (block_rows + columns))
+    targets_buffer = np.empty((min(chunk, count), block_rows + columns))
+    for start in range(0, rows, block_rows):
+        block = X[start : start + block_rows]
+        done, height = len(triangle), len(triangle) + len(block)
+        stacked = stacked_buffer[:height]
+        stacked[:done] = triangle
+        stacked[done:] = block
+        # Row k of `reflectors` holds R's column k up to the diagonal and reflector k
+        # (whose leading 1 LAPACK leaves implicit) after it: H_k = I - tau_k v_k v_k^T.
+        reflectors, tau = np.linalg.qr(stacked, mode="raw")
+        kept = min(height, columns)
+        triangle = np.triu(reflectors[:, :kept].T)
+        diagonal = np.arange(kept)
+        reflectors[diagonal, diagonal] = 1.0
+        next_qty = np.empty((count, kept))
+        for first in range(0, count, chunk):
+            last = min(first + chunk, count)
+            targets = targets_buffer[: last - first, :height]
+            targets[:, :done] = qty[first:last]
+            targets[:, done:] = Y[start : start + len(block), first:last].T
+            for k in range(kept):
+                tails = targets[:, k:]
+                # Row sums along the contiguous axis: the same additions for one row or many.
+                tails -= (tau[k] * (tails * reflectors[k, k:]).sum(axis=1))[:, None] * reflectors[k, k:]
+            next_qty[first:last] = targets[:, :kept]
+            squares[first:last] += np.square(targets[:, kept:]).sum(axis=1)
+        qty = next_qty
+    return triangle, qty, squares
+
+
+def _pivoted_householder(work: np.ndarray, targets: np.ndarray, tolerance: float) -> tuple[int, np.ndarray]:
+    """Triangularise `work` (M, p) in place with column pivoting, reflecting `targets` (K, M) alike; (rank, permutation)."""
+    rows, columns = work.shape
     permutation = np.arange(columns)
     rank = 0
     for k in range(min(rows, columns)):
@@ -133,18 +252,7 @@ def solve_least_squares(X, y, tolerance: float = RANK_TOLERANCE) -> LeastSquares
             permutation[[k, pivot]] = permutation[[pivot, k]]
         _reflect(work, targets, k, remaining[pivot - k])
         rank += 1
-    residual_norms = np.sqrt(np.square(targets[:, rank:]).sum(axis=1))
-    qty = np.array(targets[:, :rank].T, order="C")
-    return LeastSquaresSolution(
-        rank=rank,
-        column_count=columns,
-        row_count=rows,
-        scales=scales,
-        permutation=permutation,
-        r_factor=np.triu(work[:rank, :]),
-        qty=qty if y.ndim == 2 else qty[:, 0],
-        residual_norm=residual_norms if y.ndim == 2 else float(residual_norms[0]),
-    )
+    return rank, permutation
 
 
 def _reflect(work: np.ndarray, targets: np.ndarray, k: int, column_norm: float) -> None:
