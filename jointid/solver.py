@@ -2,22 +2,22 @@
 
 min ||y - X theta|| for X of shape (N, p) is solved in two stages.
 
-Reduction. Above `BLOCK_ROWS` rows, X is read one block of rows at a time:
-LAPACK's Householder QR (numpy.linalg.qr) of the current triangle R stacked on
-the next block gives the next R, and the same reflections applied to the current
-Q^T y stacked on the block's y give the next Q^T y. The rows of the reflected
-right-hand sides below R's lie outside X's column space for good: their squares
-are added to a running residual sum per right-hand side. Only R (p, p), Q^T y
-(p, K) and those sums are kept, so X is never copied whole and the temporaries
-are a few blocks' worth. Up to `BLOCK_ROWS` rows there is nothing to reduce and
-the second stage works on X itself.
+Reduction. Above `DIRECT_ROWS` rows, X is read one block of rows at a time
+(`block_rows_for`). LAPACK's Householder QR (numpy.linalg.qr) of [X | y]'s
+triangle so far stacked on the block's rows of [X | y] gives the triangle of
+all rows so far: its first p columns are R, its last column Q^T y and, below
+it, the residual norm of the rows so far, accumulated by LAPACK without
+overflow. Only that (p + 1, p + 1) triangle is kept, so X is never copied
+whole and the temporaries are a few blocks in size. Up to `DIRECT_ROWS` rows
+the second stage works on X itself, exactly as before the reduction existed.
 
 Rank-revealing step. Each nonzero column of R (or X) is scaled to unit norm,
 then Householder reflections triangularise the scaled matrix, choosing at
 every step the remaining column with the largest norm, recomputed exactly. When
 that norm is at most `RANK_TOLERANCE` the remaining columns are numerically
 dependent and the rank stops there. Only a full-rank problem gets an estimate;
-X^T X is never formed.
+X^T X is never formed. The residual norm combines what this step leaves of
+Q^T y past the rank with the reduction's residual norm.
 
 Why pivoting R is pivoting X: X = Q R with Q's columns orthonormal, and Q keeps
 lengths and angles, so the distance of any column of X from the span of any
@@ -30,12 +30,15 @@ which for Householder QR is small column by column, relative to each column's
 norm; that is also why X can be factored unscaled and R's columns scaled
 afterwards, saving a pass over the data.
 
-Right-hand sides are reflected with numpy row sums, never BLAS (whose kernels
-for one dot product and for many add in different orders), and the block
-boundaries depend on N alone, so column k of a K-column solve equals, bit for
-bit, the solve of y[:, k] alone, at any N.
+Many right-hand sides: in the rank-revealing step they are reflected with
+numpy row sums, never BLAS, whose kernels for one dot product and for many add
+in different orders. In the reduction each column of y gets its own LAPACK
+factorisation, of the same shape as a lone y's: X's part is refactored K
+times, 1.3-1.5x the time of reflecting K columns in numpy at K = 4 to 200, but
+a lone y, the common case, is faster this way. Either way column k of a
+K-column solve equals, bit for bit, the solve of y[:, k] alone, which the seed
+sweep relies on.
 """
-
 from __future__ import annotations
 
 import math
@@ -46,10 +49,10 @@ import numpy as np
 
 RANK_TOLERANCE = 1e-10
 """A remaining scaled column norm at or below this is numerically dependent."""
-BLOCK_ROWS = 8192
-"""Rows of X per block of the reduction (the fastest measured, see benchmarks/README.md); fewer rows skip it."""
-BLOCK_TARGET_VALUES = 2**17
-"""Right-hand-side values (columns x rows) reflected at once in the reduction: 1 MB per temporary."""
+DIRECT_ROWS = 8192
+"""Up to this many rows X is triangularised whole by the rank-revealing step; above, it is reduced first."""
+BLOCK_VALUES = 8192
+"""Values of X's columns in one block of the reduction, carried rows included (see `block_rows_for`)."""
 _SMALLEST_SAFE_SQUARES = np.finfo(float).tiny / np.finfo(float).eps
 """A column's sum of squares below this may have lost digits to underflow (about 1e-292)."""
 
@@ -132,7 +135,7 @@ def back_substitute(upper: np.ndarray, rhs: np.ndarray) -> np.ndarray:
 
 
 def solve_least_squares(
-    X, y, tolerance: float = RANK_TOLERANCE, *, block_rows: int = BLOCK_ROWS
+    X, y, tolerance: float = RANK_TOLERANCE, *, block_rows: int | None = None
 ) -> LeastSquaresSolution:
     """Factor column-scaled X (N, p) with pivoted Householder QR and solve for y (N,) or (N, K).
 
@@ -140,20 +143,28 @@ def solve_least_squares(
     them all: `qty` becomes (rank, K), `residual_norm` (K,), and the estimates
     (p, K). Column k of a multi-RHS solve equals, bit for bit, the solve of y[:, k]
     alone. Inputs are not modified. N may be smaller than p, and p may be zero.
-    Above `block_rows` rows, X is first reduced to a triangle a block at a time.
+    Above `DIRECT_ROWS` rows, X is first reduced to a triangle in blocks of
+    `block_rows_for(p)` rows; an explicit `block_rows` reduces any X taller than
+    one block (tests use it to reach the blocked path with small problems).
     """
     X = np.asarray(X, dtype=float)
     y = np.asarray(y, dtype=float)
     if X.ndim != 2 or y.ndim not in (1, 2) or y.shape[0] != X.shape[0]:
         raise ValueError(f"X must be (N, p) and y (N,) or (N, K); got {X.shape} and {y.shape}")
-    if block_rows < 1:
-        raise ValueError(f"block_rows must be at least 1; got {block_rows}")
     rows, columns = X.shape
-    if rows > block_rows and columns:
-        # Same least-squares problem, p rows: R theta ~ Q^T y, plus the rows already done.
-        triangle, targets, reduced_squares = _reduce_by_blocks(X, y, block_rows)
+    if block_rows is None:
+        reduce = rows > DIRECT_ROWS
+        block_rows = block_rows_for(columns)
+    elif block_rows >= 1:
+        reduce = rows > block_rows
     else:
-        triangle, reduced_squares = X, 0.0
+        raise ValueError(f"block_rows must be at least 1; got {block_rows}")
+    if reduce and columns:
+        # The same least-squares problem in min(N, p) rows: R theta ~ Q^T y, plus the
+        # residual of the rows reduced away.
+        triangle, targets, reduced_residual = _reduce_by_blocks(X, y, block_rows)
+    else:
+        triangle, reduced_residual = X, 0.0
         # Right-hand sides as contiguous rows (K, N), one per y column: a single y is
         # the K = 1 case of the same code, which is what makes many solves match one.
         targets = np.array(y.T if y.ndim == 2 else y[None, :], order="C")
@@ -163,7 +174,7 @@ def solve_least_squares(
     work = np.empty(triangle.shape, order="F")
     np.divide(triangle, scales, out=work)
     rank, permutation = _pivoted_householder(work, targets, tolerance)
-    residual_norms = np.sqrt(np.square(targets[:, rank:]).sum(axis=1) + reduced_squares)
+    residual_norms = np.sqrt(np.square(targets[:, rank:]).sum(axis=1) + np.square(reduced_residual))
     qty = np.array(targets[:, :rank].T, order="C")
     return LeastSquaresSolution(
         rank=rank,
@@ -175,6 +186,20 @@ def solve_least_squares(
         qty=qty if y.ndim == 2 else qty[:, 0],
         residual_norm=residual_norms if y.ndim == 2 else float(residual_norms[0]),
     )
+
+
+def block_rows_for(columns: int) -> int:
+    """Rows of X per block of the reduction for p = `columns`: `BLOCK_VALUES` // p, less the p + 1 carried rows.
+
+    Each block's matrix, the carried triangle on top of the block's rows, times
+    its p columns, then holds at most `BLOCK_VALUES` values, so the
+    matrix-vector steps inside LAPACK's QR stay below OpenBLAS's thresholds for
+    starting threads (8192 for dger, 9216 for dgemv): those threads cost far more
+    than they save on a shared machine (above it, 6-column solves ran 5 to 20x
+    slower under load). The largest such block was the fastest measured. Past
+    about 63 columns no block fits; blocks then keep p + 1 rows.
+    """
+    return max(columns + 1, BLOCK_VALUES // max(columns, 1) - columns - 1)
 
 
 def _column_norms(A: np.ndarray) -> np.ndarray:
@@ -193,45 +218,42 @@ def _column_norms(A: np.ndarray) -> np.ndarray:
 
 
 def _reduce_by_blocks(X: np.ndarray, y: np.ndarray, block_rows: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(R (n, p), Q^T y (K, n), residual sums of squares (K,)) of X (N, p) and y, n = min(N, p), by row blocks."""
+    """(R (n, p), Q^T y (K, n), residual norms (K,)) of X (N, p) and y (N,) or (N, K), n = min(N, p), by row blocks."""
     rows, columns = X.shape
     Y = y[:, None] if y.ndim == 1 else y
     count = Y.shape[1]
-    triangle = np.zeros((0, columns))
-    qty = np.zeros((count, 0))
-    squares = np.zeros(count)
-    # Buffers reused by every block: [R; X block] column-major for LAPACK, and the
-    # right-hand sides [Q^T y; y block] as rows (K, n), as the rank-revealing step has them.
-    stacked_buffer = np.empty((block_rows + columns, columns), order="F")
-    chunk = max(1, BLOCK_TARGET_VALUES // (block_rows + columns))
-    targets_buffer = np.empty((min(chunk, count), block_rows + columns))
+    upper = np.triu(np.ones((columns + 1, columns + 1), dtype=bool))
+    # The triangle of [X | y_k] for the rows so far, min(rows so far, p + 1) rows: its first
+    # p columns, R (with a zero last row once there are more than p rows), are the same
+    # for every k; its last column holds Q^T y_k and then the residual norm. With no
+    # right-hand side at all, a zero one carries R through.
+    carried_x = np.zeros((0, columns))
+    carried_y = np.zeros((max(count, 1), 0))
+    stacked_buffer = np.empty((block_rows + columns + 1, columns + 1), order="F")
     for start in range(0, rows, block_rows):
-        block = X[start : start + block_rows]
-        done, height = len(triangle), len(triangle) + len(block)
+        stop = min(start + block_rows, rows)
+        done = len(carried_x)
+        height = done + stop - start
+        kept = min(height, columns + 1)
         stacked = stacked_buffer[:height]
-        stacked[:done] = triangle
-        stacked[done:] = block
-        # Row k of `reflectors` holds R's column k up to the diagonal and reflector k
-        # (whose leading 1 LAPACK leaves implicit) after it: H_k = I - tau_k v_k v_k^T.
-        reflectors, tau = np.linalg.qr(stacked, mode="raw")
-        kept = min(height, columns)
-        triangle = np.triu(reflectors[:, :kept].T)
-        diagonal = np.arange(kept)
-        reflectors[diagonal, diagonal] = 1.0
-        next_qty = np.empty((count, kept))
-        for first in range(0, count, chunk):
-            last = min(first + chunk, count)
-            targets = targets_buffer[: last - first, :height]
-            targets[:, :done] = qty[first:last]
-            targets[:, done:] = Y[start : start + len(block), first:last].T
-            for k in range(kept):
-                tails = targets[:, k:]
-                # Row sums along the contiguous axis: the same additions for one row or many.
-                tails -= (tau[k] * (tails * reflectors[k, k:]).sum(axis=1))[:, None] * reflectors[k, k:]
-            next_qty[first:last] = targets[:, :kept]
-            squares[first:last] += np.square(targets[:, kept:]).sum(axis=1)
-        qty = next_qty
-    return triangle, qty, squares
+        stacked[:done, :columns] = carried_x
+        stacked[done:, :columns] = X[start:stop]
+        following = np.empty((len(carried_y), kept))
+        for k in range(len(carried_y)):
+            # Each right-hand side in its own factorisation of identical shape, so that
+            # its numbers never depend on the other columns of y.
+            stacked[:done, columns] = carried_y[k]
+            stacked[done:, columns] = Y[start:stop, k] if count else 0.0
+            # Row j of `factor` is column j of LAPACK's result: the triangle's entries down
+            # to the diagonal, then the reflector (not needed here).
+            factor = np.linalg.qr(stacked, mode="raw")[0]
+            following[k] = factor[columns, :kept]
+        carried_x = np.where(upper[:kept, :columns], factor[:columns, :kept].T, 0.0)
+        carried_y = following
+    kept = min(rows, columns)
+    last = carried_y[:count]
+    residual = np.abs(last[:, kept]) if last.shape[1] > kept else np.zeros(count)
+    return carried_x[:kept], np.array(last[:, :kept], order="C"), residual
 
 
 def _pivoted_householder(work: np.ndarray, targets: np.ndarray, tolerance: float) -> tuple[int, np.ndarray]:
