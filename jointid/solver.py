@@ -2,14 +2,16 @@
 
 min ||y - X theta|| for X of shape (N, p) is solved in two stages.
 
-Reduction. Above `DIRECT_ROWS` rows, X is read one block of rows at a time
-(`block_rows_for`). LAPACK's Householder QR (numpy.linalg.qr) of [X | y]'s
-triangle so far stacked on the block's rows of [X | y] gives the triangle of
-all rows so far: its first p columns are R, its last column Q^T y and, below
-it, the residual norm of the rows so far, accumulated by LAPACK without
-overflow. Only that (p + 1, p + 1) triangle is kept, so X is never copied
-whole and the temporaries are a few blocks in size. Up to `DIRECT_ROWS` rows
-the second stage works on X itself, exactly as before the reduction existed.
+Reduction. Above `DIRECT_ROWS` rows, [X | y] is cut into blocks of rows
+(`block_rows_for`) and read a group of blocks at a time (a TSQR): one call of
+numpy.linalg.qr, LAPACK's Householder QR batched over the group, triangularises
+each block, and a second call factors those triangles, stacked under the
+triangle of all earlier rows, into the triangle of all rows so far. Of that
+(p + 1, p + 1) triangle the first p columns are R and the last holds Q^T y and,
+below it, the residual norm of the rows so far, which LAPACK accumulates
+without overflow. Only the triangle is kept: X is never copied whole and the
+temporaries are about one group in size. Up to `DIRECT_ROWS` rows the second
+stage works on X itself, exactly as before the reduction existed.
 
 Rank-revealing step. Each nonzero column of R (or X) is scaled to unit norm,
 then Householder reflections triangularise the scaled matrix, choosing at
@@ -33,12 +35,13 @@ afterwards, saving a pass over the data.
 Many right-hand sides: in the rank-revealing step they are reflected with
 numpy row sums, never BLAS, whose kernels for one dot product and for many add
 in different orders. In the reduction each column of y gets its own LAPACK
-factorisation, of the same shape as a lone y's: X's part is refactored K
-times, 1.3-1.5x the time of reflecting K columns in numpy at K = 4 to 200, but
-a lone y, the common case, is faster this way. Either way column k of a
-K-column solve equals, bit for bit, the solve of y[:, k] alone, which the seed
-sweep relies on.
+factorisation, of the same shapes as a lone y's: X's part is refactored K
+times, which at K = 4 to 200 takes 1.3-1.8x as long as reflecting the K
+columns in numpy would, but a lone y, the common case, 0.7x. Either way
+column k of a K-column solve equals, bit for bit, the solve of y[:, k] alone,
+which the seed sweep relies on.
 """
+
 from __future__ import annotations
 
 import math
@@ -52,7 +55,9 @@ RANK_TOLERANCE = 1e-10
 DIRECT_ROWS = 8192
 """Up to this many rows X is triangularised whole by the rank-revealing step; above, it is reduced first."""
 BLOCK_VALUES = 8192
-"""Values of X's columns in one block of the reduction, carried rows included (see `block_rows_for`)."""
+"""Values of X in one block of the reduction (see `block_rows_for`)."""
+GROUP_VALUES = 2**16
+"""Values of [X | y] in one group of blocks, factored by one call of numpy's (batched) QR: 512 kB."""
 _SMALLEST_SAFE_SQUARES = np.finfo(float).tiny / np.finfo(float).eps
 """A column's sum of squares below this may have lost digits to underflow (about 1e-292)."""
 
@@ -188,18 +193,18 @@ def solve_least_squares(
     )
 
 
-def block_rows_for(columns: int) -> int:
-    """Rows of X per block of the reduction for p = `columns`: `BLOCK_VALUES` // p, less the p + 1 carried rows.
+def block_rows_for(columns: int, values: int = BLOCK_VALUES) -> int:
+    """Rows per block of the reduction for p = `columns`: `values` (`BLOCK_VALUES`) // p.
 
-    Each block's matrix, the carried triangle on top of the block's rows, times
-    its p columns, then holds at most `BLOCK_VALUES` values, so the
-    matrix-vector steps inside LAPACK's QR stay below OpenBLAS's thresholds for
-    starting threads (8192 for dger, 9216 for dgemv): those threads cost far more
-    than they save on a shared machine (above it, 6-column solves ran 5 to 20x
-    slower under load). The largest such block was the fastest measured. Past
-    about 63 columns no block fits; blocks then keep p + 1 rows.
+    A block's part of X then holds at most `values` numbers, so the
+    matrix-vector steps inside LAPACK's QR of the block stay below OpenBLAS's
+    thresholds for starting threads (8192 for dger, 9216 for dgemv): those
+    threads cost far more than they save on a shared machine (above them,
+    6-column solves ran 5 to 20x slower under load), and the block stays in the
+    core's own cache. The largest such block was the fastest measured. From 91
+    columns on, no block fits; blocks then keep p + 1 rows.
     """
-    return max(columns + 1, BLOCK_VALUES // max(columns, 1) - columns - 1)
+    return max(columns + 1, values // max(columns, 1))
 
 
 def _column_norms(A: np.ndarray) -> np.ndarray:
@@ -220,40 +225,50 @@ def _column_norms(A: np.ndarray) -> np.ndarray:
 def _reduce_by_blocks(X: np.ndarray, y: np.ndarray, block_rows: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(R (n, p), Q^T y (K, n), residual norms (K,)) of X (N, p) and y (N,) or (N, K), n = min(N, p), by row blocks."""
     rows, columns = X.shape
-    Y = y[:, None] if y.ndim == 1 else y
-    count = Y.shape[1]
-    upper = np.triu(np.ones((columns + 1, columns + 1), dtype=bool))
-    # The triangle of [X | y_k] for the rows so far, min(rows so far, p + 1) rows: its first
-    # p columns, R (with a zero last row once there are more than p rows), are the same
-    # for every k; its last column holds Q^T y_k and then the residual norm. With no
-    # right-hand side at all, a zero one carries R through.
-    carried_x = np.zeros((0, columns))
-    carried_y = np.zeros((max(count, 1), 0))
-    stacked_buffer = np.empty((block_rows + columns + 1, columns + 1), order="F")
-    for start in range(0, rows, block_rows):
-        stop = min(start + block_rows, rows)
-        done = len(carried_x)
-        height = done + stop - start
-        kept = min(height, columns + 1)
-        stacked = stacked_buffer[:height]
-        stacked[:done, :columns] = carried_x
-        stacked[done:, :columns] = X[start:stop]
-        following = np.empty((len(carried_y), kept))
-        for k in range(len(carried_y)):
-            # Each right-hand side in its own factorisation of identical shape, so that
-            # its numbers never depend on the other columns of y.
-            stacked[:done, columns] = carried_y[k]
-            stacked[done:, columns] = Y[start:stop, k] if count else 0.0
-            # Row j of `factor` is column j of LAPACK's result: the triangle's entries down
-            # to the diagonal, then the reflector (not needed here).
-            factor = np.linalg.qr(stacked, mode="raw")[0]
-            following[k] = factor[columns, :kept]
-        carried_x = np.where(upper[:kept, :columns], factor[:columns, :kept].T, 0.0)
-        carried_y = following
+    width = columns + 1
+    count = 1 if y.ndim == 1 else y.shape[1]
+    # With no right-hand side at all, a zero one (a view, no memory) carries R through.
+    Y = y[:, None] if y.ndim == 1 else y if count else np.broadcast_to(np.zeros(1), (rows, 1))
+    group = max(1, GROUP_VALUES // (block_rows * width))
+    upper = np.triu(np.ones((width, width), dtype=bool))
+    # Per right-hand side, the triangle of [X | y_k] so far, min(rows so far, p + 1) rows:
+    # its first p columns, R, are the same for every k; its last column holds Q^T y_k
+    # and then the residual norm.
+    triangles = [np.zeros((0, width))] * Y.shape[1]
+    # A group of blocks, each column-major for LAPACK: (group, block_rows, p + 1).
+    buffer = np.empty((group, width, block_rows)).transpose(0, 2, 1)
+    for start in range(0, rows, group * block_rows):
+        full = min(group, (rows - start) // block_rows)
+        middle = start + full * block_rows
+        rest = slice(middle, min(start + group * block_rows, rows))
+        blocks = buffer[:full]
+        blocks[:, :, :columns] = X[start:middle].reshape(full, block_rows, columns)
+        for k in range(len(triangles)):
+            # Each right-hand side in its own factorisations, of the same shapes as a lone
+            # y's, so that its numbers never depend on the other columns of y.
+            blocks[:, :, columns] = Y[start:middle, k].reshape(full, block_rows)
+            pieces = [triangles[k]]
+            if full:
+                pieces.append(_triangles(np.linalg.qr(blocks, mode="raw")[0], upper).reshape(-1, width))
+            if rest.start < rest.stop:
+                pieces.append(np.column_stack([X[rest], Y[rest, k]]))
+            # The triangles of the group's blocks, stacked under the one so far (and the
+            # rows too few to make a block), factored into the triangle of all rows so far.
+            triangles[k] = _triangles(np.linalg.qr(np.concatenate(pieces), mode="raw")[0], upper)
     kept = min(rows, columns)
-    last = carried_y[:count]
-    residual = np.abs(last[:, kept]) if last.shape[1] > kept else np.zeros(count)
-    return carried_x[:kept], np.array(last[:, :kept], order="C"), residual
+    last = np.empty((count, len(triangles[0])))
+    for k in range(count):
+        last[k] = triangles[k][:, columns]
+    residual = np.abs(last[:, kept]) if rows > columns else np.zeros(count)
+    return triangles[0][:kept, :columns], np.array(last[:, :kept], order="C"), residual
+
+
+def _triangles(factors: np.ndarray, upper: np.ndarray) -> np.ndarray:
+    """The upper triangles (..., min(m, p + 1), p + 1) from numpy.linalg.qr's raw factors (..., p + 1, m)."""
+    # Row j of a raw factor is column j of LAPACK's result: the triangle's entries down to
+    # the diagonal, then the reflector's, which are set to zero here.
+    kept = min(factors.shape[-1], factors.shape[-2])
+    return np.where(upper[:kept], np.swapaxes(factors[..., :kept], -1, -2), 0.0)
 
 
 def _pivoted_householder(work: np.ndarray, targets: np.ndarray, tolerance: float) -> tuple[int, np.ndarray]:

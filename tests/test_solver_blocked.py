@@ -266,7 +266,7 @@ def test_blocked_path_needs_little_memory():
     peak = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
     assert solution.rank == 3
-    assert peak <= 0.05 * X.nbytes  # the previous solver copied X: 2.0x
+    assert peak <= 0.1 * X.nbytes  # about 0.04 (one group of blocks); the previous solver copied X: 2.0
 
 
 @pytest.mark.parametrize("block_rows", [None, 5])
@@ -285,6 +285,6 @@ def test_block_rows_must_be_positive():
 
 
 def test_blocks_stay_below_openblas_thread_thresholds():
-    for columns in range(1, 64):
-        assert (block_rows_for(columns) + columns + 1) * columns <= BLOCK_VALUES
+    for columns in range(1, 90):
+        assert block_rows_for(columns) * columns <= BLOCK_VALUES
     assert block_rows_for(3) > 2000 and block_rows_for(6) > 1000
