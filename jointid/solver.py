@@ -272,7 +272,7 @@ def _triangles(factors: np.ndarray, upper: np.ndarray) -> np.ndarray:
 
 
 def _pivoted_householder(work: np.ndarray, targets: np.ndarray, tolerance: float) -> tuple[int, np.ndarray]:
-    """Triangularise `work` (M, p) in place with column pivoting, reflecting `targets` (K, M) alike; (rank, permutation)."""
+    """Pivoted Householder QR of `work` (M, p) in place, reflecting `targets` (K, M) alike; (rank, permutation)."""
     rows, columns = work.shape
     permutation = np.arange(columns)
     rank = 0
