@@ -1,11 +1,45 @@
-"""Column-scaled, column-pivoted Householder least squares with a rank check.
+"""Column-scaled, column-pivoted Householder least squares with a rank check, by row blocks.
 
-Each nonzero column is scaled to unit Euclidean norm, then Householder
-reflections triangularise the scaled matrix, choosing at every step the
-remaining column with the largest norm. When that norm is at most
-`RANK_TOLERANCE` the remaining columns are numerically dependent and the rank
-stops there. Only a full-rank problem gets an estimate; X^T X is never formed
-and memory stays O(N*p).
+min ||y - X theta|| for X of shape (N, p) is solved in two stages.
+
+Reduction. Above `DIRECT_ROWS` rows, [X | y] is cut into blocks of rows
+(`block_rows_for`) and read a group of blocks at a time (a TSQR): one call of
+numpy.linalg.qr, LAPACK's Householder QR batched over the group, triangularises
+each block, and a second call factors those triangles, stacked under the
+triangle of all earlier rows, into the triangle of all rows so far. Of that
+(p + 1, p + 1) triangle the first p columns are R and the last holds Q^T y and,
+below it, the residual norm of the rows so far, which LAPACK accumulates
+without overflow. Only the triangle is kept: X is never copied whole and the
+temporaries are about one group in size. Up to `DIRECT_ROWS` rows the second
+stage works on X itself, exactly as before the reduction existed.
+
+Rank-revealing step. Each nonzero column of R (or X) is scaled to unit norm,
+then Householder reflections triangularise the scaled matrix, choosing at
+every step the remaining column with the largest norm, recomputed exactly. When
+that norm is at most `RANK_TOLERANCE` the remaining columns are numerically
+dependent and the rank stops there. Only a full-rank problem gets an estimate;
+X^T X is never formed. The residual norm combines what this step leaves of
+Q^T y past the rank with the reduction's residual norm.
+
+Why pivoting R is pivoting X: X = Q R with Q's columns orthonormal, and Q keeps
+lengths and angles, so the distance of any column of X from the span of any
+other columns equals that of the same column of R. The column norms (hence the
+scales, computed from R) and every remaining norm the pivoting compares are
+such distances: in exact arithmetic R and X give the same pivots, the same
+rank, the same triangular factor up to row signs, and the same estimates and
+residual. In floating point they differ by the factorisations' backward error,
+which for Householder QR is small column by column, relative to each column's
+norm; that is also why X can be factored unscaled and R's columns scaled
+afterwards, saving a pass over the data.
+
+Many right-hand sides: in the rank-revealing step they are reflected with
+numpy row sums, never BLAS, whose kernels for one dot product and for many add
+in different orders. In the reduction each column of y gets its own LAPACK
+factorisation, of the same shapes as a lone y's: X's part is refactored K
+times, which at K = 4 to 200 takes 1.3-1.8x as long as reflecting the K
+columns in numpy would, but a lone y, the common case, 0.7x. Either way
+column k of a K-column solve equals, bit for bit, the solve of y[:, k] alone,
+which the seed sweep relies on.
 
 Inputs must be finite, and a full-rank estimate is checked to be finite: a
 NaN compares false with the rank tolerance, so unchecked it would pass for a
@@ -24,6 +58,12 @@ from .norms import column_norms, row_norms
 
 RANK_TOLERANCE = 1e-10
 """A remaining scaled column norm at or below this is numerically dependent."""
+DIRECT_ROWS = 8192
+"""Up to this many rows X is triangularised whole by the rank-revealing step; above, it is reduced first."""
+BLOCK_VALUES = 8192
+"""Values of X in one block of the reduction (see `block_rows_for`)."""
+GROUP_VALUES = 2**16
+"""Values of [X | y] in one group of blocks, factored by one call of numpy's (batched) QR: 512 kB."""
 
 
 class NonFiniteError(ValueError):
@@ -107,13 +147,18 @@ def back_substitute(upper: np.ndarray, rhs: np.ndarray) -> np.ndarray:
     return x
 
 
-def solve_least_squares(X, y, tolerance: float = RANK_TOLERANCE) -> LeastSquaresSolution:
+def solve_least_squares(
+    X, y, tolerance: float = RANK_TOLERANCE, *, block_rows: int | None = None
+) -> LeastSquaresSolution:
     """Factor column-scaled X (N, p) with pivoted Householder QR and solve for y (N,) or (N, K).
 
     With K right-hand sides (one column of y each) the one factorisation serves
     them all: `qty` becomes (rank, K), `residual_norm` (K,), and the estimates
     (p, K). Column k of a multi-RHS solve equals, bit for bit, the solve of y[:, k]
     alone. Inputs are not modified. N may be smaller than p, and p may be zero.
+    Above `DIRECT_ROWS` rows, X is first reduced to a triangle in blocks of
+    `block_rows_for(p)` rows; an explicit `block_rows` reduces any X taller than
+    one block (tests use it to reach the blocked path with small problems).
     NonFiniteError if X or y is not finite, or if a full-rank estimate overflows.
     """
     X = np.asarray(X, dtype=float)
@@ -125,31 +170,31 @@ def solve_least_squares(X, y, tolerance: float = RANK_TOLERANCE) -> LeastSquares
         if values.size and not (math.isfinite(values.min()) and math.isfinite(values.max())):
             raise NonFiniteError(f"{name} holds values that are not finite numbers")
     rows, columns = X.shape
+    if block_rows is None:
+        reduce = rows > DIRECT_ROWS
+        block_rows = block_rows_for(columns)
+    elif block_rows >= 1:
+        reduce = rows > block_rows
+    else:
+        raise ValueError(f"block_rows must be at least 1; got {block_rows}")
+    if reduce and columns:
+        # The same least-squares problem in min(N, p) rows: R theta ~ Q^T y, plus the
+        # residual of the rows reduced away.
+        triangle, targets, reduced_residual = _reduce_by_blocks(X, y, block_rows)
+    else:
+        triangle, reduced_residual = X, 0.0
+        # Right-hand sides as contiguous rows (K, N), one per y column: a single y is
+        # the K = 1 case of the same code, which is what makes many solves match one.
+        targets = np.array(y.T if y.ndim == 2 else y[None, :], order="C")
     # Overflow-safe: a column of 1e200s has a norm, not an infinite one that would scale it to zero.
-    norms = column_norms(X)
+    norms = column_norms(triangle)
     scales = np.where(norms > 0, norms, 1.0)
     # A scaled copy in column-major order, so each column operation is contiguous.
-    work = np.empty((rows, columns), order="F")
-    np.divide(X, scales, out=work)
-    # Right-hand sides as contiguous rows (K, N), one per y column: a single y is
-    # the K = 1 case of the same code, which is what makes many solves match one.
-    targets = np.array(y.T if y.ndim == 2 else y[None, :], order="C")
-    permutation = np.arange(columns)
-    rank = 0
-    for k in range(min(rows, columns)):
-        trailing = work[k:, k:]
-        # Recompute remaining norms exactly each step (cheap for small p) instead of
-        # down-dating them, which loses accuracy after cancellation.
-        remaining = np.sqrt(np.einsum("ij,ij->j", trailing, trailing))
-        pivot = k + int(np.argmax(remaining))
-        if remaining[pivot - k] <= tolerance:
-            break
-        if pivot != k:
-            work[:, [k, pivot]] = work[:, [pivot, k]]
-            permutation[[k, pivot]] = permutation[[pivot, k]]
-        _reflect(work, targets, k, remaining[pivot - k])
-        rank += 1
-    residual_norms = row_norms(targets[:, rank:])
+    work = np.empty(triangle.shape, order="F")
+    np.divide(triangle, scales, out=work)
+    rank, permutation = _pivoted_householder(work, targets, tolerance)
+    # hypot: no overflow, and x exactly when the reduction left no residual (small N).
+    residual_norms = np.hypot(row_norms(targets[:, rank:]), reduced_residual)
     qty = np.array(targets[:, :rank].T, order="C")
     solution = LeastSquaresSolution(
         rank=rank,
@@ -167,6 +212,90 @@ def solve_least_squares(X, y, tolerance: float = RANK_TOLERANCE) -> LeastSquares
         if not np.isfinite(estimate).all():
             raise NonFiniteError("the estimate overflows double precision: the columns differ in scale by too much")
     return solution
+
+
+def block_rows_for(columns: int, values: int = BLOCK_VALUES) -> int:
+    """Rows per block of the reduction for p = `columns`: `values` (`BLOCK_VALUES`) // p.
+
+    A block's part of X then holds at most `values` numbers, so the
+    matrix-vector steps inside LAPACK's QR of the block stay below OpenBLAS's
+    thresholds for starting threads (8192 for dger, 9216 for dgemv): those
+    threads cost far more than they save on a shared machine (above them,
+    6-column solves ran 5 to 20x slower under load), and the block stays in the
+    core's own cache. The largest such block was the fastest measured. From 91
+    columns on, no block fits; blocks then keep p + 1 rows.
+    """
+    return max(columns + 1, values // max(columns, 1))
+
+
+def _reduce_by_blocks(X: np.ndarray, y: np.ndarray, block_rows: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(R (n, p), Q^T y (K, n), residual norms (K,)) of X (N, p) and y (N,) or (N, K), n = min(N, p), by row blocks."""
+    rows, columns = X.shape
+    width = columns + 1
+    count = 1 if y.ndim == 1 else y.shape[1]
+    # With no right-hand side at all, a zero one (a view, no memory) carries R through.
+    Y = y[:, None] if y.ndim == 1 else y if count else np.broadcast_to(np.zeros(1), (rows, 1))
+    group = max(1, GROUP_VALUES // (block_rows * width))
+    upper = np.triu(np.ones((width, width), dtype=bool))
+    # Per right-hand side, the triangle of [X | y_k] so far, min(rows so far, p + 1) rows:
+    # its first p columns, R, are the same for every k; its last column holds Q^T y_k
+    # and then the residual norm.
+    triangles = [np.zeros((0, width))] * Y.shape[1]
+    # A group of blocks, each column-major for LAPACK: (group, block_rows, p + 1).
+    buffer = np.empty((group, width, block_rows)).transpose(0, 2, 1)
+    for start in range(0, rows, group * block_rows):
+        full = min(group, (rows - start) // block_rows)
+        middle = start + full * block_rows
+        rest = slice(middle, min(start + group * block_rows, rows))
+        blocks = buffer[:full]
+        blocks[:, :, :columns] = X[start:middle].reshape(full, block_rows, columns)
+        for k in range(len(triangles)):
+            # Each right-hand side in its own factorisations, of the same shapes as a lone
+            # y's, so that its numbers never depend on the other columns of y.
+            blocks[:, :, columns] = Y[start:middle, k].reshape(full, block_rows)
+            pieces = [triangles[k]]
+            if full:
+                pieces.append(_triangles(np.linalg.qr(blocks, mode="raw")[0], upper).reshape(-1, width))
+            if rest.start < rest.stop:
+                pieces.append(np.column_stack([X[rest], Y[rest, k]]))
+            # The triangles of the group's blocks, stacked under the one so far (and the
+            # rows too few to make a block), factored into the triangle of all rows so far.
+            triangles[k] = _triangles(np.linalg.qr(np.concatenate(pieces), mode="raw")[0], upper)
+    kept = min(rows, columns)
+    last = np.empty((count, len(triangles[0])))
+    for k in range(count):
+        last[k] = triangles[k][:, columns]
+    residual = np.abs(last[:, kept]) if rows > columns else np.zeros(count)
+    return triangles[0][:kept, :columns], np.array(last[:, :kept], order="C"), residual
+
+
+def _triangles(factors: np.ndarray, upper: np.ndarray) -> np.ndarray:
+    """The upper triangles (..., min(m, p + 1), p + 1) from numpy.linalg.qr's raw factors (..., p + 1, m)."""
+    # Row j of a raw factor is column j of LAPACK's result: the triangle's entries down to
+    # the diagonal, then the reflector's, which are set to zero here.
+    kept = min(factors.shape[-1], factors.shape[-2])
+    return np.where(upper[:kept], np.swapaxes(factors[..., :kept], -1, -2), 0.0)
+
+
+def _pivoted_householder(work: np.ndarray, targets: np.ndarray, tolerance: float) -> tuple[int, np.ndarray]:
+    """Pivoted Householder QR of `work` (M, p) in place, reflecting `targets` (K, M) alike; (rank, permutation)."""
+    rows, columns = work.shape
+    permutation = np.arange(columns)
+    rank = 0
+    for k in range(min(rows, columns)):
+        trailing = work[k:, k:]
+        # Recompute remaining norms exactly each step (cheap for small p) instead of
+        # down-dating them, which loses accuracy after cancellation.
+        remaining = np.sqrt(np.einsum("ij,ij->j", trailing, trailing))
+        pivot = k + int(np.argmax(remaining))
+        if remaining[pivot - k] <= tolerance:
+            break
+        if pivot != k:
+            work[:, [k, pivot]] = work[:, [pivot, k]]
+            permutation[[k, pivot]] = permutation[[pivot, k]]
+        _reflect(work, targets, k, remaining[pivot - k])
+        rank += 1
+    return rank, permutation
 
 
 def _reflect(work: np.ndarray, targets: np.ndarray, k: int, column_norm: float) -> None:
