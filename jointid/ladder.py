@@ -21,7 +21,7 @@ from .experiment import training_data, validation_data
 from .fit import fitted_torque
 from .model import LADDER, JointModel, model_named
 from .settings import Settings
-from .solver import LeastSquaresSolution, solve_least_squares
+from .solver import LeastSquaresSolution, solve_least_squares, triangle_of
 from .uncertainty import ParameterUncertainty, parameter_uncertainty
 
 ALL_COLUMNS = model_named("coulomb+bias+angle-offset")
@@ -97,18 +97,11 @@ class Comparison:
         return min(ranked, key=lambda row: (row.bic, row.model.size)) if ranked else None
 
 
-def triangular_factor(matrix: np.ndarray) -> np.ndarray:
-    """(min(N, c), c) R of the QR factorisation of an (N, c) matrix, computed on unit-norm columns for accuracy."""
-    norms = np.sqrt(np.einsum("ij,ij->j", matrix, matrix))
-    scales = np.where(norms > 0, norms, 1.0)
-    return np.linalg.qr(matrix / scales, mode="r") * scales
-
-
 def compare_models(training: JointData, heldout: JointData | None = None, *, noise_bound: float | None = None,
                    models: tuple[str, ...] = LADDER) -> Comparison:
     """Fit each named model to the training data from one factorisation, and score it on the held-out data."""
     X = ALL_COLUMNS.data_regressor(training)
-    factor = triangular_factor(np.column_stack([X, training.tau]))
+    factor = triangle_of(X, training.tau)
     heldout_X = None if heldout is None else ALL_COLUMNS.data_regressor(heldout)
     rows = []
     for name in models:

@@ -172,3 +172,19 @@ def test_bad_physics_flags_are_one_line_and_exit_2(flag, value, capsys):
 def test_settings_refuse_physics_outside_its_range():
     with pytest.raises(SettingsError, match="true_angle_offset must be a number from -0.5 to 0.5"):
         Settings(true_angle_offset=0.7)
+
+
+def test_compare_on_a_long_log_agrees_with_each_model_fitted_alone():
+    # Above the solver's DIRECT_ROWS the ladder's one pass goes through the blocked reduction.
+    from jointid.dataset import JointData
+    from jointid.fit import fit_joint
+    from jointid.ladder import compare_models
+    from jointid.model import model_named
+
+    t, q, qd, qdd = ref.rich_states(20_000)
+    tau = ref.measured(q, qd, qdd, 0.3) + np.random.default_rng(3).uniform(-0.05, 0.05, t.size)
+    data = JointData(t=t, q=q, qd=qd, qdd=qdd, tau=tau)
+    for row in compare_models(data).rows:
+        alone = fit_joint(data, model=model_named(row.model.name))
+        np.testing.assert_allclose(row.estimate, alone.estimate, rtol=1e-10)
+        assert row.training_rmse == pytest.approx(alone.training_rmse, rel=1e-10)
