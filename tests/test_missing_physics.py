@@ -188,3 +188,21 @@ def test_compare_on_a_long_log_agrees_with_each_model_fitted_alone():
         alone = fit_joint(data, model=model_named(row.model.name))
         np.testing.assert_allclose(row.estimate, alone.estimate, rtol=1e-10)
         assert row.training_rmse == pytest.approx(alone.training_rmse, rel=1e-10)
+
+
+def test_simulate_writes_missing_physics_that_compare_finds_in_the_log(tmp_path, capsys):
+    path = tmp_path / "friction.csv"
+    assert main(["simulate", "--noise", "0.05", "--rate", "100", "--true-coulomb", "0.3", "--out", str(path)]) == 0
+    assert "Coulomb friction 0.3 N m" in path.read_text().splitlines()[0]
+    capsys.readouterr()
+    assert main(["compare", "--csv", str(path), "--json"]) == 0
+    document = json.loads(capsys.readouterr().out)
+    assert document["preferred"] == "coulomb" and "unavailable" not in document["message"]
+    t = np.linspace(0.0, 8.0, 801)
+    q = 0.7 * np.sin(1.3 * t) + 0.25 * np.sin(2.7 * t)
+    qd = 0.91 * np.cos(1.3 * t) + 0.675 * np.cos(2.7 * t)
+    qdd = -1.183 * np.sin(1.3 * t) - 1.8225 * np.sin(2.7 * t)
+    tau = ref.measured(q, qd, qdd, 0.3) + ref.noise(0.05, 801, [7])[0]
+    expected = np.linalg.lstsq(ref.regressor("coulomb", q, qd, qdd), tau, rcond=None)[0]
+    coulomb = next(m for m in document["models"] if m["model"] == "coulomb")
+    np.testing.assert_allclose([coulomb["estimate"][n] for n in ("I", "h", "B", "Fc")], expected, rtol=1e-6)

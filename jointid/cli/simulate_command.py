@@ -15,7 +15,7 @@ import math
 import numpy as np
 
 from ..export import ExportError, atomic_output
-from ..model import PARAMETER_NAMES, TRUE_PARAMETERS, predict_torque
+from ..truth import TrueJoint
 from ..motions import ALL_MOTIONS, DURATION
 from ..noise import torque_noise
 from ..settings import DEFAULT_SETTINGS, SettingsError, check_setting
@@ -92,6 +92,11 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--encoder-counts", type=encoder_counts, default=None, metavar="C",
                         help="write only t, q and tau, with q quantised to 2*pi/C rad like an encoder "
                         f"(C up to {ENCODER_COUNT_LIMIT:,})")
+    for field, help_text in (("true_coulomb", "the joint's Coulomb friction FC*sign(qd), 0 to 10 N m; default 0"),
+                             ("true_bias", "the torque sensor reads TAU0 too much, -10 to 10 N m; default 0"),
+                             ("true_angle_offset", "the logged angle is q_true - Q0, -0.5 to 0.5 rad; default 0")):
+        parser.add_argument(f"--{field.replace('_', '-')}", dest=field, type=setting_type(field), default=0.0,
+                            metavar={"true_coulomb": "FC", "true_bias": "TAU0"}.get(field, "Q0"), help=help_text)
     parser.add_argument("--out", required=True, metavar="FILE", help="the CSV file to write")
     parser.add_argument("--force", action="store_true", help="replace FILE if it exists")
 
@@ -131,15 +136,17 @@ def run(args: argparse.Namespace) -> int:
     samples, duration = timing(args.samples, args.rate, args.duration)
     t = np.linspace(0.0, duration, samples)
     states = ALL_MOTIONS[args.motion].states(t)
-    tau = predict_torque(states.q, states.qd, states.qdd) + torque_noise(args.noise, samples, args.seed)
+    joint = TrueJoint(coulomb=args.true_coulomb, bias=args.true_bias, angle_offset=args.true_angle_offset)
+    tau = joint.measured_torque(states.q, states.qd, states.qdd) + torque_noise(args.noise, samples, args.seed)
+    q = joint.logged_angle(states.q)
     if args.encoder_counts is None:
-        names, table = FULL_COLUMNS, np.column_stack([t, states.q, states.qd, states.qdd, tau])
+        names, table = FULL_COLUMNS, np.column_stack([t, q, states.qd, states.qdd, tau])
     else:
         step = 2 * math.pi / args.encoder_counts
-        names, table = ENCODER_COLUMNS, np.column_stack([t, np.round(states.q / step) * step, tau])
+        names, table = ENCODER_COLUMNS, np.column_stack([t, np.round(q / step) * step, tau])
     if not np.isfinite(table).all():  # the limits above should make this impossible: never write such a row
         raise UserError("the simulated log would hold values that are not finite numbers; nothing written")
-    truth = ", ".join(f"{n} = {v:g}" for n, v in zip(PARAMETER_NAMES, TRUE_PARAMETERS))
+    truth = joint.description()
     quantised = "" if args.encoder_counts is None else f", q quantised to {args.encoder_counts} counts/rev"
     comment = (
         f"# jointid simulate: {args.motion} motion, {samples} samples over {duration:g} s{quantised}, "

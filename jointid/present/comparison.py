@@ -90,9 +90,10 @@ def _absorbed(simpler: LadderRow, preferred: LadderRow) -> list[str]:
         return []
     label = simpler.model.parameter(name).label
     ratio = f" ({value / reference:.1f}x)" if reference and value / reference > 0 else ""
+    heldout = ("" if simpler.heldout_rmse is None or preferred.heldout_rmse is None else
+               f", and its held-out error is {_rmse(simpler.heldout_rmse)} against {_rmse(preferred.heldout_rmse)}")
     return [f"Without {join_words(missing)}, {simpler.model.name} moves its {label} to {format_number(value)} "
-            f"against {format_number(reference)}{ratio} to absorb it, and its held-out error is "
-            f"{_rmse(simpler.heldout_rmse)} against {_rmse(preferred.heldout_rmse)}."]
+            f"against {format_number(reference)}{ratio} to absorb it{heldout}."]
 
 
 def _superfluous(larger: LadderRow, preferred: LadderRow) -> list[str]:
