@@ -148,20 +148,25 @@ class HistogramData:
     """Heading, longest first; the widest that fits is shown."""
     values: np.ndarray
     true_value: float
+    marker_label: str = ""
+    """What the vertical marker line shows, for the heading's legend: 'true 0.8'."""
+
+
+TRUE_MARKER = "│"
+"""The histograms' vertical marker of the true value, as drawn and as the legend shows it."""
 
 
 def sweep_histograms(sweep: SweepResult) -> list[HistogramData]:
     """One histogram per parameter of a full-rank sweep, with the true value marked."""
     model = sweep.model
+    # The legend ("│ true 0.8") follows the title as the torque charts' legends do; a
+    # marker at the very end ("true 0.8 at │") read as a title cut off.
     return [
         HistogramData(
-            titles=(
-                f"{term.symbol_with_unit}, {sweep.seed_count} seeds; true {true:g} at │",
-                f"{term.symbol_with_unit}; true {true:g} at │",
-                f"{term.name}; true {true:g} at │",
-            ),
+            titles=(f"{term.symbol_with_unit}, {sweep.seed_count} seeds", term.symbol_with_unit, term.name),
             values=sweep.values(term.name),
             true_value=float(true),
+            marker_label=f"true {true:g}",
         )
         for term, true in zip(model.terms, model.true_values())
     ]
