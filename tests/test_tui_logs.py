@@ -20,7 +20,8 @@ from jointid.present import charts
 from tui.app import JointIdApp
 from tui.screens.main import MainScreen
 from tui.widgets.direct_controls import ChoiceList
-from tui.screens.main import FROM_LOG
+from tui.screens.main import FROM_LOG, STATUS_LINES
+from tui.widgets.footer import KeyFooter
 from jointid.logfit import HELDOUT, LoadRequest
 from jointid.present.charts import ordinal
 from tui.widgets.readouts import ReadoutPanel
@@ -48,6 +49,11 @@ def logs(tmp_path):
     assert main(["simulate", "--motion", "test", "--noise", "0.05", "--seed", "3", "--samples", "200",
                  "--out", str(test)]) == 0
     return train, test
+
+
+def tmp_path_of(path):
+    """The folder a log was written in (the full status names it; the compact one must not)."""
+    return path.parent
 
 
 async def load(pilot, path, role="training", degrees=False):
@@ -324,7 +330,14 @@ async def test_a_log_with_its_heldout_fits_80x24_without_scrolling(logs):
         side, panel = screen.query_one("#side"), screen.query_one(ReadoutPanel)
         assert screen.logs.heldout is not None
         assert side.max_scroll_y == 0 and panel.region.bottom <= side.region.bottom
-        assert str(screen.query_one("#log-note").render()) == "From log: c or 1/2/3 for synthetic"
+        # What was read goes beside the readouts, file names only; the status keeps to its 4 rows.
+        assert str(screen.query_one("#log-note").render()).splitlines() == [
+            "From log: c or 1/2/3 for synthetic", "train.csv: 600 rows, radians",
+            "Held-out test.csv: 200 rows, radians"]
+        status = screen.query_one("#status")
+        assert status.size.height == STATUS_LINES and str(tmp_path_of(train)) not in str(status.render())
+        footer = screen.query_one(KeyFooter).text
+        assert "Close log" in footer and "Export" in footer and "…" not in footer
 
 
 @synchronous

@@ -14,6 +14,8 @@ from textual.widgets import Input, Label, Static
 
 from jointid.export import AlreadyExists, ExportError, json_text, write_texts
 
+from ..widgets.footer import KeyFooter
+
 SUFFIXES = (".json", ".svg")
 """What one export writes: the fit document and the screenshot."""
 NAME_ATTEMPTS = 100
@@ -91,7 +93,7 @@ class ExportScreen(ModalScreen[str | None]):
         self.folder = folder or os.getcwd()
 
     def compose(self) -> ComposeResult:
-        """Folder field and what will be written."""
+        """Folder field, what will be written, and the dialog's own keys over the explorer's footer."""
         with Vertical() as box:
             box.border_title = "Export the fit (JSON) and a screenshot (SVG)"
             yield Label("Folder (Enter exports):")
@@ -101,6 +103,7 @@ class ExportScreen(ModalScreen[str | None]):
                 "(a number is added instead). Escape cancels.",
                 markup=False,
             )
+        yield KeyFooter()
 
     def on_input_submitted(self, message: Input.Submitted) -> None:
         """Export into the typed folder."""
