@@ -21,8 +21,9 @@ from jointid.present import charts
 from jointid.present.charts import ordinal
 from jointid.present.readouts import readouts
 from tui.app import JointIdApp
-from tui.screens.main import FROM_LOG, MainScreen
+from tui.screens.main import FROM_LOG, STATUS_LINES, MainScreen
 from tui.widgets.direct_controls import ChoiceList
+from tui.widgets.footer import KeyFooter
 from tui.widgets.readouts import ReadoutPanel
 from tui.widgets.stepper import Stepper
 
@@ -47,6 +48,11 @@ def logs(tmp_path):
     assert main(["simulate", "--motion", "test", "--noise", "0.05", "--seed", "3", "--samples", "200",
                  "--out", str(test)]) == 0
     return train, test
+
+
+def tmp_path_of(path):
+    """The folder a log was written in (the full status names it; the compact one must not)."""
+    return path.parent
 
 
 async def load(pilot, path, role="training", degrees=False):
@@ -247,7 +253,7 @@ async def test_export_writes_the_command_lines_json_and_an_svg_and_never_overwri
         "train-fit-2.json", "train-fit-2.svg", "train-fit-3.json", "train-fit-3.svg", "train-fit.json"]
     messages = [n.message for n in app._notifications]
     assert f"Wrote {folder / 'train-fit-2.json'} and {folder / 'train-fit-2.svg'}" in messages
-    assert f"{tmp_path / 'missing'}: not a folder" in messages
+    assert f"{tmp_path / 'missing'}: no such folder" in messages
 
 
 @synchronous
@@ -323,7 +329,14 @@ async def test_a_log_with_its_heldout_fits_80x24_without_scrolling(logs):
         side, panel = screen.query_one("#side"), screen.query_one(ReadoutPanel)
         assert screen.logs.heldout is not None
         assert side.max_scroll_y == 0 and panel.region.bottom <= side.region.bottom
-        assert str(screen.query_one("#log-note").render()) == "From log: c or 1/2/3 for synthetic"
+        # What was read goes beside the readouts, file names only; the status keeps to its 4 rows.
+        assert str(screen.query_one("#log-note").render()).splitlines() == [
+            "From log: c or 1/2/3 for synthetic", "train.csv: 600 rows, radians",
+            "Held-out test.csv: 200 rows, radians"]
+        status = screen.query_one("#status")
+        assert status.size.height == STATUS_LINES and str(tmp_path_of(train)) not in str(status.render())
+        footer = screen.query_one(KeyFooter).text
+        assert "Close log" in footer and "Export" in footer and "…" not in footer
 
 
 @synchronous

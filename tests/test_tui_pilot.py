@@ -274,11 +274,13 @@ def test_tour_entries_in_the_palette_set_all_four_controls(index):
     run(scenario, start)
 
 
-def test_palette_offers_every_key_binding():
+def test_palette_offers_every_key_binding_that_works_now():
     async def scenario(pilot, screen):
         names = {command.title for command in pilot.app.get_system_commands(screen)}
         for binding in MainScreen.BINDINGS:
-            assert binding.description in names
+            if binding.tooltip and binding.action != "close_log":
+                assert binding.description in names
+        assert "Close log" not in names  # no log is loaded
 
     run(scenario)
 

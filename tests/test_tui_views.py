@@ -117,7 +117,9 @@ def test_view_keys_are_bindings_with_descriptions_in_the_palette():
 
     titles = run(scenario)
     assert {"Sweep", "Matrix", "Residuals"} <= titles
-    descriptions = {b.key: b.description for b in MainScreen.BINDINGS}
+    descriptions = {}
+    for binding in MainScreen.BINDINGS:  # each key's first binding (the others explain why it is off)
+        descriptions.setdefault(binding.key, binding.description)
     assert descriptions["s"] and descriptions["m"] and descriptions["e"]
 
 

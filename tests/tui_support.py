@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import asyncio
+import signal
+from contextlib import contextmanager
 from pathlib import Path
 
 from jointid.settings import DEFAULT_SETTINGS, Settings
@@ -72,6 +74,35 @@ async def read_displayed(settings: Settings, size: tuple[int, int] = READOUT_SIZ
     async with app.run_test(size=size) as pilot:
         await pilot.pause()
         return displayed_readouts(app.screen)
+
+
+@contextmanager
+def time_limit(seconds: float):
+    """Raise TimeoutError in the main thread after `seconds`, and again every half second while an app runs.
+
+    A frozen app then fails its test instead of hanging the run: a CPU-bound loop on the
+    event loop's thread cannot be interrupted by asyncio, but a signal handler runs
+    between two of its bytecodes. The repeats stop the app's shutdown (which paints
+    once more) from freezing in the same loop; they stop once no event loop runs, so
+    pytest's own code is never interrupted.
+    """
+
+    expired = []
+
+    def expire(signum, frame):
+        if expired and asyncio._get_running_loop() is None:  # the app has ended: nothing left to interrupt
+            signal.setitimer(signal.ITIMER_REAL, 0)
+            return
+        expired.append(True)
+        raise TimeoutError(f"still running after {seconds} s")
+
+    previous = signal.signal(signal.SIGALRM, expire)
+    signal.setitimer(signal.ITIMER_REAL, seconds, 0.5)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
 
 
 def regenerate_readouts() -> None:

@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Iterable
 
 from textual import events
+from textual.actions import parse as parse_action
 from textual.app import App, SystemCommand
 from textual.binding import Binding
 from textual.screen import Screen
@@ -27,6 +28,12 @@ FULL_COLLECTION_EVERY = 10_000
 in practice they run in pauses (`IDLE_COLLECTION_AFTER`); this only bounds endless typing."""
 IDLE_COLLECTION_AFTER = 1.0
 """Seconds without a key press after which a pending full collection runs."""
+
+
+def action_works(screen: Screen, action: str) -> bool:
+    """Whether a screen's binding action would run now (its check_action says yes, not off or hidden)."""
+    _, name, parameters = parse_action(action)
+    return bool(screen.check_action(name, parameters))
 
 
 class JointIdApp(App):
@@ -119,9 +126,10 @@ class JointIdApp(App):
     def get_system_commands(self, screen: Screen) -> Iterable[SystemCommand]:
         """Textual's commands plus every key binding with a tooltip, so nothing needs a key."""
         yield from super().get_system_commands(screen)
-        # Bindings with a tooltip: the main screen's and the analysis views' (help has none).
+        # Bindings with a tooltip: the main screen's and the analysis views' (help has none),
+        # those that work now (Close log only with a log shown, the sweep only without).
         for binding in screen.BINDINGS:
-            if isinstance(binding, Binding) and binding.tooltip:
+            if isinstance(binding, Binding) and binding.tooltip and action_works(screen, binding.action):
                 help_text = f"{binding.tooltip} (key {binding.key_display or binding.key})"
                 yield SystemCommand(
                     binding.description, help_text,

@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING
 from jointid.derivatives import DEFAULT_ORDER, DEFAULT_WINDOW
 from jointid.settings import Settings
 
+from . import third_party
 from .controls import check_explorer_settings
 
 if TYPE_CHECKING:
@@ -27,5 +28,17 @@ def explore(settings: Settings, logs: LoadedLogs | None = None,
 
     app = JointIdApp(settings, logs, derivatives=derivatives)
     app.restore_gc = False  # the process ends with the app: see JointIdApp.restore_gc
-    app.run()
+    app.run()  # Textual restores the terminal before it returns, and prints a crash's traceback
+    return exit_status(app)
+
+
+def exit_status(app) -> int:
+    """The process exit status for a finished app: 1 if it ended by an exception, else its return code.
+
+    Textual sets the return code to 1 when a handler raises, but any `exit()` that
+    runs later while the app shuts down (a screen's cleanup, a quit already queued)
+    sets it back to 0; the exception it keeps is the reliable sign of a crash.
+    """
+    if third_party.app_exception(app) is not None:
+        return 1
     return app.return_code or 0

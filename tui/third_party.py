@@ -285,6 +285,11 @@ def after_compositor_refresh(callback: Callable[[Screen], None]) -> Callable[[],
     return undo
 
 
+def app_exception(app) -> BaseException | None:
+    """The exception an app ended by, or None (Textual keeps the first one in a private attribute)."""
+    return getattr(app, "_exception", None)  # absent in another release: fall back to the return code
+
+
 def screen_settled(screen: Screen) -> bool:
     """True when a screen has nothing left to lay out or paint (read in an `after_compositor_refresh` callback)."""
     return not (screen._layout_required or screen._dirty_widgets or screen._repaint_required)

@@ -148,20 +148,26 @@ class HistogramData:
     """Heading, longest first; the widest that fits is shown."""
     values: np.ndarray
     true_value: float
+    marker_label: str = ""
+    """What the vertical marker line shows, for the heading's legend: 'true 0.8'."""
+
+
+TRUE_MARKER = "│"
+"""The histograms' vertical marker of the true value, as drawn and as the legend shows it."""
 
 
 def sweep_histograms(sweep: SweepResult) -> list[HistogramData]:
     """One histogram per parameter of a full-rank sweep, with the true value marked."""
     model = sweep.model
+    # The legend ("│ true 0.8") follows the title as the torque charts' legends do; a
+    # marker at the very end ("true 0.8 at │") read as a title cut off.
     return [
         HistogramData(
-            titles=(
-                f"{parameter.symbol_with_unit}, {sweep.seed_count} seeds; true {true:g} at │",
-                f"{parameter.symbol_with_unit}; true {true:g} at │",
-                f"{parameter.name}; true {true:g} at │",
-            ),
+            titles=(f"{parameter.symbol_with_unit}, {sweep.seed_count} seeds", parameter.symbol_with_unit,
+                    parameter.name),
             values=sweep.values(parameter.name),
             true_value=float(true),
+            marker_label=f"true {true:g}",
         )
         for parameter, true in zip(model.parameters, sweep.settings.true_joint.values_for(model))
     ]

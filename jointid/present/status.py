@@ -7,6 +7,7 @@ rules come from the terms, so the sentences hold for any model.
 from __future__ import annotations
 
 import math
+import os
 from typing import TYPE_CHECKING
 
 from ..uncertainty import NOT_DETERMINED, WEAK, WELL_DETERMINED
@@ -174,8 +175,16 @@ def as_sentence(text: str) -> str:
     return text if text.endswith(".") else f"{text}."
 
 
-def log_status(logs) -> str:
-    """A log fit's status sentence, then what was read and the loaders' notes (logfit.LoadedLogs)."""
+def log_status(logs, compact: bool = False) -> str:
+    """A log fit's status sentence, then what was read and the loaders' notes (logfit.LoadedLogs).
+
+    Compact (80x24): what was read goes to `log_sources` beside the readouts, and the
+    notes name files without their folders, so the sentence keeps to about four lines
+    (full paths made it seven).
+    """
+    if compact:
+        notes = (_without_folders(note, logs) for note in logs.notes())
+        return " ".join((logs.result.message, *map(as_sentence, notes)))
     sources = (log.source_text() for log in logs.logs)
     return " ".join((logs.result.message, *map(as_sentence, (*sources, *logs.notes()))))
 
@@ -194,3 +203,21 @@ def simulation_text(check, label_width: int = 28) -> str:
     if check.smoothed:
         sentence += " Coulomb friction's sign(qd) is smoothed as tanh(qd/0.01) in the simulation only."
     return f"{label:<{label_width}}{value}\n{sentence}"
+
+
+def log_sources(logs) -> tuple[str, ...]:
+    """What was read, one short line per log, file names only: 'test.csv: 200 rows, radians'."""
+    roles = ("", "Held-out ")
+    return tuple(
+        f"{role}{os.path.basename(log.path)}: {log.rows} rows, {'degrees' if log.degrees else 'radians'}"
+        for role, log in zip(roles, logs.logs)
+    )
+
+
+def _without_folders(note: str, logs) -> str:
+    """A loader's note with each log's path (which it starts with) shortened to the file name."""
+    for log in logs.logs:
+        path = str(log.path)
+        if note.startswith(path):
+            return os.path.basename(path) + note[len(path):]
+    return note

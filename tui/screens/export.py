@@ -12,35 +12,51 @@ from textual.containers import Vertical
 from textual.screen import ModalScreen
 from textual.widgets import Input, Label, Static
 
-from jointid.export import ExportError, write_json, write_text
+from jointid.export import AlreadyExists, ExportError, json_text, write_texts
+
+from ..widgets.footer import KeyFooter
 
 SUFFIXES = (".json", ".svg")
 """What one export writes: the fit document and the screenshot."""
+NAME_ATTEMPTS = 100
+"""Free names tried when files keep appearing under the chosen one while writing (a busy folder)."""
 
 
 def free_stem(folder: Path, stem: str) -> Path:
-    """folder/stem, or stem-2, stem-3, ... : the first for which no export file exists yet."""
+    """folder/stem, or stem-2, stem-3, ... : the first for which no export file's name is taken yet.
+
+    A name is taken by anything at all, a dangling symlink included: the export
+    never writes through or replaces a link, so such a name is skipped, not refused.
+    """
     for number in count(1):
         candidate = folder / (stem if number == 1 else f"{stem}-{number}")
-        if not any(candidate.with_name(candidate.name + s).exists() for s in SUFFIXES):
+        if not any(os.path.lexists(candidate.with_name(candidate.name + s)) for s in SUFFIXES):
             return candidate
     raise AssertionError("unreachable")
 
 
-def write_export(folder: str | os.PathLike, stem: str, document: dict, svg: str) -> tuple[Path, Path]:
-    """Write stem.json and stem.svg (numbered when taken) atomically; ExportError, never an overwrite."""
-    folder = Path(folder).expanduser()
+def check_folder(folder: Path) -> None:
+    """ExportError with one line when `folder` is missing or is not a folder."""
+    if not folder.exists():
+        raise ExportError(f"{folder}: no such folder")
     if not folder.is_dir():
         raise ExportError(f"{folder}: not a folder")
-    base = free_stem(folder, stem)
-    json_path, svg_path = (base.with_name(base.name + s) for s in SUFFIXES)
-    write_json(json_path, document)  # overwrite=False: a file that appeared meanwhile is refused
-    try:
-        write_text(svg_path, svg)
-    except ExportError:
-        json_path.unlink()  # keep the pair together: no JSON without its picture
-        raise
-    return json_path, svg_path
+
+
+def write_export(folder: str | os.PathLike, stem: str, document: dict, svg: str) -> tuple[Path, Path]:
+    """Write stem.json and stem.svg (numbered when taken) as a pair: both or neither; ExportError, never an overwrite."""
+    folder = Path(folder).expanduser()
+    check_folder(folder)
+    texts = (json_text(document), svg)
+    for _ in range(NAME_ATTEMPTS):
+        base = free_stem(folder, stem)
+        json_path, svg_path = (base.with_name(base.name + s) for s in SUFFIXES)
+        try:
+            write_texts({json_path: texts[0], svg_path: texts[1]})
+        except AlreadyExists:
+            continue  # a file appeared under this name meanwhile: take the next free one
+        return json_path, svg_path
+    raise ExportError(f"{folder}: no free name for {stem}.json and {stem}.svg")
 
 
 class ExportScreen(ModalScreen[str | None]):
@@ -77,7 +93,7 @@ class ExportScreen(ModalScreen[str | None]):
         self.folder = folder or os.getcwd()
 
     def compose(self) -> ComposeResult:
-        """Folder field and what will be written."""
+        """Folder field, what will be written, and the dialog's own keys over the explorer's footer."""
         with Vertical() as box:
             box.border_title = "Export the fit (JSON) and a screenshot (SVG)"
             yield Label("Folder (Enter exports):")
@@ -87,6 +103,7 @@ class ExportScreen(ModalScreen[str | None]):
                 "(a number is added instead). Escape cancels.",
                 markup=False,
             )
+        yield KeyFooter()
 
     def on_input_submitted(self, message: Input.Submitted) -> None:
         """Export into the typed folder."""

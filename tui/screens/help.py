@@ -22,7 +22,8 @@ def keys_table(bindings: list[Binding]) -> str:
     """A Markdown list of the main screen's keys (its `bindings`) and the number fields' keys."""
     rows = [("Tab / Shift+Tab", "move between controls"), ("Up / Down", "choose a motion in the list")]
     for binding in bindings:
-        rows.append((binding.key_display or binding.key, binding.tooltip))
+        if binding.tooltip:  # the others only explain why a key is off for now
+            rows.append((binding.key_display or binding.key, binding.tooltip))
     for binding in Stepper.BINDINGS:
         rows.append((binding.key.replace("shift+", "Shift+").title(), f"in a number field: {binding.description.lower()}"))
     rows.append(("Enter", "in a number field: commit the typed value"))

@@ -29,7 +29,7 @@ from jointid.model import PLAIN, G
 from jointid.motions import TRAINING_MOTIONS
 from jointid.present.charts import heldout_chart, training_chart
 from jointid.present.readouts import precision, readouts
-from jointid.present.status import log_status
+from jointid.present.status import log_sources, log_status
 from jointid.settings import DEFAULT_SETTINGS, Settings
 from jointid.truth import LESSON_JOINT, TrueJoint
 
@@ -116,9 +116,13 @@ def missing_physics(joint: TrueJoint) -> list[tuple[str, float]]:
 
 
 def log_note(logs: LoadedLogs, compact: bool = False) -> str:
-    """Why the synthetic controls are off, and how to get them back (one short line when compact)."""
+    """Why the synthetic controls are off, and how to get them back; compact, short lines with what was read.
+
+    Compact screens hide the number fields and Reset while a log is shown, which
+    leaves rows here for the files read: the status sentence then need not name them.
+    """
     if compact:
-        return COMPACT_LOG_NOTE
+        return "\n".join((COMPACT_LOG_NOTE, *log_sources(logs)))
     heldout = f", held-out {logs.heldout_name}" if logs.heldout is not None else ""
     return (f"From log: {logs.name}{heldout}, {logs.result.training.count} samples fitted; "
             "noise, samples and seed do not apply. 1/2/3 or c: back to synthetic.")
@@ -148,6 +152,10 @@ class MainScreen(Screen):
         Binding("e", "residuals", "Residuals", group=VIEWS_GROUP, tooltip="Training residuals against t, q, qd, qdd"),
         Binding("l", "ladder", "Ladder", priority=True, group=VIEWS_GROUP,
                 tooltip="Fit every model of the ladder, BIC's choice, and a simulation of each"),
+        # While a log is shown the sweep and the matrix are off (dimmed in the footer, left out of
+        # a tight one, so 80 columns keep Close log and Export); these keys then say why.
+        Binding("s", "explain_synthetic('The seed sweep')", show=False, priority=True),
+        Binding("m", "explain_synthetic('The cross-excitation matrix')", show=False, priority=True),
         Binding("p", "physics", "Physics", priority=True,
                 tooltip="Missing physics of the true joint, the fitted model, the sign constraint"),
         # Not in the footer (80 columns have no room; the physics dialog has the same choice).
@@ -226,7 +234,8 @@ class MainScreen(Screen):
             self.query_one(ReadoutPanel).set_compact(compact)
         self.update_classes(classes)  # restyles the screen only when a class changes
         if switched:
-            self.show_log_note()  # reads the new -compact class
+            self.show_log_note()  # these read the new -compact class
+            self.show_status()
         if classes["-too-small"]:
             self.query_one("#too-small", Static).update(
                 f"Please enlarge the terminal.\n\n"
@@ -271,19 +280,25 @@ class MainScreen(Screen):
         if logs is None:
             result = cached_experiment(settings)
             training, heldout = training_chart(result), heldout_chart(result)
-            status = result.message
         else:
             result = logs.result
             columns = max(self.app.size.width, 80)  # a chart is never wider than the terminal
             training = training_chart(result, log_name=logs.name, columns=columns)
             heldout = heldout_chart(result, log_name=logs.heldout_name, columns=columns)
-            status = log_status(logs)
         self.result = result
         self.show_title()
         self.query_one("#training-chart", TorqueChart).show(training)
         if heldout is not None:  # without a held-out log its chart is hidden (-no-heldout)
             self.query_one("#heldout-chart", TorqueChart).show(heldout)
         self.query_one(ReadoutPanel).show(readouts(result), precision(result))
+        self.show_status()
+
+    def show_status(self) -> None:
+        """The status sentence of the fit shown (a log's names its files in full only on roomy screens)."""
+        if self.logs is None:
+            status = self.result.message
+        else:
+            status = log_status(self.logs, compact=self.has_class("-compact"))
         self.query_one("#status", FittingLine).show((Content(status),))
 
     def show_title(self) -> None:
@@ -412,10 +427,18 @@ class MainScreen(Screen):
     # --- logs ---------------------------------------------------------------------------
 
     def check_action(self, action: str, parameters: tuple) -> bool | None:
-        """Close log exists only while a log is shown (hidden from the footer otherwise)."""
+        """Close log exists only while a log is shown; the sweep, the matrix and Reset are off (None) while one is."""
         if action == "close_log":
             return self.logs is not None
+        if action in ("sweep", "matrix", "reset"):  # reset: the four controls do not apply to a log
+            return True if self.logs is None else None
+        if action == "explain_synthetic":
+            return self.logs is not None
         return super().check_action(action, parameters)
+
+    def action_explain_synthetic(self, view: str) -> None:
+        """Say why a view of synthetic settings does not open while a log is shown."""
+        self.needs_synthetic(view)
 
     def action_close_log(self) -> None:
         """Return from the log to the synthetic experiment."""

@@ -13,8 +13,10 @@ from textual.widgets import DirectoryTree, Input, Label, RadioSet, Static
 
 from jointid.derivatives import DEFAULT_ORDER, DEFAULT_WINDOW
 
-from ..widgets.marks import ClearCheckbox, ClearRadioButton
 from jointid.logfit import HELDOUT, TRAINING, LoadRequest
+
+from ..widgets.footer import KeyFooter
+from ..widgets.marks import ClearCheckbox, ClearRadioButton
 
 
 class OpenLogScreen(ModalScreen[LoadRequest | None]):
@@ -77,7 +79,7 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
         self.derivatives = derivatives
 
     def compose(self) -> ComposeResult:
-        """Path field, role and degrees options, hint, folder tree."""
+        """Path field, role and degrees options, hint, folder tree, and the dialog's keys."""
         with Vertical() as box:
             box.border_title = "Open a joint log (CSV)"
             yield Label("Path (Enter opens it):")
@@ -95,6 +97,7 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
                 classes="dialog--hint", markup=False,
             )
             yield DirectoryTree(self.folder, id="open-tree")
+        yield KeyFooter()  # the dialog's keys, over the explorer's
 
     def on_mount(self) -> None:
         """Start in the path field with the cursor at its end."""
@@ -111,10 +114,17 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
         return LoadRequest(os.path.expanduser(path.strip()), role, degrees, window=window, order=order)
 
     def on_input_submitted(self, message: Input.Submitted) -> None:
-        """Enter in the path field: a folder opens in the tree, anything else is loaded (errors come later)."""
+        """Enter in the path field: a folder opens in the tree, a file is loaded; nothing or a typo stays here."""
         path = os.path.expanduser(message.value.strip())
+        if not path:
+            self.notify("Type the path of a CSV log, or choose one in the folder tree.",
+                        title="No file chosen", severity="warning")
+            return
         if os.path.isdir(path):
             self.query_one(DirectoryTree).path = path
+            return
+        if not os.path.lexists(path):  # say so here, where the path can still be corrected
+            self.notify(f"{path}: no such file", title="No file chosen", severity="warning")
             return
         self.dismiss(self.request(path))
 

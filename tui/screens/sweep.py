@@ -52,6 +52,11 @@ SEED_COUNT_RANGE = SeedCountRange("seeds", *EXPLORER_SEED_COUNT_LIMITS, 100, 100
 """K: Left/Right step 100 seeds, Shift 1000; typed values from 1 to 100,000."""
 
 
+def seeds(count: int) -> str:
+    """'1 seed', '1000 seeds'."""
+    return f"{count} seed" if count == 1 else f"{count} seeds"
+
+
 def chunk_size(seed_count: int) -> int:
     """Seeds per chunk for a sweep of seed_count, so progress arrives about PROGRESS_STEPS times."""
     return max(MIN_CHUNK, math.ceil(seed_count / PROGRESS_STEPS))
@@ -66,7 +71,8 @@ class SweepScreen(Screen):
         # Priority: the seed-count field has focus and would otherwise take Escape.
         Binding("escape", "back", "Cancel / back", priority=True,
                 tooltip="Cancel a running sweep, otherwise return to the explorer"),
-        # Priority too, or the focused seed-count field would type the letters.
+        # Priority too, or the focused seed-count field would type the letters; but while
+        # something is typed there they type (check_action), so "abc" is refused whole.
         Binding("c", "cancel", "Cancel", priority=True, tooltip="Stop a running sweep"),
         Binding("g", "run", "Run again", priority=True,
                 tooltip="Run the sweep again with the current seed count"),
@@ -104,6 +110,13 @@ class SweepScreen(Screen):
         self.query_one(Stepper).focus()
         self.action_run()
 
+    def check_action(self, action: str, parameters: tuple) -> bool | None:
+        """c and g step aside (shown dimmed) while the seed-count field holds typing, which they join."""
+        field = next(iter(self.query(Stepper)), None)  # None before the screen is composed
+        if action in ("cancel", "run") and field is not None and field.editing:
+            return None
+        return super().check_action(action, parameters)
+
     def commit_seed_count(self, field: str, value: float) -> None:
         """A new seed count (the field's callback): sweep again (an exclusive worker drops the one still running)."""
         self.seed_count = int(value)
@@ -114,7 +127,7 @@ class SweepScreen(Screen):
         """Run the sweep for the current seed count."""
         progress = self.query_one(ProgressBar)
         progress.update(total=self.seed_count, progress=0)
-        self.query_one("#sweep-state", Static).update(f"running {self.seed_count} seeds…")
+        self.query_one("#sweep-state", Static).update(f"running {seeds(self.seed_count)}…")
         self.sweep(self.seed_count)
 
     @work(thread=True, exclusive=True, group="sweep")
@@ -147,7 +160,7 @@ class SweepScreen(Screen):
     def show_result(self, result: SweepResult) -> None:
         """Display a finished sweep."""
         self.result = result
-        self.query_one("#sweep-state", Static).update(f"done: {result.seed_count} seeds")
+        self.query_one("#sweep-state", Static).update(f"done: {seeds(result.seed_count)}")
         names = result.model.names
         plots = sweep_histograms(result) if result.is_full_rank else [None] * len(names)
         for name, data in zip(names, plots):

@@ -73,41 +73,45 @@ at all), roomiest first; the last fits every main-screen key in 80 columns."""
 def footer_line(entries: tuple[KeyEntry, ...], palette: KeyEntry | None, width: int) -> Content:
     """The roomiest arrangement that fits the width, the palette's key at the right end.
 
-    Groups in EXPANDED_WHEN_ROOM show their keys one by one while any arrangement fits
-    that way. When even the tightest is too wide, the keys that fit and "…"; help and
-    the palette list every key.
+    Groups in EXPANDED_WHEN_ROOM show their keys one by one while any arrangement
+    fits that way. When even the tightest is too wide, the keys that are off for
+    now (dimmed) are left out, groups' too; then the keys that fit are shown and
+    "…". Help and the palette list every key.
     """
     expanded = tuple(part for entry in entries for part in (entry.parts or (entry,)))
-    if expanded != entries:
-        line = _arranged(expanded, palette, width)
-        if line is not None:
-            return line
-    return _arranged(entries, palette, width, truncate=True)
-
-
-def _arranged(entries: tuple[KeyEntry, ...], palette: KeyEntry | None, width: int,
-              truncate: bool = False) -> Content | None:
-    """The roomiest arrangement of these entries that fits; None when none does (or, with `truncate`, the
-    tightest with the keys that fit and "…")."""
-    for separator, gap, palette_shown in ARRANGEMENTS:
-        right = Content("")
-        if palette is not None and palette_shown is not None:
-            shown = palette if palette_shown == "full" else KeyEntry(palette.keys, "", palette.enabled)
-            right = Content.from_markup("[dim]│[/] ") + entry_content(shown, gap)
+    working = tuple(_working(entry) for entry in entries if entry.enabled)
+    tries = [*((expanded, a) for a in ARRANGEMENTS), *((entries, a) for a in ARRANGEMENTS),
+             (working, ARRANGEMENTS[-1])]
+    for shown, (separator, gap, palette_shown) in tries:
+        right = palette_content(palette, palette_shown, gap)
         room = width - right.cell_length - 1  # a space before the palette
-        line = Content(separator).join(entry_content(entry, gap) for entry in entries)
+        line = Content(separator).join(entry_content(entry, gap) for entry in shown)
         if line.cell_length <= room:
             break
     else:
-        if not truncate:
-            return None
         kept = []
-        for entry in entries:
+        for entry in shown:
             if Content(separator).join([*kept, entry_content(entry, gap), Content("…")]).cell_length > room:
                 break
             kept.append(entry_content(entry, gap))
         line = Content(separator).join([*kept, Content("…")])
-    return line + Content(" " * (width - line.cell_length - right.cell_length)) + right
+    return line + Content(" " * max(0, width - line.cell_length - right.cell_length)) + right
+
+
+def _working(entry: KeyEntry) -> KeyEntry:
+    """A group's entry with only its keys that work now (any other entry as it is)."""
+    if not entry.parts:
+        return entry
+    keys = " ".join(part.keys for part in entry.parts if part.enabled)
+    return KeyEntry(keys, entry.description, entry.enabled)
+
+
+def palette_content(palette: KeyEntry | None, shown: str | None, gap: str) -> Content:
+    """The palette's entry at the right end: in full, as its key, or nothing."""
+    if palette is None or shown is None:
+        return Content("")
+    entry = palette if shown == "full" else KeyEntry(palette.keys, "", palette.enabled)
+    return Content.from_markup("[dim]│[/] ") + entry_content(entry, gap)
 
 
 class KeyFooter(Widget):

@@ -109,11 +109,10 @@ class ReadoutPanel(Widget):
         height: auto;
     }
     ReadoutPanel:focus {
-        background: $boost;
+        background: $primary 20%;
     }
     """
 
-    # Focusable so Tab scrolls a short terminal's side panel down to every readout.
     can_focus = True
 
     def __init__(self, *, id: str | None = None, compact: bool = False) -> None:
@@ -129,6 +128,15 @@ class ReadoutPanel(Widget):
         self._lines_key: tuple | None = None
         self.precision: Precision | None = None
         self.compact = compact
+
+    def allow_focus(self) -> bool:
+        """A Tab stop only while the panel's container scrolls: focus then scrolls the readouts into view.
+
+        Everywhere else (80x24 and larger) every readout is on screen, and Tab
+        stopping here showed nothing but a faint tint.
+        """
+        container = self.parent
+        return self.can_focus and container is not None and getattr(container, "max_scroll_y", 0) > 0
 
     def set_compact(self, compact: bool) -> None:
         """Switch between the lab's labelled lines and one row per parameter (the screen decides by size)."""

@@ -2,19 +2,94 @@
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+from typing import Callable
+
 import numpy as np
 from textual.app import ComposeResult
 from textual.containers import Vertical
 from textual.content import Content
 from textual_plotext import PlotextPlot
 
-from jointid.present.charts import HistogramData, ScatterData
+from jointid.present.charts import TRUE_MARKER, HistogramData, ScatterData
 
 from .fitting import FittingLine
+from .plot_guard import TOO_SMALL, failure_text, too_small
 from .theme import theme_rgb
 
 HISTOGRAM_BINS = 24
 """Bars per histogram: enough to show the shape, few enough for a 26-column chart."""
+DEGENERATE_SPAN = 1e-9
+"""A histogram range narrower than this, relative to its values' size, is widened (one value, or noise 0)."""
+
+
+@dataclass(frozen=True, eq=False)
+class HistogramBars:
+    """A histogram ready to draw: counts (B,) of the bins between edges (B + 1,) over [low, high]."""
+
+    counts: np.ndarray
+    edges: np.ndarray
+    low: float
+    high: float
+
+
+def histogram_bars(values: np.ndarray, true_value: float, bins: int = HISTOGRAM_BINS) -> HistogramBars | None:
+    """Bin the finite values over a range that shows the bulk and the true value; None when none is finite.
+
+    The range is never empty (one value, or every seed giving the same value, is
+    centred in a range as wide as the value's size), so every bar has a width.
+    """
+    values = values[np.isfinite(values)]
+    if values.size == 0:
+        return None
+    # Seeds far out in the tails (slow motion's inertia) would squeeze the bulk into
+    # one bar; the 0.5..99.5 % range keeps the shape visible and the marker on scale.
+    low, high = (float(v) for v in np.percentile(values, [0.5, 99.5]))
+    low, high = min(low, true_value), max(high, true_value)
+    scale = max(1.0, abs(low), abs(high))
+    if high - low <= DEGENERATE_SPAN * scale:
+        middle = (low + high) / 2
+        low, high = middle - 0.5 * scale, middle + 0.5 * scale
+    counts, edges = np.histogram(np.clip(values, low, high), bins=bins, range=(low, high))
+    return HistogramBars(counts, edges, low, high)
+
+
+class GuardedPlot(PlotextPlot):
+    """A PlotextPlot that shows a line of text instead of a chart too small to draw or one that fails."""
+
+    def __init__(self) -> None:
+        """Create an empty plot."""
+        super().__init__()
+        self.failure: str | None = None
+        """The text shown instead of the chart at the last render, or None when the chart was drawn."""
+        self._setup_failure: str | None = None
+
+    def draw(self, setup: Callable) -> None:
+        """Set up the figure afresh with `setup(plt)` and repaint; an error in it shows as a line of text."""
+        plt = self.plt
+        plt.clear_data()
+        plt.clear_figure()
+        try:
+            setup(plt)
+        except Exception as error:  # odd data nobody foresaw: never a crash for a chart
+            self.log.error(f"chart not set up: {error!r}")
+            self._setup_failure = failure_text(error)
+        else:
+            self._setup_failure = None
+        self.refresh()
+
+    def render(self):
+        """The chart, or why it is not shown."""
+        width, height = self.size
+        self.failure = TOO_SMALL if too_small(width, height) else self._setup_failure
+        if self.failure is not None:
+            return Content(self.failure)
+        try:
+            return super().render()
+        except Exception as error:  # plotext's layout at sizes and data nobody foresaw
+            self.log.error(f"chart not drawn at {width}x{height}: {error!r}")
+            self.failure = failure_text(error)
+            return Content(self.failure)
 
 
 class SmallPlot(Vertical):
@@ -25,7 +100,7 @@ class SmallPlot(Vertical):
         height: 1fr;
         min-height: 5;
     }
-    SmallPlot > PlotextPlot {
+    SmallPlot > GuardedPlot {
         height: 1fr;
     }
     SmallPlot > .plot--heading {
@@ -46,7 +121,7 @@ class SmallPlot(Vertical):
     def compose(self) -> ComposeResult:
         """The heading and the plot."""
         yield FittingLine(classes="plot--heading")
-        yield PlotextPlot()
+        yield GuardedPlot()
 
     def on_mount(self) -> None:
         """Redraw with the new colours whenever the theme changes."""
@@ -55,17 +130,26 @@ class SmallPlot(Vertical):
     def show(self, data: HistogramData | ScatterData | None) -> None:
         """Display new data (None clears the chart)."""
         self.data = data
-        titles = data.titles if data is not None else ("",)
-        self.query_one(FittingLine).show(tuple(Content.from_markup("[b]$t[/b]", t=t) for t in titles))
+        self.query_one(FittingLine).show(self.headings(data))
         self._draw()
 
+    @staticmethod
+    def headings(data: HistogramData | ScatterData | None) -> tuple[Content, ...]:
+        """Each title in bold, longest first; a histogram's followed by the legend of its marker line."""
+        if data is None:
+            return (Content(""),)
+        markup = "[b]$title[/b]"
+        legend = data.marker_label if isinstance(data, HistogramData) else ""
+        if legend:
+            markup += "  [$accent]$marker[/] $legend"
+        return tuple(Content.from_markup(markup, title=title, marker=TRUE_MARKER, legend=legend)
+                     for title in data.titles)
+
     def _draw(self) -> None:
-        if not self.is_mounted:
-            return
-        plot = self.query_one(PlotextPlot)
-        plt = plot.plt
-        plt.clear_data()
-        plt.clear_figure()
+        if self.is_mounted:
+            self.query_one(GuardedPlot).draw(self._set_up)
+
+    def _set_up(self, plt) -> None:
         plt.xaxes(True, False)
         plt.yaxes(True, False)
         data = self.data
@@ -73,30 +157,32 @@ class SmallPlot(Vertical):
             self._histogram(plt, data)
         elif isinstance(data, ScatterData):
             self._scatter(plt, data)
-        plot.refresh()
 
     def _histogram(self, plt, data: HistogramData) -> None:
-        values = data.values
-        # Seeds far out in the tails (slow motion's inertia) would squeeze the bulk into
-        # one bar; the 0.5..99.5 % range keeps the shape visible and the marker on scale.
-        low, high = np.percentile(values, [0.5, 99.5])
-        low, high = min(low, data.true_value), max(high, data.true_value)
-        if high - low < 1e-12:
-            low, high = low - 0.5, high + 0.5
-        counts, edges = np.histogram(np.clip(values, low, high), bins=HISTOGRAM_BINS, range=(low, high))
-        centres = (edges[:-1] + edges[1:]) / 2
-        filled = counts > 0  # plotext draws a stub even for an empty bar
-        plt.bar(centres[filled], counts[filled], width=1.0, marker="sd",
-                color=theme_rgb(self.app, "primary"))
+        bars = histogram_bars(data.values, data.true_value)
+        if bars is None:
+            return
+        low, high = bars.low, bars.high
+        # Each bar is a rectangle over its own bin: plotext's bar() guesses the width from the
+        # spacing of the centres it is given, a whole data unit for a single bar, which at
+        # K = 1 drew a bar thousands of columns wide and filled it point by point for minutes.
+        colour = theme_rgb(self.app, "primary")
+        for count, left, right in zip(bars.counts, bars.edges[:-1], bars.edges[1:]):
+            if count:  # plotext draws a stub even for an empty bar
+                plt.rectangle([float(left), float(right)], [0, int(count)], marker="sd", color=colour, fill=True)
         plt.vline(data.true_value, color=theme_rgb(self.app, "accent"))
         # The heading names the quantity and unit, so no axis-label row is spent on it; three
-        # short ticks replace plotext's long float tick labels.
+        # short ticks replace plotext's long float tick labels, whole counts on the y axis.
         # The middle tick sits on the true value when it is clear of the ends, so the marker
         # has its number under it.
         middle = data.true_value if 0.2 <= (data.true_value - low) / (high - low) <= 0.8 else (low + high) / 2
-        ticks = [float(low), float(middle), float(high)]
+        ticks = [low, float(middle), high]
         plt.xticks(ticks, [f"{tick:.3g}" for tick in ticks])
-        plt.xlim(float(low), float(high))
+        plt.xlim(low, high)
+        most = int(bars.counts.max())
+        counts = sorted({0, most // 2, most})
+        plt.yticks(counts, [str(count) for count in counts])
+        plt.ylim(0, max(most, 1))
 
     def _scatter(self, plt, data: ScatterData) -> None:
         x_low, x_high = float(data.x.min()), float(data.x.max())

@@ -77,7 +77,10 @@ class Stepper(RepaintOnValue, Input):
     """A numeric setting that steps with Left/Right (Shift: big step) and accepts typed values.
 
     Typed text is committed with Enter or when focus leaves; invalid text is
-    refused with a notification and the previous value is kept. A new value is
+    refused with a notification and the previous value is kept. Left/Right on
+    typed text step from the typed value, or refuse it as Enter would. After
+    Enter, a step or Escape the whole text is selected, so the next digit
+    starts a new value instead of appending to the old one. A new value is
     handed to the owner's `on_commit` callback (the explorer's one convention for
     widgets reporting up: see tui/widgets/direct_controls.py for the measured reason);
     the owner, holding the one copy of the state, shows it with `show_value`.
@@ -112,7 +115,10 @@ class Stepper(RepaintOnValue, Input):
         self.number = steps.low if value is None else steps.clamp(value)
         """The value on display, as the owner last showed it: steps start from here."""
         self._on_commit = on_commit
-        super().__init__(value="" if value is None else steps.format(self.number), id=id, compact=True)
+        self._shown = "" if value is None else steps.format(self.number)
+        """The text the owner last showed: anything else in the field is the user's typing."""
+        self._was_editing = False
+        super().__init__(value=self._shown, id=id, compact=True)
 
     def check_consume_key(self, key: str, character: str | None) -> bool:
         """Claim only characters a number can contain, so r, ? and q stay global keys here."""
@@ -123,6 +129,11 @@ class Stepper(RepaintOnValue, Input):
         """Name of the setting this stepper controls."""
         return self.steps.field
 
+    @property
+    def editing(self) -> bool:
+        """True while the field holds typing that is neither committed nor refused yet."""
+        return self.value != self._shown
+
     def show_value(self, value: float | str) -> None:
         """Display the owner's value (or a text such as 'from log') without reporting it back."""
         if isinstance(value, str):
@@ -130,40 +141,65 @@ class Stepper(RepaintOnValue, Input):
         else:
             self.number = value
             text = self.steps.format(value)
+        self._shown = text
         if self.value != text:
             with self.prevent(Input.Changed):
                 self.value = text
 
+    def watch_value(self) -> None:
+        """Tell the screen when typing starts or ends: some of its keys step aside while one types."""
+        if self.editing != self._was_editing:
+            self._was_editing = self.editing
+            self.refresh_bindings()
+
     def action_step(self, direction: int, big: bool = False) -> None:
-        """Step the committed value by one small or big step, clamped to the range."""
+        """Step by one small or big step, clamped to the range: from the typed value if any, else the committed one."""
+        start = self.number
+        if self.editing:
+            start = self._parse_typed()
+            if start is None:  # refused, with the message Enter gives: never step the old value silently
+                self._select_for_typing()
+                return
         size = self.steps.big_step if big else self.steps.step
-        self._commit(self.steps.clamp(self.number + direction * size))
+        self._commit(self.steps.clamp(start + direction * size))
+        self._select_for_typing()
 
     def action_revert(self) -> None:
         """Throw away typed text and show the committed value again."""
         self.show_value(self.number)
+        self._select_for_typing()
 
     async def action_submit(self) -> None:
         """Enter: validate the typed text and commit it, or refuse it with a message."""
         self._commit_typed()
+        self._select_for_typing()
 
     def on_blur(self, event: Blur) -> None:
         """Commit typed text when focus leaves: tabbing away should not silently drop it."""
         # Textual runs this before Input's own blur handler, as a subclass's handler.
         self._commit_typed()
 
-    def _commit_typed(self) -> None:
-        if self.value.strip() == self.steps.format(self.number):
-            self.show_value(self.number)
-            return
+    def _select_for_typing(self) -> None:
+        """Select the whole text, so that typing replaces the value rather than appending to it."""
+        self.select_all()
+
+    def _parse_typed(self) -> float | None:
+        """The typed text's value, or None after refusing it with a message (the committed value is shown again)."""
         try:
-            value = self.steps.parse(self.value)
+            return self.steps.parse(self.value)
         except SettingsError as error:
             self.notify(f"{error}. Kept {self.steps.format(self.number)}.", title="Value refused",
                         severity="error")
             self.show_value(self.number)
+            return None
+
+    def _commit_typed(self) -> None:
+        if self.value.strip() == self.steps.format(self.number):
+            self.show_value(self.number)
             return
-        self._commit(value)
+        value = self._parse_typed()
+        if value is not None:
+            self._commit(value)
 
     def _commit(self, value: float) -> None:
         if value == self.number:

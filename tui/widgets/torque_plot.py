@@ -5,10 +5,12 @@ from __future__ import annotations
 from collections import OrderedDict
 from typing import Callable, Hashable
 
+from rich.segment import Segment
 from textual.strip import Strip
 from textual_plotext import PlotextPlot
 
 from .. import third_party
+from .plot_guard import TOO_SMALL, failure_text, too_small
 
 
 class TorquePlot(PlotextPlot):
@@ -62,6 +64,20 @@ class TorquePlot(PlotextPlot):
         return strips
 
     def _render_figure(self, width: int, height: int) -> list[Strip]:
+        """The figure's lines, or one line saying why it is not drawn (a chart is never worth a crash)."""
+        if too_small(width, height):
+            return self._message_strips(TOO_SMALL, width)
+        try:
+            return self._figure_strips(width, height)
+        except Exception as error:  # plotext's layout at sizes and data nobody foresaw
+            self.log.error(f"chart not drawn at {width}x{height}: {error!r}")
+            return self._message_strips(failure_text(error), width)
+
+    @staticmethod
+    def _message_strips(text: str, width: int) -> list[Strip]:
+        return [Strip([Segment(text)]).crop_extend(0, width, None)]
+
+    def _figure_strips(self, width: int, height: int) -> list[Strip]:
         if self._draw_figure is not None:
             self._draw_figure(self.plt)
         if third_party.active(third_party.CHART_MATRIX):
