@@ -197,6 +197,8 @@ def read_table(
 
 def _open_regular_file(path: str):
     """The file opened for binary reading; LogError if it cannot be, or if it is not a regular file."""
+    if not str(path).strip():
+        raise LogError("(no file)", "cannot open: the path is empty; give a CSV file's path")
     try:
         # Looked at before opening: opening a FIFO waits for a writer, and opening a device can act on it.
         kind = _file_kind(os.stat(path).st_mode)
@@ -514,6 +516,18 @@ def _shorten(text: str, limit: int = 30) -> str:
     return text if len(text) <= limit else text[: limit - 1] + "…"
 
 
+SEPARATOR_NAMES = {"\t": "tabs", ";": "semicolons", "|": "vertical bars"}
+"""Separators a log from another tool may use instead of commas, by the name a message gives them."""
+
+
+def _separator_hint(names: list[str]) -> str:
+    """'; the header is separated by tabs, not commas' when a one-cell header holds another separator."""
+    if len(names) != 1:
+        return ""
+    found = [name for separator, name in SEPARATOR_NAMES.items() if separator in names[0]]
+    return f"; the header is separated by {found[0]}, not commas (save the log as comma-separated)" if found else ""
+
+
 def _check_header(path: str, line: int, names: list[str]) -> dict[str, int]:
     """Map each recognised column to its 1-based position; raise LogError for duplicates or missing ones."""
     positions: dict[str, int] = {}
@@ -527,7 +541,7 @@ def _check_header(path: str, line: int, names: list[str]) -> dict[str, int]:
             positions[key] = position
     missing = [n for n in ("q", "tau") if n not in positions]
     if missing:
-        raise LogError(path, f"missing required column {missing[0]!r} in the header", line)
+        raise LogError(path, f"missing required column {missing[0]!r} in the header{_separator_hint(names)}", line)
     if "t" not in positions and not ("qd" in positions and "qdd" in positions):
         lacking = " and ".join(n for n in ("qd", "qdd") if n not in positions)
         raise LogError(path, f"missing column 't': without {lacking}, times are needed to estimate them", line)

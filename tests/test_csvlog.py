@@ -366,3 +366,26 @@ def test_with_or_without_pandas_the_same_values_or_the_same_error(tmp_path_facto
 def test_import_jointid_loads_no_pandas():
     imports = "jointid, jointid.csvlog, jointid.experiment, jointid.present.documents, jointid.cli"
     assert packages_loaded(imports, {"pandas", "pyarrow"}) == []
+
+
+@pytest.mark.parametrize("separator, name", [("\t", "tabs"), (";", "semicolons")])
+def test_a_log_separated_otherwise_than_by_commas_is_named(tmp_path, separator, name):
+    path = tmp_path / "other.csv"
+    path.write_text(separator.join(["t", "q", "qd", "qdd", "tau"]) + "\n" + separator.join("00001") + "\n")
+    with pytest.raises(LogError, match=f"separated by {name}, not commas"):
+        load_log(str(path))
+
+
+def test_an_empty_path_says_so():
+    with pytest.raises(LogError, match="the path is empty"):
+        load_log("")
+
+
+def test_the_sweep_views_seed_count_reads_ascii_digits_only():
+    from jointid.settings import SettingsError
+    from tui.screens.sweep import SEED_COUNT_RANGE
+
+    assert SEED_COUNT_RANGE.parse("250") == 250
+    for text in ("٣", "２"):
+        with pytest.raises(SettingsError):
+            SEED_COUNT_RANGE.parse(text)

@@ -14,6 +14,7 @@ from textual.screen import Screen
 from textual.widgets import Label, ProgressBar, Static
 from textual.worker import Worker, WorkerState, get_current_worker
 
+from jointid.number_text import parse_int
 from jointid.present.charts import sweep_histograms
 from jointid.present.tables import sweep_summary, sweep_table
 from jointid.present.text import settings_header
@@ -40,7 +41,7 @@ class SeedCountRange(StepRange):
         """Typed text as a whole number of seeds in range, or raise SettingsError."""
         text = text.strip()
         try:
-            value = int(text)
+            value = parse_int(text)  # ASCII digits only, as every number field
         except ValueError:
             value = None
         if value is None or not self.low <= value <= self.high:
