@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from contextlib import suppress
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -10,6 +11,7 @@ from textual import work
 from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.containers import Horizontal
+from textual.css.query import NoMatches
 from textual.screen import Screen
 from textual.widgets import Label, ProgressBar, Static
 from textual.worker import Worker, WorkerState, get_current_worker
@@ -138,7 +140,7 @@ class SweepScreen(Screen):
 
         def progress(done: int, total: int) -> None:
             if not worker.is_cancelled:
-                self.app.call_from_thread(self._progress, done, total)
+                self.app.call_from_thread(self._progress, worker, done, total)
 
         try:
             result = run_sweep(self.settings, seed_count, chunk_size=chunk_size(seed_count),
@@ -146,11 +148,24 @@ class SweepScreen(Screen):
         except SweepCancelled:
             return None
         if not worker.is_cancelled:
-            self.app.call_from_thread(self.show_result, result)
+            self.app.call_from_thread(self._deliver, worker, result)
         return result
 
-    def _progress(self, done: int, total: int) -> None:
-        self.query_one(ProgressBar).update(total=total, progress=done)
+    # The thread's calls run later on the app's loop: by then the sweep may have been replaced
+    # or cancelled, or the view closed, its widgets removed before its workers are cancelled
+    # (a key storm found this: s then Escape while a sweep finished).
+
+    def _progress(self, worker: Worker, done: int, total: int) -> None:
+        if worker.is_cancelled:
+            return
+        with suppress(NoMatches):  # the view has closed
+            self.query_one(ProgressBar).update(total=total, progress=done)
+
+    def _deliver(self, worker: Worker, result: SweepResult) -> None:
+        if worker.is_cancelled:
+            return
+        with suppress(NoMatches):  # the view has closed
+            self.show_result(result)
 
     @property
     def running(self) -> bool:
@@ -173,7 +188,8 @@ class SweepScreen(Screen):
     def on_worker_state_changed(self, event: Worker.StateChanged) -> None:
         """Say so when a sweep was cancelled."""
         if event.worker.group == "sweep" and event.state == WorkerState.CANCELLED and not self.running:
-            self.query_one("#sweep-state", Static).update("cancelled")
+            with suppress(NoMatches):  # cancelled because the view closed
+                self.query_one("#sweep-state", Static).update("cancelled")
 
     def action_cancel(self) -> bool:
         """Stop a running sweep; False when none was running."""
