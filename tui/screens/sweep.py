@@ -122,13 +122,6 @@ class SweepScreen(Screen):
         self.query_one(Stepper).focus()
         self.action_run()
 
-    def check_action(self, action: str, parameters: tuple) -> bool | None:
-        """c and g are shown dimmed while the seed-count field holds typing, which they join."""
-        field = next(iter(self.query(Stepper)), None)  # None before the screen is composed
-        if action in ("cancel", "run") and field is not None and field.editing:
-            return None
-        return super().check_action(action, parameters)
-
     def commit_seed_count(self, field: str, value: float) -> None:
         """A new seed count (the field's callback): sweep again (an exclusive worker drops the one still running)."""
         self.seed_count = int(value)

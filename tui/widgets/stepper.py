@@ -125,8 +125,7 @@ class Stepper(RepaintOnValue, Input):
         super().__init__(value=self._shown, id=id, compact=True)
 
     def check_consume_key(self, key: str, character: str | None) -> bool:
-        """Claim only characters a number can contain, so r, ? and q stay global keys here;
-        the command keys only while something is typed."""
+        """Claim characters a number can contain (r, ? and q stay global), command keys only while typing."""
         if character in self.command_keys:
             return self.editing
         return character is not None and character in NUMBER_CHARACTERS
@@ -161,7 +160,7 @@ class Stepper(RepaintOnValue, Input):
                 self.value = text
 
     def watch_value(self) -> None:
-        """Tell the screen when typing starts or ends: some of its keys step aside while one types."""
+        """Tell the screen when typing starts or ends: the footer drops the command keys while one types."""
         if self.editing != self._was_editing:
             self._was_editing = self.editing
             self.refresh_bindings()
