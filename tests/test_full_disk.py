@@ -21,6 +21,7 @@ import stat
 import subprocess
 import sys
 import textwrap
+import time
 from pathlib import Path
 
 import pytest
@@ -161,29 +162,27 @@ def test_new_files_get_the_mode_the_umask_gives(tmp_path, umask, mode):
         assert stat.S_IMODE((tmp_path / name).stat().st_mode) == mode
 
 
-def test_a_temporary_left_by_a_killed_writer_is_removed_by_the_next_write(tmp_path):
-    # A writer that is killed outright (kill -9) half-way through a large file.
-    writer = subprocess.Popen(
-        [sys.executable, "-c", textwrap.dedent(f"""
-            import sys, time
-            from jointid.export import atomic_output
-            with atomic_output({str(tmp_path / 'big.csv')!r}) as handle:
-                handle.write("x" * 1_000_000)
-                handle.flush()
-                print("writing", flush=True)
-                time.sleep(60)
-        """)],
-        cwd=ROOT, stdout=subprocess.PIPE, text=True,
-    )
-    assert writer.stdout.readline() == "writing\n"
-    writer.send_signal(signal.SIGKILL)
-    writer.wait()
+def test_a_temporary_left_by_a_killed_simulate_is_removed_by_the_next_write(tmp_path):
+    """kill -9 during a large `jointid simulate` left its 32 MB temporary file behind for good."""
+    big = tmp_path / "big.csv"
+    writer = subprocess.Popen([sys.executable, "-m", "jointid", "simulate", "--samples", "3000000",
+                               "--out", str(big)], cwd=ROOT, stdout=subprocess.DEVNULL)
+    try:
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline:  # until it is half-way through writing
+            parts = [p for p in tmp_path.iterdir() if p.name.endswith(TEMPORARY_SUFFIX)]
+            if parts and parts[0].stat().st_size > 1_000_000:
+                break
+            time.sleep(0.01)
+    finally:
+        writer.send_signal(signal.SIGKILL)
+        writer.wait()
     left = names(tmp_path)
-    assert len(left) == 1 and left[0].startswith(".big.csv.") and left[0].endswith(TEMPORARY_SUFFIX)
+    assert len(left) == 1 and left[0].startswith(".big.csv.") and left[0].endswith(TEMPORARY_SUFFIX), left
     # A live writer's temporary is not touched.
     live = tmp_path / f".other.csv.{os.getpid()}-0123abcd{TEMPORARY_SUFFIX}"
     live.write_text("in progress")
-    assert main(["simulate", "--out", str(tmp_path / "big.csv")]) == 0
+    assert main(["simulate", "--out", str(big)]) == 0
     assert names(tmp_path) == sorted(["big.csv", live.name])
 
 

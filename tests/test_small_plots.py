@@ -129,6 +129,18 @@ def test_the_sweep_opens_at_narrow_tall_sizes(settings, size):
 
     for width, failure in asyncio.run(main()):
         assert failure == (TOO_SMALL if width < MIN_PLOT_SIZE[0] else None)
+        assert width >= 16  # too narrow side by side, the histograms are stacked and draw
+
+
+@pytest.mark.parametrize("width, stacked", [(50, True), (51, False), (80, False)])
+def test_histograms_stack_when_side_by_side_they_could_not_draw(width, stacked):
+    async def main():
+        app = make_app(SLOW_NOISY)
+        async with app.run_test(size=(width, 40)) as pilot:
+            screen = await open_sweep(pilot)
+            return screen.has_class("-stacked"), [plot.failure for plot in plots(screen)]
+
+    assert asyncio.run(main()) == (stacked, [None] * 3)
 
 
 def test_resizing_a_running_sweep_to_22x80_and_back():
@@ -144,8 +156,7 @@ def test_resizing_a_running_sweep_to_22x80_and_back():
             return shown
 
     narrow, wide, narrow_again, wider = asyncio.run(main())
-    assert narrow == narrow_again == [TOO_SMALL] * 3
-    assert wide == wider == [None] * 3
+    assert narrow == wide == narrow_again == wider == [None] * 3  # stacked at 22 columns, so they draw
 
 
 def test_a_chart_that_fails_to_draw_shows_a_line_instead_of_crashing(monkeypatch):
@@ -178,3 +189,11 @@ def test_a_chart_whose_data_cannot_be_set_up_shows_a_line_instead_of_crashing():
             return chart.query_one(GuardedPlot).failure
 
     assert asyncio.run(main()).startswith("(chart not drawn: ")
+
+
+def test_tick_labels_take_the_digits_that_tell_them_apart():
+    from tui.widgets.small_plots import tick_labels
+
+    assert tick_labels([-13.1, 0.8, 11.9]) == ["-13.1", "0.8", "11.9"]
+    assert tick_labels([0.79966, 0.8, 0.80001]) == ["0.79966", "0.8", "0.80001"]
+    assert tick_labels([0.8, 0.8, 0.8]) == ["0.8", "0.8", "0.8"]

@@ -159,12 +159,12 @@ TRUE_MARKER = "│"
 def sweep_histograms(sweep: SweepResult) -> list[HistogramData]:
     """One histogram per parameter of a full-rank sweep, with the true value marked."""
     model = sweep.model
+    seeds = "1 seed" if sweep.seed_count == 1 else f"{sweep.seed_count} seeds"
     # The legend ("│ true 0.8") follows the title as the torque charts' legends do; a
     # marker at the very end ("true 0.8 at │") read as a title cut off.
     return [
         HistogramData(
-            titles=(f"{parameter.symbol_with_unit}, {sweep.seed_count} seeds", parameter.symbol_with_unit,
-                    parameter.name),
+            titles=(f"{parameter.symbol_with_unit}, {seeds}", parameter.symbol_with_unit, parameter.name),
             values=sweep.values(parameter.name),
             true_value=float(true),
             marker_label=f"true {true:g}",

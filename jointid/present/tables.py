@@ -31,8 +31,9 @@ MATRIX_EXPLANATION = (
 
 def sweep_heading(sweep: SweepResult) -> str:
     """e.g. 'Slow motion, noise 0.20 N m, 24 samples, 1000 seeds 7..1006'."""
-    count = f"{sweep.seed_count} seed" + ("s" if sweep.seed_count != 1 else "")
-    return settings_header(sweep.settings, seeds=f"{count} {sweep.settings.seed}..{int(sweep.seeds[-1])}")
+    if sweep.seed_count == 1:
+        return settings_header(sweep.settings, seeds=f"1 seed ({sweep.settings.seed})")
+    return settings_header(sweep.settings, seeds=f"{sweep.seed_count} seeds {sweep.settings.seed}..{int(sweep.seeds[-1])}")
 
 
 def sweep_message(sweep: SweepResult) -> str:

@@ -24,6 +24,7 @@ from jointid.settings import Settings, SettingsError
 from jointid.sweep import DEFAULT_SEED_COUNT, SweepCancelled, SweepResult, run_sweep
 
 from ..widgets.footer import KeyFooter
+from ..widgets.plot_guard import MIN_PLOT_SIZE
 from ..widgets.small_plots import SmallPlot
 from ..widgets.stepper import StepRange, Stepper
 
@@ -33,6 +34,8 @@ PROGRESS_STEPS = 50
 """Chunks a sweep is split into, so the progress bar moves even though each chunk is fast."""
 MIN_CHUNK = 500
 """Smallest chunk: below it the per-chunk overhead outweighs the work."""
+HISTOGRAM_GAP = 1
+"""Columns between two histograms side by side (views.tcss, .histogram's right margin)."""
 
 
 @dataclass(frozen=True)
@@ -74,11 +77,12 @@ class SweepScreen(Screen):
         # Priority: the seed-count field has focus and would otherwise take Escape.
         Binding("escape", "back", "Cancel / back", priority=True,
                 tooltip="Cancel a running sweep, otherwise return to the explorer"),
-        # Priority too, or the focused seed-count field would type the letters; but while
-        # something is typed there they type (check_action), so "abc" is refused whole.
-        Binding("c", "cancel", "Cancel", priority=True, tooltip="Stop a running sweep"),
-        Binding("g", "run", "Run again", priority=True,
-                tooltip="Run the sweep again with the current seed count"),
+        # Not priority: the seed-count field sees c and g first, in order with the keys before
+        # them, and passes them on only while nothing is typed there (Stepper command_keys);
+        # so "abc" is typed and refused whole. As priority bindings they were decided on
+        # arrival, before the field had taken the keys typed just before.
+        Binding("c", "cancel", "Cancel", tooltip="Stop a running sweep"),
+        Binding("g", "run", "Run again", tooltip="Run the sweep again with the current seed count"),
     ]
 
     def __init__(self, settings: Settings, seed_count: int = DEFAULT_SEED_COUNT) -> None:
@@ -98,7 +102,8 @@ class SweepScreen(Screen):
         yield Static(f"Seed sweep: {settings_header(self.settings)} onward", id="sweep-title", markup=False)
         with Horizontal(id="sweep-controls"):
             yield Label("Seeds (K)", id="sweep-count-label")
-            yield Stepper(SEED_COUNT_RANGE, self.seed_count, on_commit=self.commit_seed_count, id="sweep-count")
+            yield Stepper(SEED_COUNT_RANGE, self.seed_count, on_commit=self.commit_seed_count,
+                          command_keys="cg", id="sweep-count")
             yield ProgressBar(total=self.seed_count, show_eta=False, id="sweep-progress")
             yield Static("", id="sweep-state", markup=False)
         with Horizontal(id="sweep-histograms"):
@@ -108,17 +113,15 @@ class SweepScreen(Screen):
         yield Static("", id="sweep-summary", markup=False)
         yield KeyFooter()
 
+    def on_resize(self) -> None:
+        """Stack the histograms when side by side they would be too narrow to draw (a tall, narrow terminal)."""
+        side_by_side = len(self.settings.joint_model.names) * (MIN_PLOT_SIZE[0] + HISTOGRAM_GAP)
+        self.set_class(self.size.width < side_by_side, "-stacked")
+
     def on_mount(self) -> None:
         """Start the first sweep with the seed-count field focused."""
         self.query_one(Stepper).focus()
         self.action_run()
-
-    def check_action(self, action: str, parameters: tuple) -> bool | None:
-        """c and g step aside (shown dimmed) while the seed-count field holds typing, which they join."""
-        field = next(iter(self.query(Stepper)), None)  # None before the screen is composed
-        if action in ("cancel", "run") and field is not None and field.editing:
-            return None
-        return super().check_action(action, parameters)
 
     def commit_seed_count(self, field: str, value: float) -> None:
         """A new seed count (the field's callback): sweep again (an exclusive worker drops the one still running)."""

@@ -54,6 +54,19 @@ def histogram_bars(values: np.ndarray, true_value: float, bins: int = HISTOGRAM_
     return HistogramBars(counts, edges, low, high)
 
 
+def tick_labels(ticks: list[float]) -> list[str]:
+    """Three significant digits, or as many more as it takes for different ticks to read differently.
+
+    One seed's histogram spans a few thousandths around its value, where three
+    digits labelled all three ticks '0.8'.
+    """
+    for digits in range(3, 16):
+        labels = [f"{tick:.{digits}g}" for tick in ticks]
+        if len(set(labels)) == len(set(ticks)):
+            break
+    return labels
+
+
 class GuardedPlot(PlotextPlot):
     """A PlotextPlot that shows a line of text instead of a chart too small to draw or one that fails."""
 
@@ -177,7 +190,7 @@ class SmallPlot(Vertical):
         # has its number under it.
         middle = data.true_value if 0.2 <= (data.true_value - low) / (high - low) <= 0.8 else (low + high) / 2
         ticks = [low, float(middle), high]
-        plt.xticks(ticks, [f"{tick:.3g}" for tick in ticks])
+        plt.xticks(ticks, tick_labels(ticks))
         plt.xlim(low, high)
         most = int(bars.counts.max())
         counts = sorted({0, most // 2, most})

@@ -6,7 +6,7 @@ from dataclasses import dataclass
 from typing import Callable
 
 from textual.binding import Binding
-from textual.events import Blur
+from textual.events import Blur, Key
 from textual.widgets import Input
 
 from jointid.settings import SettingsError, parse_setting
@@ -101,7 +101,8 @@ class Stepper(RepaintOnValue, Input):
     ]
 
     def __init__(self, steps: StepRange, value: float | None = None, *,
-                 on_commit: Callable[[str, float], None], id: str | None = None) -> None:
+                 on_commit: Callable[[str, float], None], command_keys: str = "",
+                 id: str | None = None) -> None:
         """Create a stepper.
 
         Args:
@@ -109,9 +110,12 @@ class Stepper(RepaintOnValue, Input):
             value: Value to show first (clamped into range); None shows nothing until `show_value`.
             on_commit: Called with the field and a new valid value; the owner keeps the value
                 and shows it back with `show_value`.
+            command_keys: Characters that are the owner's (non-priority) key bindings while
+                nothing is typed here, and typed like any other while something is.
             id: Widget id.
         """
         self.steps = steps
+        self.command_keys = frozenset(command_keys)
         self.number = steps.low if value is None else steps.clamp(value)
         """The value on display, as the owner last showed it: steps start from here."""
         self._on_commit = on_commit
@@ -121,8 +125,17 @@ class Stepper(RepaintOnValue, Input):
         super().__init__(value=self._shown, id=id, compact=True)
 
     def check_consume_key(self, key: str, character: str | None) -> bool:
-        """Claim only characters a number can contain, so r, ? and q stay global keys here."""
+        """Claim characters a number can contain (r, ? and q stay global), command keys only while typing."""
+        if character in self.command_keys:
+            return self.editing
         return character is not None and character in NUMBER_CHARACTERS
+
+    def _on_key(self, event: Key) -> None:
+        # Decided here, in order with the keys typed before it: a priority binding on the
+        # screen is decided when the key arrives, before this field has taken those keys.
+        # Textual runs this before Input's own key handler, as a subclass's handler.
+        if event.character in self.command_keys and not self.editing:
+            event.prevent_default()  # Input would type it; not stopped, it reaches the owner's binding
 
     @property
     def field(self) -> str:
@@ -147,7 +160,7 @@ class Stepper(RepaintOnValue, Input):
                 self.value = text
 
     def watch_value(self) -> None:
-        """Tell the screen when typing starts or ends: some of its keys step aside while one types."""
+        """Tell the screen when typing starts or ends: the footer drops the command keys while one types."""
         if self.editing != self._was_editing:
             self._was_editing = self.editing
             self.refresh_bindings()
