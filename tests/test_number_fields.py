@@ -2,25 +2,17 @@
 
 from __future__ import annotations
 
-import asyncio
 from dataclasses import replace
 
 from jointid.settings import DEFAULT_SETTINGS
 from tui.screens.sweep import SweepScreen
 from tui.widgets.stepper import Stepper
-from tui_support import make_app
+from tui_support import run_app
 
 
 def run(scenario, settings=DEFAULT_SETTINGS, size=(120, 40)):
     """Run scenario(pilot, app) against a fresh app and return its result."""
-
-    async def main():
-        app = make_app(settings)
-        async with app.run_test(size=size) as pilot:
-            await pilot.pause()
-            return await scenario(pilot, app)
-
-    return asyncio.run(main())
+    return run_app(scenario, settings, size)
 
 
 def refusals(app) -> list[str]:
