@@ -615,6 +615,18 @@ def load_log(
     """Read a CSV joint log, estimate any missing qd/qdd, and return it ready to fit; LogError on any problem."""
     check_filter(window, order)
     table = read_table(path, progress=progress, cancel=cancel, chunk_bytes=chunk_bytes)
+    return joint_log_from_table(table, degrees=degrees, window=window, order=order)
+
+
+def joint_log_from_table(
+    table: LogTable, *, degrees: bool = False, window: int = DEFAULT_WINDOW, order: int = DEFAULT_ORDER
+) -> JointLog:
+    """Check a table's time column, estimate any missing qd/qdd, convert units: the log ready to fit.
+
+    Every log source ends here (a CSV file today), so all logs are checked and
+    differentiated alike; LogError on any problem.
+    """
+    check_filter(window, order)
     columns = table.columns
     missing = tuple(n for n in ("qd", "qdd") if n not in columns)
     step = check_time(table, uniform=bool(missing))
