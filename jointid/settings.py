@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from .fourier import FourierMotion
 from .model import ModelError, describe_models, model_named
 from .motions import TRAINING_MOTIONS
 from .number_text import parse_float, parse_int
@@ -43,7 +44,8 @@ class SettingsError(ValueError):
 class Settings:
     """One synthetic identification experiment: motion, noise bound (N m), samples, seed and fitted model."""
 
-    motion: str = "rich"
+    motion: str | FourierMotion = "rich"
+    """A training motion's name, or a designed FourierMotion (from `jointid design` or a motion file)."""
     noise: float = 0.0
     samples: int = 24
     seed: int = 7
@@ -66,6 +68,16 @@ class Settings:
     def joint_model(self):
         """The JointModel that `model` names."""
         return model_named(self.model)
+
+    @property
+    def training_motion(self):
+        """The motion object (a Motion or a FourierMotion) the experiment trains on."""
+        return self.motion if isinstance(self.motion, FourierMotion) else TRAINING_MOTIONS[self.motion]
+
+    @property
+    def motion_name(self) -> str:
+        """The training motion's name: 'rich', 'slow', 'holds' or 'design'."""
+        return self.training_motion.name
 
     @property
     def true_joint(self) -> TrueJoint:
@@ -96,7 +108,7 @@ def describe_range(field: str, *, finite: bool = False) -> str:
 def check_setting(field: str, value) -> None:
     """Raise SettingsError unless value is allowed for the named setting."""
     if field == "motion":
-        ok = value in TRAINING_MOTIONS
+        ok = isinstance(value, FourierMotion) or (isinstance(value, str) and value in TRAINING_MOTIONS)
     elif field == "model":
         try:
             model_named(value)
