@@ -39,37 +39,32 @@ from functools import cached_property
 import numpy as np
 
 from .experiment import training_data
-from .fourier import DEFAULT_PERIOD, HARMONIC_LIMITS, FourierMotion, fourier_basis, from_coefficients
+from .design_options import (
+    CRITERIA,
+    DEFAULT_CRITERION,
+    DEFAULT_HARMONICS,
+    DEFAULT_NOISE,
+    DEFAULT_PERIOD,
+    DEFAULT_SEED,
+    DEFAULT_STARTS,
+    HARMONIC_LIMITS,
+    LIMIT_RANGES,
+    PERIOD_LIMITS,
+    RICH_ENVELOPE,
+    STARTS_LIMITS,
+)
+from .fourier import FourierMotion, fourier_basis, from_coefficients
 from .model import COULOMB, NONNEGATIVE, G, JointModel, Term
 from .settings import Settings
 from .solver import solve_least_squares
 from .uncertainty import parameter_uncertainty
 
-CRITERIA = {
-    "d": "D-optimal (maximise log det of the information matrix in relative units)",
-    "a": "A-optimal (minimise the sum of relative variances)",
-    "cond": "cond (minimise the column-scaled condition number)",
-}
-"""The design criteria by name, with what each optimises."""
-DEFAULT_CRITERION = "d"
-DEFAULT_HARMONICS = 3
-DEFAULT_STARTS = 8
-DEFAULT_SEED = 0
-DEFAULT_NOISE = 0.20
-"""The lesson's noise bound (N m): the expected standard errors are shown at it."""
-STARTS_LIMITS = (1, 1000)
-"""Allowed number of random starts."""
 DESIGN_GRID = 400
 """Time points per period on which the optimiser enforces the limits."""
 CHECK_GRID = 4000
 """Time points per period on which the finished design's limits are verified."""
 ACTIVE_SHARE = 0.005
 """A limit whose peak is within this share of it counts as active."""
-LIMIT_RANGES = {"q_max": (math.pi, "rad"), "qd_max": (100.0, "rad/s"), "qdd_max": (1000.0, "rad/s²"),
-                "tau_max": (1000.0, "N m")}
-"""Largest value of each limit and its unit (the lower end is exclusive 0)."""
-LIMIT_SYMBOLS = {"q_max": "|q|", "qd_max": "|qd|", "qdd_max": "|qdd|", "tau_max": "|tau|"}
-"""How a printout names the quantity each limit bounds."""
 
 
 class DesignError(ValueError):
@@ -84,9 +79,9 @@ class DesignCancelled(Exception):
 class Limits:
     """The joint's limits: angle (rad), speed (rad/s), acceleration (rad/s²) and, optionally, torque (N m)."""
 
-    q_max: float = 0.95
-    qd_max: float = 1.6
-    qdd_max: float = 3.0
+    q_max: float = RICH_ENVELOPE["q_max"]
+    qd_max: float = RICH_ENVELOPE["qd_max"]
+    qdd_max: float = RICH_ENVELOPE["qdd_max"]
     tau_max: float | None = None
 
     def items(self) -> list[tuple[str, float]]:
@@ -94,15 +89,13 @@ class Limits:
         return [(name, getattr(self, name)) for name in LIMIT_RANGES if getattr(self, name) is not None]
 
 
-RICH_ENVELOPE = Limits()
-"""Rich motion's own envelope: |q| <= 0.95 rad, |qd| <= 1.6 rad/s, |qdd| <= 3.0 rad/s²."""
 
 
 @dataclass(frozen=True)
 class DesignSpec:
     """What to design: limits, criterion, harmonics, period, and the experiment the motion is for."""
 
-    limits: Limits = RICH_ENVELOPE
+    limits: Limits = Limits()
     criterion: str = DEFAULT_CRITERION
     harmonics: int = DEFAULT_HARMONICS
     period: float = DEFAULT_PERIOD
@@ -129,6 +122,9 @@ def check_spec(spec: DesignSpec) -> None:
     low, high = HARMONIC_LIMITS
     if not isinstance(spec.harmonics, int) or not low <= spec.harmonics <= high:
         raise DesignError(f"harmonics must be a whole number from {low} to {high}; got {spec.harmonics!r}")
+    low, high = PERIOD_LIMITS
+    if isinstance(spec.period, bool) or not isinstance(spec.period, (int, float)) or not low <= spec.period <= high:
+        raise DesignError(f"period must be a number from {low:g} to {high:g} s; got {spec.period!r}")
     low, high = STARTS_LIMITS
     if not isinstance(spec.starts, int) or not low <= spec.starts <= high:
         raise DesignError(f"starts must be a whole number from {low} to {high}; got {spec.starts!r}")
@@ -176,7 +172,7 @@ class MotionPrecision:
     expected_std_error: np.ndarray | None
     """(p,) Standard errors sqrt(b²/3 diag((X^T X)^-1)) of the reported parameters, or None when rank-deficient."""
     relative_std_pct: np.ndarray | None
-    """(p,) Those as % of |noise-free estimate| (inf where it is 0), or None."""
+    """(p,) Those as % of |noise-free estimate| (NaN for a parameter the true joint lacks), or None."""
     condition_number: float
     """Condition number of the column-scaled regressor (inf when rank-deficient)."""
 
@@ -189,7 +185,16 @@ def motion_precision(settings: Settings) -> MotionPrecision:
     uncertainty = parameter_uncertainty(solution, settings.noise, model)
     if uncertainty is None:
         return MotionPrecision(None, None, solution.condition_number)
-    return MotionPrecision(uncertainty.expected_std_error, uncertainty.relative_std_pct, solution.condition_number)
+    errors, magnitude = uncertainty.expected_std_error, np.abs(uncertainty.estimate)
+    # A parameter the joint does not have (Coulomb friction of 0) fits to rounding noise: no relative error.
+    present = magnitude > ZERO_SHARE * max(1.0, float(np.max(magnitude)))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        relative = np.where(present, 100.0 * errors / magnitude, np.nan)
+    return MotionPrecision(errors, relative, solution.condition_number)
+
+
+ZERO_SHARE = 1e-9
+"""A noise-free estimate below this share of the largest one is a parameter the true joint does not have."""
 
 
 @dataclass(frozen=True, eq=False)

@@ -25,16 +25,11 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from .design_options import HARMONIC_LIMITS, PERIOD_LIMITS
 from .motions import JointStates
 
 KIND = "fourier"
 """The `kind` of a motion file jointid writes and reads."""
-DEFAULT_PERIOD = 8.0
-"""Period T (s) of a designed motion unless told otherwise: the lesson's 8 s window holds one period."""
-PERIOD_LIMITS = (0.1, 1000.0)
-"""Allowed period (s)."""
-HARMONIC_LIMITS = (1, 20)
-"""Allowed number of harmonics K."""
 COEFFICIENT_LIMIT = 1000.0
 """Largest |q_c|, |a_k|, |b_k| a motion file may hold (rad, rad/s): beyond it nothing is a joint's motion."""
 FILE_KEYS = ("kind", "period", "q_c", "a", "b", "made")

@@ -74,6 +74,8 @@ def derivative_options(args: argparse.Namespace) -> tuple[int, int]:
 def load_logs(args: argparse.Namespace) -> tuple[JointLog, JointLog | None]:
     """The --csv and --heldout logs, after checking the options; UserError (one line) on any problem."""
     given = [f"--{name.replace('_', '-')}" for name in SETTING_FLAGS if getattr(args, name) is not None]
+    if getattr(args, "motion_file", None) is not None:
+        given.append("--motion-file")
     if given:
         raise UserError(f"synthetic settings ({', '.join(given)}) cannot apply to a --csv log; drop them")
     simulated = [f"--{name}" for name in SYNTHETIC_ONLY_FLAGS if getattr(args, name, None) not in (None, False)]

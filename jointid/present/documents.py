@@ -13,6 +13,7 @@ import json
 import math
 from typing import TYPE_CHECKING
 
+from ..fourier import motion_document
 from ..uncertainty import finite_or_none
 
 if TYPE_CHECKING:
@@ -77,8 +78,12 @@ def estimate_object(result: FitResult) -> dict | None:
 
 
 def settings_object(settings: Settings) -> dict:
-    """The synthetic settings as a JSON object."""
-    return vars(settings).copy()
+    """The synthetic settings as a JSON object (a designed motion as its name plus its motion file's object)."""
+    document = vars(settings).copy()
+    if not isinstance(settings.motion, str):
+        document["motion"] = settings.motion_name
+        document["designed_motion"] = motion_document(settings.motion)
+    return document
 
 
 def column_estimate_object(result: FitResult) -> dict:
