@@ -7,14 +7,27 @@ same table, limits and verdict (`design_table`, `limits_table`, `design_verdict`
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
+
+import numpy as np
 
 from ..design import ACTIVE_SHARE, CHECK_GRID, DesignResult
 from ..design_options import CRITERIA, LIMIT_RANGES, LIMIT_SYMBOLS
 from ..fourier import motion_document
+from ..motions import DURATION, TRAINING_MOTIONS
 from .text import capitalise, format_number, join_words, text_table
 
 NOT_APPLICABLE = "-"
 """A relative error of a parameter the true joint does not have (its value is 0)."""
+
+DESIGN_INTRO = (
+    "Which motion reveals the parameters best, and how much better is it than rich motion? The designer "
+    "optimises a 3-harmonic Fourier series over 8 s within these limits (rich motion's envelope to start) "
+    "for the criterion: D-optimal maximises the information, A-optimal minimises the summed relative "
+    "variances, and cond only balances the columns: the counter-example, whose condition number reaches 1 "
+    "while some standard errors get worse than rich motion's."
+)
+"""What the design view is for, shown until a design runs."""
 
 COND_CAVEAT = ("A condition number near 1 says the scaled columns are balanced, not that the motion is informative: "
                "a small, well-balanced motion carries little information.")
@@ -137,3 +150,36 @@ def design_document(result: DesignResult) -> dict:
         "starts_meeting_limits": result.converged,
         "verdict": design_verdict(result),
     }
+
+
+CHART_POINTS = 241
+"""Points per line of the q(t) chart over the 8 s window: smooth at any terminal width."""
+
+
+@dataclass(frozen=True, eq=False)
+class LinesData:
+    """Lines y(x) to draw on one chart: x (M,), each line's label and values (M,), with axis titles."""
+
+    titles: tuple[str, ...]
+    """Heading, longest first; the widest that fits is shown."""
+    x: np.ndarray
+    lines: tuple[tuple[str, np.ndarray], ...]
+    x_label: str
+    y_label: str
+
+
+def design_chart(result: DesignResult | None) -> LinesData:
+    """q(t) of the designed motion against rich motion's over the 8 s training window (rich alone before a design)."""
+    t = np.linspace(0.0, DURATION, CHART_POINTS)
+    rich = ("rich", TRAINING_MOTIONS["rich"].states(t).q)
+    if result is None:
+        return LinesData(titles=("Angle q (rad) of rich motion, the one to beat", "q(t) of rich motion"), x=t,
+                         lines=(rich,), x_label="t (s)", y_label="q (rad)")
+    return LinesData(
+        titles=("Angle q (rad) over the training window: designed motion against rich motion",
+                "q(t): designed against rich", "q(t)"),
+        x=t,
+        lines=(("designed", result.motion.states(t).q), rich),
+        x_label="t (s)",
+        y_label="q (rad)",
+    )
