@@ -399,7 +399,7 @@ FD_STEP = 1.4901161193847656e-08
 """Relative forward-difference step of the criterion's gradient (sqrt of machine epsilon)."""
 FEASIBLE = 1e-9
 """Largest relative overshoot of a limit on the design grid that counts as meeting it (rounding)."""
-STRIDE = 10
+STRIDE = 20
 """Every STRIDE-th design grid point is in the optimiser's first working set, with the start's peaks."""
 EXCHANGE_ROUNDS = 30
 """Most rounds of adding violated grid points to the optimiser's working set per start."""
@@ -445,7 +445,16 @@ def design_motion(
 ) -> DesignResult:
     """Design the motion that best meets `spec`'s criterion within its limits; DesignError if none does."""
     from scipy.optimize import minimize  # lazily: scipy.optimize costs about 0.3 s to import
+    from threadpoolctl import threadpool_limits
 
+    # SLSQP's BLAS calls are on matrices of a few hundred numbers: threads only cost (6-10x on this
+    # busy 2-core machine; benchmarks/bench_design.py). The limit is the process's while the design runs.
+    with threadpool_limits(limits=1, user_api="blas"):
+        return _design(spec, minimize, progress, cancelled)
+
+
+def _design(spec: DesignSpec, minimize, progress, cancelled) -> DesignResult:
+    """design_motion's work, with scipy's minimize given."""
     problem = _Problem(spec)
     rng = np.random.default_rng(spec.seed)
     best, best_value, converged = None, math.inf, 0

@@ -11,6 +11,7 @@ saves it as a motion file for `--motion-file`.
 from __future__ import annotations
 
 import math
+import time
 from contextlib import suppress
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -187,8 +188,15 @@ class DesignScreen(Screen):
             if not worker.is_cancelled:
                 self.app.call_from_thread(self._progress, worker, done, total)
 
+        def cancelled() -> bool:
+            # Polled at every criterion evaluation (a few thousand a second). sleep(0) hands the GIL to
+            # the app's loop if it waits for it, rather than after Python's 5 ms switch interval: a key
+            # pressed during a design is then handled as fast as when idle (benchmarks/bench_design.py).
+            time.sleep(0)
+            return worker.is_cancelled
+
         try:
-            result = design_motion(spec, progress=progress, cancelled=lambda: worker.is_cancelled)
+            result = design_motion(spec, progress=progress, cancelled=cancelled)
         except DesignCancelled:
             return
         except DesignError as error:
