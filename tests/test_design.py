@@ -206,6 +206,16 @@ def test_cli_design_writes_the_file_it_prints(tmp_path, capsys):
     assert "already exists" in capsys.readouterr().err
 
 
+def test_the_printout_names_the_active_limit_and_every_margin(d_plain, capsys):
+    assert main(["design"]) == 0
+    out = capsys.readouterr().out
+    assert out == design_text(d_plain) + "\n"  # the default design, deterministic for seed 0
+    q, qd, qdd = fourier_states(d_plain.motion, np.linspace(0.0, 8.0, 4000, endpoint=False))
+    assert f"|qdd| (rad/s²)  {np.max(np.abs(qdd)):.4f}      3  {3 - np.max(np.abs(qdd)):.4f}  active" in out
+    assert f"|q| (rad)       {np.max(np.abs(q)):.4f}   0.95  {0.95 - np.max(np.abs(q)):.4f}" in out
+    assert "Active limit: |qdd| <= 3 rad/s²" in out
+
+
 def test_every_synthetic_command_takes_a_motion_file(d_plain, tmp_path, capsys):
     path = tmp_path / "design.json"
     path.write_text(motion_text(d_plain.motion))

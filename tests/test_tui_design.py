@@ -195,3 +195,14 @@ def test_escape_cancels_a_running_design_first(monkeypatch):
 
     running, stayed, state = run_app(scenario, NOISY)
     assert running and stayed and state == "cancelled"
+
+
+def test_the_explorer_opens_on_a_motion_file_as_its_fourth_motion():
+    motion = FourierMotion(8.0, 0.0, (0.0, 0.0, 1.2), (0.0, 0.0, 0.4))
+
+    async def scenario(pilot, app):
+        motions = app.screen.query_one("#motion", ChoiceList)
+        return motions.pressed, motions.hidden, app.screen.designed
+
+    pressed, hidden, designed = run_app(scenario, Settings(motion=motion, noise=0.2))
+    assert pressed == "motion-design" and "motion-design" not in hidden and designed == motion
