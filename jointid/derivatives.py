@@ -18,8 +18,29 @@ import numpy as np
 METHOD = "savitzky-golay"
 """Name of the differentiation method, as results and JSON record it."""
 
-DEFAULT_WINDOW = 201
-"""Default window (samples): 0.2 s at 1 kHz, see tests/test_derivatives.py for the evidence."""
+DEFAULT_WINDOW = None
+"""Default window: None, chosen from the log by `choose_window` (its span in time from the motion's bandwidth)."""
+
+BANDWIDTH_POWER = 0.999
+"""The motion's bandwidth is the frequency below which this share of the (detrended) angle's power lies."""
+
+LONGEST_PERIODS = 0.45
+"""Longest useful span, in periods of the bandwidth: an order-4 filter then passes that frequency's
+acceleration within 0.5 % (its gain at 0.45 periods), and slower components better."""
+
+NOISE_SHARE = 0.05
+"""Shortest useful span: the one whose acceleration noise (from q's noise) is this share of the
+acceleration's RMS, so errors in qdd bias the inertia by about its square (0.25 %)."""
+
+QDD_NOISE_GAIN = 94.0
+"""An order-4 second-derivative filter of n samples multiplies white noise by about 94 / n^2.5 / step^2
+(94.2 at n = 61, 96.1 at 21, 120 at 7): so its noise is 94 sigma_q sqrt(step) / span^2.5."""
+
+FALLBACK_SPAN = 0.2
+"""Window span (s) when the angle has no motion to measure a bandwidth on (a hold): 201 samples at 1 kHz."""
+
+MAX_SPAN_SHARE = 0.25
+"""An automatic window spans at most this share of the log, so trimming leaves most of it to fit."""
 
 DEFAULT_ORDER = 4
 """Default polynomial order: unbiased for quartics, so curvature inside the window costs little."""
@@ -50,6 +71,9 @@ class DerivativeEstimate:
     estimated: tuple[str, ...]
     """Columns that were estimated, a subset of ("qd", "qdd")."""
 
+    choice: WindowChoice | None = None
+    """Why this window: the automatic choice from the motion's bandwidth, or None when it was given."""
+
     def to_dict(self) -> dict:
         """Plain JSON-ready values."""
         return {
@@ -59,17 +83,130 @@ class DerivativeEstimate:
             "step": self.step,
             "trimmed_samples": self.trimmed,
             "estimated": list(self.estimated),
+            "window_chosen": "given" if self.choice is None else "automatic",
+            "bandwidth_hz": None if self.choice is None else self.choice.bandwidth,
         }
 
     @property
     def description(self) -> str:
         """One sentence for a person, e.g. in a note under the readouts."""
         names = " and ".join(self.estimated)
+        why = "given" if self.choice is None else self.choice.reason
         return (
             f"{names} estimated from q by Savitzky-Golay differentiation "
-            f"(window {self.window} samples spanning {(self.window - 1) * self.step:.6g} s, order {self.order}); "
-            f"{self.trimmed} edge samples trimmed."
+            f"(window {self.window} samples spanning {(self.window - 1) * self.step:.6g} s, order {self.order}; "
+            f"window {why}); {self.trimmed} edge samples trimmed."
         )
+
+
+@dataclass(frozen=True, eq=False)
+class WindowChoice:
+    """An automatic window: what it was chosen from and the sentence that says why."""
+
+    window: int
+    """Samples (odd)."""
+    bandwidth: float | None
+    """The angle's bandwidth (Hz), or None when it had no motion to measure."""
+    reason: str
+    """Why, for the note."""
+
+
+@dataclass(frozen=True)
+class MotionSpectrum:
+    """What the angle's spectrum shows: bandwidth, the acceleration's RMS within it, and q's noise."""
+
+    bandwidth: float
+    """Hz below which BANDWIDTH_POWER of the detrended angle's power lies."""
+    acceleration_rms: float
+    """RMS of the acceleration the band implies (rad/s^2)."""
+    noise: float
+    """Standard deviation of q's white noise (rad), from its fourth differences: quantisation included."""
+
+
+def motion_spectrum(q: np.ndarray, step: float) -> MotionSpectrum | None:
+    """The bandwidth, band acceleration RMS and noise of angles q sampled every `step` s; None without motion.
+
+    The straight line through q is removed first (a constant speed has no
+    acceleration), and a Hann window keeps the log's ends from spreading power
+    upward; its leakage only widens the band (so shortens the window: the safe
+    side). The noise comes from fourth differences, where smooth motion
+    vanishes (as step^4 times the fourth derivative) and white noise has
+    variance 70 sigma^2.
+    """
+    q = np.asarray(q, dtype=float)
+    count = len(q)
+    if count < 8:
+        return None
+    x = np.arange(count, dtype=float)
+    scale = float(np.max(np.abs(q)))
+    if not np.isfinite(scale) or scale == 0:
+        return None
+    q = q / scale  # squares of angles like 1e200 or 1e-200 stay in range; scaled back below
+    slope, intercept = np.polyfit(x, q, 1)
+    detrended = q - (slope * x + intercept)
+    power = np.abs(np.fft.rfft(detrended * np.hanning(count))) ** 2
+    power[0] = 0.0
+    total = power.sum()
+    if not np.isfinite(total) or total <= 0:
+        return None
+    with np.errstate(over="ignore"):  # a denormal step: an infinite bandwidth, which asks for the shortest window
+        frequencies = np.fft.rfftfreq(count, step)
+    index = min(int(np.searchsorted(np.cumsum(power) / total, BANDWIDTH_POWER)), len(power) - 1)
+    band = slice(0, index + 1)
+    # In cycles per sample first, so that a step like 1e-300 s cannot overflow the fourth power.
+    cycles = np.fft.rfftfreq(count)[band]
+    share = np.sum((2 * np.pi * cycles) ** 4 * power[band]) / total
+    with np.errstate(over="ignore", under="ignore"):  # an inf acceleration just asks for the shortest window
+        acceleration_rms = float(np.sqrt(np.mean(detrended**2) * share) * scale / step / step)
+        noise = float(np.sqrt(np.mean(np.diff(q, 4) ** 2) / 70.0) * scale)
+    return MotionSpectrum(float(frequencies[index]), acceleration_rms, noise)
+
+
+def motion_bandwidth(q: np.ndarray, step: float) -> float | None:
+    """Frequency (Hz) below which BANDWIDTH_POWER of the detrended angle's power lies, or None without motion."""
+    spectrum = motion_spectrum(q, step)
+    return None if spectrum is None else spectrum.bandwidth
+
+
+def choose_window(q: np.ndarray, step: float, order: int) -> WindowChoice:
+    """The automatic window for angles q sampled every `step` s, from the motion's bandwidth and q's noise.
+
+    Between the shortest span whose acceleration noise stays under NOISE_SHARE
+    of the acceleration and the longest that passes the bandwidth within 0.5 %
+    (LONGEST_PERIODS), the window takes their geometric mean: halving or
+    doubling it (the sensitivity check) then stays inside that range whenever
+    the range spans a factor of four. Clamped to at least order + 3 samples,
+    at most MAX_WINDOW and MAX_SPAN_SHARE of the log; odd.
+    """
+    spectrum = motion_spectrum(q, step)
+    if spectrum is None or spectrum.bandwidth <= 0 or spectrum.acceleration_rms <= 0:
+        bandwidth = None
+        span, why = FALLBACK_SPAN, f"automatic: {FALLBACK_SPAN:g} s, as q shows no motion to take a bandwidth from"
+    else:
+        bandwidth = spectrum.bandwidth
+        longest = LONGEST_PERIODS / bandwidth
+        shortest = (QDD_NOISE_GAIN * spectrum.noise * np.sqrt(step) / (NOISE_SHARE * spectrum.acceleration_rms)) ** 0.4
+        span = float(np.sqrt(shortest * longest))
+        why = (f"automatic: {span:.3g} s, between {shortest:.3g} s, where q's noise ({spectrum.noise:.2g} rad) "
+               f"makes {NOISE_SHARE:.0%} of the acceleration's RMS, and {longest:.3g} s, "
+               f"{LONGEST_PERIODS:g} periods of the motion's bandwidth {bandwidth:.3g} Hz")
+    samples = int(round(span / step)) + 1
+    limits = []
+    most = min(MAX_WINDOW, int(MAX_SPAN_SHARE * len(q)))
+    if samples > most:
+        samples = most
+        limits.append("cut to a quarter of the log" if most < MAX_WINDOW else f"cut to {MAX_WINDOW} samples")
+    least = order + 3
+    if samples < least:
+        samples = least
+        limits.append(f"raised to order + 3 = {least} samples")
+    window = samples if samples % 2 else samples + 1
+    if window > most:
+        window -= 2
+    window = max(window, least if least % 2 else least + 1)
+    if limits:
+        why += ", " + " and ".join(limits)
+    return WindowChoice(window, bandwidth, why)
 
 
 class FilterSettingError(ValueError):
@@ -81,8 +218,17 @@ class FilterSettingError(ValueError):
         self.problem = problem
 
 
-def check_filter(window: int, order: int) -> None:
-    """Raise FilterSettingError unless `window` is odd, 3 to MAX_WINDOW, and 2 <= `order` < `window`, <= MAX_ORDER."""
+def check_filter(window: int | None, order: int) -> None:
+    """Raise FilterSettingError unless `window` is odd, 3 to MAX_WINDOW, and 2 <= `order` < `window`, <= MAX_ORDER.
+
+    A window of None (automatic) checks the order alone; the window chosen later always exceeds it.
+    """
+    if window is None:
+        if not 2 <= order <= MAX_ORDER:
+            raise FilterSettingError(
+                "order", f"must be at least 2 (for acceleration) and at most {MAX_ORDER}; got {order}"
+            )
+        return
     if window < 3 or window % 2 == 0:
         raise FilterSettingError("window", f"must be an odd number of samples, at least 3; got {window}")
     if window > MAX_WINDOW:
