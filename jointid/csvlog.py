@@ -200,6 +200,19 @@ class JointLog:
             notes.append(f"{self.path}: {self.derivatives.description}")
         return tuple(notes)
 
+    @property
+    def short_notes(self) -> tuple[str, ...]:
+        """The notes in a few words each, naming the file without its folder, for a narrow status line."""
+        name = os.path.basename(self.path)
+        notes = []
+        if self.ignored:
+            notes.append(f"{name}: ignored " + ", ".join(repr(n) for n in self.ignored))
+        if self.timing is not None:
+            notes.extend(f"{name}: {text}" for text in self.timing.short_descriptions)
+        if self.derivatives is not None:
+            notes.append(f"{name}: {self.derivatives.short_description}")
+        return tuple(notes)
+
     def source_text(self) -> str:
         """One line describing what was read, e.g. for the line above the readouts."""
         units = "degrees converted to radians" if self.degrees else "radians"

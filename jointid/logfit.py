@@ -82,10 +82,14 @@ class LoadedLogs:
     def source_lines(self) -> tuple[str, ...]:
         """What was read: 'Training log PATH: N rows ...' and the same for the held-out log."""
         roles = ("Training log", "Held-out log")
-        lines = [f"{role} {log.source_text()}" for role, log in zip(roles, self.logs)]
+        return tuple(f"{role} {text}" for role, text in zip(roles, self.source_texts()))
+
+    def source_texts(self) -> tuple[str, ...]:
+        """Each log's source_text, the training log's with the samples left after decimation."""
+        texts = [log.source_text() for log in self.logs]
         if self.filter is not None and self.filter.decimation > 1:
-            lines[0] += f" ({self.result.training.count} after decimation)"
-        return tuple(lines)
+            texts[0] += f" ({self.result.training.count} after decimation)"
+        return tuple(texts)
 
     def notes(self) -> tuple[str, ...]:
         """The loaders' notes (ignored columns, timing, estimated derivatives) and the filter's, training log first."""
@@ -94,6 +98,15 @@ class LoadedLogs:
             notes.append(f"{self.training.path}: {self.filter.description}")
         if self.heldout is not None:
             notes.extend(self.heldout.notes)
+        return tuple(notes)
+
+    def short_notes(self) -> tuple[str, ...]:
+        """The notes in a few words each (files without folders), for a narrow status line."""
+        notes = list(self.training.short_notes)
+        if self.filter is not None:
+            notes.append(f"{os.path.basename(self.training.path)}: {self.filter.short_description}")
+        if self.heldout is not None:
+            notes.extend(self.heldout.short_notes)
         return tuple(notes)
 
 

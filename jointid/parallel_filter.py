@@ -96,6 +96,14 @@ class ParallelFilter:
                 "zero_phase": self.active, "decimation": self.decimation, "reason": self.reason}
 
     @property
+    def short_description(self) -> str:
+        """A few words for a narrow status line."""
+        if not self.active:
+            return "not low-passed"
+        kept = "" if self.decimation == 1 else f", every {self.decimation}th sample kept"
+        return f"torque and regressor low-passed at {self.cutoff:.3g} Hz{kept}"
+
+    @property
     def description(self) -> str:
         """One sentence for a person."""
         if not self.active:

@@ -23,15 +23,21 @@ def sensitivity_summary(check) -> str:
             f"(flagged above {THRESHOLD:g}).")
 
 
-def sensitivity_warning(check) -> str | None:
-    """'Your derivative settings decide this estimate: ...' naming each flagged parameter, or None."""
+def sensitivity_warning(check, compact: bool = False) -> str | None:
+    """'Your derivative settings decide this estimate: ...' naming each flagged parameter, or None.
+
+    Compact: each parameter with its largest move only, for a narrow status line.
+    """
     if not check.flagged:
         return None
     parts = []
     for j, name in enumerate(check.names):
         if check.flags[j]:
             variant, move = check.worst(j)
-            parts.append(f"{name} moves {f'{move:.2f}'} standard errors with the {variant.label}")
+            if compact:
+                parts.append(f"{name} moves {move:.1f} standard errors")
+            else:
+                parts.append(f"{name} moves {move:.2f} standard errors with the {variant.label}")
     return f"{SETTINGS_DECIDE}: " + "; ".join(parts) + "."
 
 

@@ -189,9 +189,9 @@ def log_status(logs, compact: bool = False) -> str:
     check = logs.sensitivity
     warning = () if check is None or not check.flagged else (sensitivity_warning(check),)
     if compact:
-        notes = (_without_folders(note, logs) for note in logs.notes())
-        return " ".join((logs.result.message, *warning, *map(as_sentence, notes)))
-    sources = (log.source_text() for log in logs.logs)
+        warning = () if not warning else (sensitivity_warning(check, compact=True),)
+        return " ".join((logs.result.message, *warning, *map(as_sentence, logs.short_notes())))
+    sources = logs.source_texts()
     summary = () if check is None else (sensitivity_summary(check),)
     return " ".join((logs.result.message, *warning, *summary, *map(as_sentence, (*sources, *logs.notes()))))
 
@@ -219,12 +219,3 @@ def log_sources(logs) -> tuple[str, ...]:
         f"{role}{os.path.basename(log.path)}: {log.rows} rows, {'degrees' if log.degrees else 'radians'}"
         for role, log in zip(roles, logs.logs)
     )
-
-
-def _without_folders(note: str, logs) -> str:
-    """A loader's note with each log's path (which it starts with) shortened to the file name."""
-    for log in logs.logs:
-        path = str(log.path)
-        if note.startswith(path):
-            return os.path.basename(path) + note[len(path):]
-    return note
