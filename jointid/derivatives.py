@@ -98,11 +98,11 @@ class DerivativeEstimate:
     def description(self) -> str:
         """One sentence for a person, e.g. in a note under the readouts."""
         names = " and ".join(self.estimated)
-        why = "given" if self.choice is None else self.choice.reason
+        why = "window given" if self.choice is None else self.choice.reason
         return (
             f"{names} estimated from q by Savitzky-Golay differentiation "
             f"(window {self.window} samples spanning {(self.window - 1) * self.step:.6g} s, order {self.order}; "
-            f"window {why}); {self.trimmed} edge samples trimmed."
+            f"{why}); {self.trimmed} edge samples trimmed."
         )
 
 
@@ -188,15 +188,15 @@ def choose_window(q: np.ndarray, step: float, order: int) -> WindowChoice:
     spectrum = motion_spectrum(q, step)
     if spectrum is None or spectrum.bandwidth <= 0 or spectrum.acceleration_rms <= 0:
         bandwidth = None
-        span, why = FALLBACK_SPAN, f"automatic: {FALLBACK_SPAN:g} s, as q shows no motion to take a bandwidth from"
+        span, why = FALLBACK_SPAN, f"automatic: {FALLBACK_SPAN:g} s, as q shows no motion to measure"
     else:
         bandwidth = spectrum.bandwidth
         longest = LONGEST_PERIODS / bandwidth
         shortest = (QDD_NOISE_GAIN * spectrum.noise * np.sqrt(step) / (NOISE_SHARE * spectrum.acceleration_rms)) ** 0.4
         span = float(np.sqrt(shortest * longest))
-        why = (f"automatic: {span:.3g} s, between {shortest:.3g} s, where q's noise ({spectrum.noise:.2g} rad) "
-               f"makes {NOISE_SHARE:.0%} of the acceleration's RMS, and {longest:.3g} s, "
-               f"{LONGEST_PERIODS:g} periods of the motion's bandwidth {bandwidth:.3g} Hz")
+        why = (f"automatic: geometric mean of {shortest:.3g} s, where q's noise ({spectrum.noise:.2g} rad) makes "
+               f"{NOISE_SHARE:.0%} of the acceleration, and {longest:.3g} s, {LONGEST_PERIODS:g} periods of the "
+               f"motion's bandwidth {bandwidth:.3g} Hz")
     samples = int(round(span / step)) + 1
     limits = []
     most = min(MAX_WINDOW, int(MAX_SPAN_SHARE * len(q)))

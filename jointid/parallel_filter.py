@@ -108,10 +108,9 @@ class ParallelFilter:
         """One sentence for a person."""
         if not self.active:
             return f"torque and regressor columns not low-passed: {self.reason}."
-        kept = "every sample kept" if self.decimation == 1 else f"then every {self.decimation}th sample kept"
-        return (f"torque and every regressor column low-passed alike at {self.cutoff:.3g} Hz "
-                f"(Butterworth order {ORDER}, forward and backward: zero phase) before the fit, {kept} "
-                f"({self.reason}); the training RMSE is of the filtered torque.")
+        kept = "" if self.decimation == 1 else f", then every {self.decimation}th sample kept"
+        return (f"torque and every regressor column low-passed alike at {self.cutoff:.3g} Hz (zero-phase "
+                f"Butterworth, order {ORDER}){kept} ({self.reason}); the training RMSE is of the filtered torque.")
 
 
 def choose_filter(request: FilterRequest, step: float | None, uniform: bool, bandwidth: float | None,
@@ -149,7 +148,7 @@ def choose_filter(request: FilterRequest, step: float | None, uniform: bool, ban
         why = f"automatic: {BANDWIDTH_MULTIPLE:g} times the motion's bandwidth {bandwidth:.3g} Hz"
     decimation = _decimation(request, cutoff, rate, count)
     if request.decimate is None and decimation > 1:
-        why += f"; decimated to {rate / decimation:.3g} Hz, twice the cutoff, so residuals stay about independent"
+        why += f"; {rate / decimation:.3g} Hz, twice the cutoff, keeps residuals about independent"
     return ParallelFilter(cutoff, rate, decimation, why)
 
 

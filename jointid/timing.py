@@ -94,8 +94,8 @@ class TimeCheck:
         if self.resampled:
             out.append(
                 f"time steps jitter by {self.median_jitter:.1%} (median) and {self.max_jitter:.1%} (max) of the "
-                f"median step {self.step:.6g} s; {self.rows_before - self.duplicates} samples resampled by "
-                f"{INTERPOLATION} interpolation onto a uniform {1 / self.step:.6g} Hz grid ({self.rows_after} samples)."
+                f"median step {self.step:.6g} s: resampled by {INTERPOLATION} interpolation onto a uniform "
+                f"{1 / self.step:.6g} Hz grid ({self.rows_after} samples)."
             )
         return tuple(out)
 

@@ -104,7 +104,7 @@ def test_the_text_output_states_what_was_chosen_and_why(capsys, tmp_path):
     assert main(["fit", "--csv", str(path)]) == 0
     out = capsys.readouterr().out
     assert "resampled by cubic spline interpolation onto a uniform" in out
-    assert "window automatic:" in out and "periods of the motion's bandwidth" in out
+    assert "automatic: geometric mean of" in out and "periods of the motion's bandwidth" in out
     assert "low-passed alike at" in out and "automatic: 12 times the motion's bandwidth" in out
     assert "Sensitivity check (window" in out and "each halved and doubled" in out
     assert "Your derivative settings decide" not in out

@@ -19,8 +19,7 @@ def sensitivity_summary(check) -> str:
                 if base.cutoff is not None else ""}
     varied = " and ".join(settings[name] for name in tried)
     moves = ", ".join(f"{name} {f'{check.worst(j)[1]:.2f}'}" for j, name in enumerate(check.names))
-    return (f"Sensitivity check ({varied}, each halved and doubled): largest moves {moves} standard errors "
-            f"(flagged above {THRESHOLD:g}).")
+    return f"Sensitivity check ({varied}, each halved and doubled): largest moves {moves} standard errors."
 
 
 def sensitivity_warning(check, compact: bool = False) -> str | None:
