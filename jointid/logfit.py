@@ -122,7 +122,7 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
     numbers leave double precision (an estimate or an RMSE that overflows would
     otherwise be shown as if it were a result) or the filter cannot apply.
     """
-    chosen = _filter_for(training, filtering)
+    chosen = low_pass_for(training, filtering)
     result = _fit(training, heldout, model, constrained, chosen)
     with np.errstate(over="ignore", invalid="ignore"):  # checked here, with the file named
         scores = ((training, result.training_rmse), (heldout, result.heldout_rmse))
@@ -135,7 +135,7 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
     return LoadedLogs(training, heldout, result, chosen, filtering, check)
 
 
-def _filter_for(log: JointLog, request: FilterRequest) -> ParallelFilter:
+def low_pass_for(log: JointLog, request: FilterRequest) -> ParallelFilter:
     """The low-pass for a log: as requested, or from the motion's bandwidth; LogError when it cannot apply."""
     timing = log.timing
     step = None if timing is None else timing.step
@@ -186,7 +186,7 @@ def _sensitivity(training: JointLog, model: JointModel, constrained: bool, chose
                 continue
             try:
                 log = training.with_window(other)
-                fit = _fit(log, None, model, constrained, _filter_for(log, same))
+                fit = _fit(log, None, model, constrained, low_pass_for(log, same))
             except LogError:  # too short for the wider window: that variant is skipped
                 continue
             variants.append(Variant("window", factor, other, chosen.cutoff, fit.estimate))
@@ -195,7 +195,7 @@ def _sensitivity(training: JointLog, model: JointModel, constrained: bool, chose
             # The same decimation, so the refits see the same samples and differ only by the cutoff.
             request = FilterRequest(chosen.cutoff * factor, chosen.decimation)
             try:
-                fit = _fit(training, None, model, constrained, _filter_for(training, request))
+                fit = _fit(training, None, model, constrained, low_pass_for(training, request))
             except LogError:  # a doubled cutoff beyond the Nyquist frequency: skipped
                 continue
             variants.append(Variant("cutoff", factor, window, request.cutoff, fit.estimate))

@@ -387,7 +387,8 @@ class MainScreen(Screen):
                                               joint=settings.true_joint))
         else:
             self.app.push_screen(LadderScreen(f"log {self.logs.name}", self.logs.training.data,
-                                              None if self.logs.heldout is None else self.logs.heldout.data))
+                                              None if self.logs.heldout is None else self.logs.heldout.data,
+                                              low_pass=self.logs.filter))
 
     def action_help(self) -> None:
         """Open the help screen."""
