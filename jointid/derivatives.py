@@ -11,6 +11,7 @@ not extrapolated, so every kept estimate comes from the same filter.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 from math import factorial
 
 import numpy as np
@@ -24,17 +25,14 @@ DEFAULT_WINDOW = None
 BANDWIDTH_POWER = 0.999
 """The motion's bandwidth is the frequency below which this share of the (detrended) angle's power lies."""
 
-LONGEST_PERIODS = 0.45
-"""Longest useful span, in periods of the bandwidth: an order-4 filter then passes that frequency's
-acceleration within 0.5 % (its gain at 0.45 periods), and slower components better."""
+PASSBAND_ERROR = 0.005
+"""Longest useful span: the one whose filter passes the bandwidth's acceleration within this share (0.45
+periods of it for order 4, 0.9 for order 6), and slower components better."""
 
 NOISE_SHARE = 0.05
 """Shortest useful span: the one whose acceleration noise (from q's noise) is this share of the
 acceleration's RMS, so errors in qdd bias the inertia by about its square (0.25 %)."""
 
-QDD_NOISE_GAIN = 94.0
-"""An order-4 second-derivative filter of n samples multiplies white noise by about 94 / n^2.5 / step^2
-(94.2 at n = 61, 96.1 at 21, 120 at 7): so its noise is 94 sigma_q sqrt(step) / span^2.5."""
 
 FALLBACK_SPAN = 0.2
 """Window span (s) when the angle has no motion to measure a bandwidth on (a hold): 201 samples at 1 kHz."""
@@ -42,7 +40,7 @@ FALLBACK_SPAN = 0.2
 MAX_SPAN_SHARE = 0.25
 """An automatic window spans at most this share of the log, so trimming leaves most of it to fit."""
 
-DEFAULT_ORDER = 4
+DEFAULT_ORDER = 6
 """Default polynomial order: unbiased for quartics, so curvature inside the window costs little."""
 
 MAX_WINDOW = 4001
@@ -175,6 +173,30 @@ def motion_bandwidth(q: np.ndarray, step: float) -> float | None:
     return None if spectrum is None else spectrum.bandwidth
 
 
+@lru_cache(maxsize=None)
+def order_constants(order: int) -> tuple[float, float]:
+    """(noise gain, longest periods) of an order-`order` second-derivative Savitzky-Golay filter.
+
+    Its n-sample filter multiplies white noise by about gain / n^2.5 / step^2
+    (94 for order 4, 212 for order 6, measured at n = 61), so the acceleration
+    noise is gain sigma_q sqrt(step) / span^2.5; and it passes a sine within
+    PASSBAND_ERROR up to a span of `periods` of the sine's period.
+    """
+    samples = 61 if order < 30 else 2 * order + 1
+    noise_gain = float(np.sqrt(np.sum(savgol_coefficients(samples, order, 2) ** 2)) * samples**2.5)
+    wide = 401
+    half = wide // 2
+    offsets = np.arange(-half, half + 1) / (wide - 1)  # the span is 1
+    weights = savgol_coefficients(wide, order, 2, 1 / (wide - 1))
+    periods = 0.05
+    while periods < 5:
+        w = 2 * np.pi * (periods + 0.01)
+        if 1 - np.sum(weights * np.cos(w * offsets)) / -(w * w) > PASSBAND_ERROR:
+            break
+        periods += 0.01
+    return noise_gain, periods
+
+
 def choose_window(q: np.ndarray, step: float, order: int) -> WindowChoice:
     """The automatic window for angles q sampled every `step` s, from the motion's bandwidth and q's noise.
 
@@ -191,11 +213,12 @@ def choose_window(q: np.ndarray, step: float, order: int) -> WindowChoice:
         span, why = FALLBACK_SPAN, f"automatic: {FALLBACK_SPAN:g} s, as q shows no motion to measure"
     else:
         bandwidth = spectrum.bandwidth
-        longest = LONGEST_PERIODS / bandwidth
-        shortest = (QDD_NOISE_GAIN * spectrum.noise * np.sqrt(step) / (NOISE_SHARE * spectrum.acceleration_rms)) ** 0.4
+        noise_gain, periods = order_constants(order)
+        longest = periods / bandwidth
+        shortest = (noise_gain * spectrum.noise * np.sqrt(step) / (NOISE_SHARE * spectrum.acceleration_rms)) ** 0.4
         span = float(np.sqrt(shortest * longest))
         why = (f"automatic: geometric mean of {shortest:.3g} s, where q's noise ({spectrum.noise:.2g} rad) makes "
-               f"{NOISE_SHARE:.0%} of the acceleration, and {longest:.3g} s, {LONGEST_PERIODS:g} periods of the "
+               f"{NOISE_SHARE:.0%} of the acceleration, and {longest:.3g} s, {periods:.2g} periods of the "
                f"motion's bandwidth {bandwidth:.3g} Hz")
     samples = int(round(span / step)) + 1
     limits = []

@@ -122,7 +122,7 @@ def test_angle_only_quantised_log_lands_within_tolerance(capsys, tmp_path, count
     assert np.max(np.abs(estimate / TRUE_PARAMETERS - 1)) <= tolerance
     window = document["derivatives"]["window"]
     assert document["derivatives"] == {
-        "method": "savitzky-golay", "window": window, "order": 4, "step": pytest.approx(0.001),
+        "method": "savitzky-golay", "window": window, "order": 6, "step": pytest.approx(0.001),
         "trimmed_samples": window - 1, "estimated": ["qd", "qdd"], "window_chosen": "automatic",
         "bandwidth_hz": pytest.approx(0.625, abs=0.2),
     }

@@ -75,8 +75,9 @@ def test_the_automatic_window_spans_about_the_same_time_at_every_rate(capsys, tm
         document = fit_document(capsys, write_log(tmp_path / f"robot_{rate}.csv", robot_log(rate)))
         derivatives = document["derivatives"]
         spans.append((derivatives["window"] - 1) * derivatives["step"])
-    # In samples the windows differ twentyfold; in time they stay within the band's 0.45 periods.
-    assert all(0.2 < span < 0.9 for span in spans), spans
+    # In samples the windows differ twentyfold; in time they stay within a factor 1.5 of each other, and
+    # under 0.92 periods of the motion's band (0.5 Hz here), where the order-6 filter starts to flatten it.
+    assert max(spans) / min(spans) < 1.5 and max(spans) < 0.92 / 0.5, spans
 
 
 def test_a_deliberately_short_window_raises_the_sensitivity_flag(capsys, tmp_path):
