@@ -149,17 +149,20 @@ def motion_spectrum(q: np.ndarray, step: float) -> MotionSpectrum | None:
     q = q / scale  # squares of angles like 1e200 or 1e-200 stay in range; scaled back below
     slope, intercept = np.polyfit(x, q, 1)
     detrended = q - (slope * x + intercept)
-    power = np.abs(np.fft.rfft(detrended * np.hanning(count))) ** 2
+    # Zero-padded to a power of two: the same spectrum, finer, and fast (a million and one samples, 101 x 9901,
+    # took 0.26 s unpadded).
+    size = 1 << int(np.ceil(np.log2(count)))
+    power = np.abs(np.fft.rfft(detrended * np.hanning(count), size)) ** 2
     power[0] = 0.0
     total = power.sum()
     if not np.isfinite(total) or total <= 0:
         return None
     with np.errstate(over="ignore"):  # a denormal step: an infinite bandwidth, which asks for the shortest window
-        frequencies = np.fft.rfftfreq(count, step)
+        frequencies = np.fft.rfftfreq(size, step)
     index = min(int(np.searchsorted(np.cumsum(power) / total, BANDWIDTH_POWER)), len(power) - 1)
     band = slice(0, index + 1)
     # In cycles per sample first, so that a step like 1e-300 s cannot overflow the fourth power.
-    cycles = np.fft.rfftfreq(count)[band]
+    cycles = np.fft.rfftfreq(size)[band]
     share = np.sum((2 * np.pi * cycles) ** 4 * power[band]) / total
     with np.errstate(over="ignore", under="ignore"):  # an inf acceleration just asks for the shortest window
         acceleration_rms = float(np.sqrt(np.mean(detrended**2) * share) * scale / step / step)

@@ -15,9 +15,7 @@ from ..csvlog import JointLog, LogError, load_log
 from ..derivatives import DEFAULT_ORDER, FilterSettingError, check_filter
 from ..logfit import LoadedLogs, fit_logs
 from ..model import model_named
-from ..parallel_filter import FilterRequest
 from ..present.readouts import readouts_text, uncertainty_text
-from ..present.sensitivity import sensitivity_text
 from ..settings import DEFAULT_SETTINGS
 from .arguments import UserError, finite_float, whole_number
 from .output import print_json
@@ -75,8 +73,10 @@ def cutoff_number(text: str) -> float:
     return value
 
 
-def filter_options(args: argparse.Namespace) -> FilterRequest:
-    """The parallel low-pass asked for by --cutoff and --decimate (None: automatic)."""
+def filter_options(args: argparse.Namespace):
+    """The parallel low-pass asked for by --cutoff and --decimate (None: automatic): a FilterRequest."""
+    from ..parallel_filter import FilterRequest
+
     return FilterRequest(getattr(args, "cutoff", None), getattr(args, "decimate", None))
 
 
@@ -134,6 +134,8 @@ def run_log_fit(args: argparse.Namespace) -> int:
     print()
     print(uncertainty_text(logs.result))
     if logs.sensitivity is not None:
+        from ..present.sensitivity import sensitivity_text
+
         print(sensitivity_text(logs.sensitivity))
     if logs.notes():
         print()
