@@ -55,9 +55,9 @@ def tmp_path_of(path):
     return path.parent
 
 
-async def load(pilot, path, role="training", degrees=False, filtering=FilterRequest()):
+async def load(pilot, path, role="training", degrees=False, filtering=FilterRequest(), window=None):
     """Load a file as the Ctrl+O dialog would, and wait until the worker's outcome is shown."""
-    pilot.app.screen.start_loading(LoadRequest(str(path), role, degrees, filtering=filtering))
+    pilot.app.screen.start_loading(LoadRequest(str(path), role, degrees, window=window, filtering=filtering))
     await pilot.app.workers.wait_for_complete()
     await pilot.pause()
 
@@ -382,3 +382,18 @@ async def test_closing_a_log_pushes_the_synthetic_fit_once(logs, monkeypatch):
         await pilot.press("m")  # a view opened on the current settings pushes nothing
         await pilot.pause()
         assert len(pushes) == 1
+
+
+@synchronous
+async def test_a_jittered_log_shows_its_notes_and_the_sensitivity_warning(tmp_path):
+    from test_real_logs import robot_log, write_log
+
+    path = write_log(tmp_path / "robot.csv", robot_log(300, duration=8.0))
+    for size, window in ((SIZE, None), ((80, 24), 31)):
+        app = make_app()
+        async with app.run_test(size=size) as pilot:
+            await load(pilot, path, window=window)
+            status = str(main_screen(app).query_one("#status").render())
+            assert "resampled" in status and "Savitzky-Golay" in status and "low-passed" in status
+            warned = "Your derivative settings decide this estimate" in status
+            assert warned == (window is not None), status
