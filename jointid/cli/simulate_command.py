@@ -19,7 +19,15 @@ from ..truth import TrueJoint
 from ..motions import ALL_MOTIONS, DURATION
 from ..noise import torque_noise
 from ..settings import DEFAULT_SETTINGS, SettingsError, check_setting
-from .arguments import UserError, bounded_number, positive_number, setting_type, whole_number
+from .arguments import (
+    UserError,
+    add_motion_file_argument,
+    bounded_number,
+    motion_from_file,
+    positive_number,
+    setting_type,
+    whole_number,
+)
 
 NAME = "simulate"
 
@@ -77,9 +85,11 @@ def add_parser(subparsers) -> None:
         "fix the third, and three that disagree are refused. The file is written atomically and never over an "
         "existing one without --force.",
     )
-    parser.add_argument("--motion", type=motion_name, default=DEFAULT_SETTINGS.motion,
+    motions = parser.add_mutually_exclusive_group()
+    motions.add_argument("--motion", type=motion_name, default=DEFAULT_SETTINGS.motion,
                         metavar="{" + ",".join(ALL_MOTIONS) + "}",
                         help=f"motion to sample, the validation motion test included; default {DEFAULT_SETTINGS.motion}")
+    add_motion_file_argument(motions)
     parser.add_argument("--noise", type=setting_type("noise"), default=DEFAULT_SETTINGS.noise, metavar="X",
                         help="bound of the uniform torque noise, 0 to 100 N m; default 0")
     parser.add_argument("--seed", type=setting_type("seed"), default=DEFAULT_SETTINGS.seed, metavar="S",
@@ -145,7 +155,8 @@ def run(args: argparse.Namespace) -> int:
         shift = np.random.default_rng(args.seed).uniform(-args.jitter, args.jitter, samples)
         shift[[0, -1]] = 0.0
         t = t + shift * (duration / (samples - 1))
-    states = ALL_MOTIONS[args.motion].states(t)
+    motion = ALL_MOTIONS[args.motion] if args.motion_file is None else motion_from_file(args.motion_file)
+    states = motion.states(t)
     joint = TrueJoint(coulomb=args.true_coulomb, bias=args.true_bias, angle_offset=args.true_angle_offset)
     tau = joint.measured_torque(states.q, states.qd, states.qdd) + torque_noise(args.noise, samples, args.seed)
     q = joint.logged_angle(states.q)
@@ -161,7 +172,7 @@ def run(args: argparse.Namespace) -> int:
     if args.jitter:
         quantised += f", sampling instants jittered by up to {args.jitter:g} steps"
     comment = (
-        f"# jointid simulate: {args.motion} motion, {samples} samples over {duration:g} s{quantised}, "
+        f"# jointid simulate: {motion.name} motion, {samples} samples over {duration:g} s{quantised}, "
         f"uniform torque noise bound {args.noise:g} N m, seed {args.seed}; true {truth}\n"
     )
     try:
@@ -172,5 +183,5 @@ def run(args: argparse.Namespace) -> int:
     except ExportError as error:
         hint = " (add --force to replace it)" if "already exists" in str(error) else ""
         raise UserError(f"{error}{hint}") from None
-    print(f"Wrote {args.out}: {samples} samples of {', '.join(names)} ({args.motion} motion, {duration:g} s).")
+    print(f"Wrote {args.out}: {samples} samples of {', '.join(names)} ({motion.name} motion, {duration:g} s).")
     return 0
