@@ -107,8 +107,7 @@ def compare_models(training: JointData, heldout: JointData | None = None, *, noi
     X = ALL_COLUMNS.data_regressor(training)
     tau = training.tau
     if low_pass is not None and (low_pass.active or low_pass.decimation > 1):
-        both = low_pass.apply(np.column_stack([X, tau]))
-        X, tau = both[:, :-1], np.ascontiguousarray(both[:, -1])
+        X, tau = low_pass.apply(X), low_pass.apply_column(tau)
     count = len(tau)
     factor = triangle_of(X, tau)
     heldout_X = None if heldout is None else ALL_COLUMNS.data_regressor(heldout)

@@ -123,7 +123,9 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
     otherwise be shown as if it were a result) or the filter cannot apply.
     """
     chosen = low_pass_for(training, filtering)
-    result = _fit(training, heldout, model, constrained, chosen)
+    # Built once at full rate: the fit and the sensitivity check's cutoff refits filter the same columns.
+    regressor = model.data_regressor(training.data) if chosen.active else None
+    result = _fit(training, heldout, model, constrained, chosen, regressor)
     with np.errstate(over="ignore", invalid="ignore"):  # checked here, with the file named
         scores = ((training, result.training_rmse), (heldout, result.heldout_rmse))
     for log, rmse in scores:
@@ -131,7 +133,7 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
             raise LogError(
                 log.path, "its predicted torques overflow double precision; rescale its columns (other units)"
             )
-    check = _sensitivity(training, model, constrained, chosen, result) if sensitivity else None
+    check = _sensitivity(training, model, constrained, chosen, result, regressor) if sensitivity else None
     return LoadedLogs(training, heldout, result, chosen, filtering, check)
 
 
@@ -151,27 +153,33 @@ def low_pass_for(log: JointLog, request: FilterRequest) -> ParallelFilter:
 
 
 def _fit(training: JointLog, heldout: JointLog | None, model: JointModel, constrained: bool,
-         chosen: ParallelFilter) -> FitResult:
-    """The fit of the training log's regressor and torque after the parallel low-pass and decimation."""
+         chosen: ParallelFilter, regressor: np.ndarray | None = None) -> FitResult:
+    """The fit of the training log's regressor and torque after the parallel low-pass and decimation.
+
+    `regressor`: the training log's full-rate regressor when already built (the
+    sensitivity check's cutoff refits share one); only the kept rows are filtered.
+    """
     data = training.data
-    regressor = None
+    kept = None
     if chosen.active or chosen.decimation > 1:
-        X = model.data_regressor(data)
-        both = chosen.apply(np.column_stack([X, data.tau]))
+        X = model.data_regressor(data) if regressor is None else regressor
         rows = chosen.rows(data.count)
-        regressor = both[:, :-1]
+        kept = chosen.apply(X)
         data = JointData(t=None if data.t is None else data.t[rows], q=data.q[rows], qd=data.qd[rows],
-                         qdd=data.qdd[rows], tau=np.ascontiguousarray(both[:, -1]))
+                         qdd=data.qdd[rows], tau=chosen.apply_column(data.tau))
     try:
         return fit_joint(data, None if heldout is None else heldout.data, model=model,
-                         constrained=constrained, heldout_is_noiseless=False, regressor=regressor)
+                         constrained=constrained, heldout_is_noiseless=False, regressor=kept)
     except NonFiniteError as error:
         raise LogError(training.path, f"cannot be fitted: {error}; rescale its columns (other units)") from None
 
 
 def _sensitivity(training: JointLog, model: JointModel, constrained: bool, chosen: ParallelFilter,
-                 result: FitResult) -> SensitivityCheck | None:
-    """Refits with the derivative window, then the cutoff, halved and doubled; None without a unique fit."""
+                 result: FitResult, regressor: np.ndarray | None) -> SensitivityCheck | None:
+    """Refits with the derivative window, then the cutoff, halved and doubled; None without a unique fit.
+
+    `regressor`: the training log's full-rate regressor, which the cutoff refits filter again.
+    """
     if result.estimate is None or result.uncertainty is None or result.uncertainty.std_error is None:
         return None
     estimate = training.derivatives
@@ -192,10 +200,11 @@ def _sensitivity(training: JointLog, model: JointModel, constrained: bool, chose
             variants.append(Variant("window", factor, other, chosen.cutoff, fit.estimate))
     if chosen.active:
         for factor in FACTORS:
-            # The same decimation, so the refits see the same samples and differ only by the cutoff.
+            # The same decimation, so the refits keep the same grid of samples (a few more or fewer at the
+            # ends, where the filter windows differ in length) and differ only by the cutoff.
             request = FilterRequest(chosen.cutoff * factor, chosen.decimation)
             try:
-                fit = _fit(training, None, model, constrained, low_pass_for(training, request))
+                fit = _fit(training, None, model, constrained, low_pass_for(training, request), regressor)
             except LogError:  # a doubled cutoff beyond the Nyquist frequency: skipped
                 continue
             variants.append(Variant("cutoff", factor, window, request.cutoff, fit.estimate))

@@ -1,4 +1,9 @@
-"""Parallel filtering: the model's regressor columns and the torque low-passed alike, then decimated; its options."""
+"""Parallel filtering: the model's regressor columns and the torque low-passed alike, then decimated; its options.
+
+The references are independent of jointid: the low-pass is designed here with
+scipy.signal (kaiserord, firwin) from its stated specification, applied with
+np.convolve at full rate, and every D-th sample with a full window is taken.
+"""
 
 from __future__ import annotations
 
@@ -6,16 +11,39 @@ import json
 
 import numpy as np
 import pytest
-from scipy.signal import butter, sosfiltfilt
+from import_check import packages_loaded
+from scipy.signal import firwin, kaiserord
 
 from jointid.cli import main
 from jointid.csvlog import LogError, LogTable, joint_log_from_table
 from jointid.logfit import fit_logs
 from jointid.model import model_named
-from jointid.parallel_filter import FilterRequest, choose_filter
+from jointid.parallel_filter import FilterRequest, LowPassDesign, ParallelFilter, choose_filter
 from jointid.sensitivity import SensitivityCheck, Variant
 
 G = 9.81
+
+
+def reference_taps(cutoff, rate):
+    """The stated low-pass, designed by scipy: a Kaiser-windowed sinc for 65 dB over a transition band the cutoff
+    wide (narrower near the Nyquist frequency), an odd number of taps, unit gain at 0 Hz."""
+    transition = min(cutoff, 2 * (rate / 2 - cutoff))
+    count, beta = kaiserord(65.0, transition / (rate / 2))
+    return firwin(count | 1, cutoff, window=("kaiser", beta), fs=rate)
+
+
+def low_passed_rows(column, taps, decimation):
+    """np.convolve at full rate, then every decimation-th sample (counted from the first) with a full window."""
+    half = (len(taps) - 1) // 2
+    full = np.convolve(column, taps, mode="valid")  # full[i] is centred on sample i + half
+    rows = [n for n in range(0, len(column), decimation) if half <= n < len(column) - half]
+    return full[np.array(rows) - half], rows
+
+
+def gain(taps, frequencies, rate):
+    """The zero-phase gain of symmetric taps: sum_k h[k] cos(2 pi f (k - centre) / rate)."""
+    offsets = np.arange(len(taps)) - (len(taps) - 1) / 2
+    return np.cos(2 * np.pi * np.outer(frequencies, offsets) / rate) @ taps
 
 
 def full_log(rate=200.0, duration=10.0, seed=4, coulomb=0.0):
@@ -36,23 +64,84 @@ def table_of(columns, path="log.csv"):
 
 @pytest.mark.parametrize("model", ["plain", "coulomb"])
 def test_the_fit_is_least_squares_on_the_filtered_regressor_columns_and_torque(model):
-    """Reference: the model's columns built by hand from q, qd, qdd, each filtered by scipy, then every D-th row."""
+    """Reference: the model's columns built by hand from q, qd, qdd, each low-passed by np.convolve with scipy's
+    taps, then every D-th row with a full window."""
     data = full_log(coulomb=0.3)
     logs = fit_logs(joint_log_from_table(table_of(data)), model=model_named(model),
                     filtering=FilterRequest(5.0, 10), sensitivity=False)
+    taps = reference_taps(5.0, 200.0)
     columns = [data["qdd"], G * np.cos(data["q"]), data["qd"]] + ([np.sign(data["qd"])] if model == "coulomb" else [])
-    sos = butter(4, 5.0, fs=200.0, output="sos")
-    X = np.column_stack([sosfiltfilt(sos, c) for c in columns])[::10]
-    y = sosfiltfilt(sos, data["tau"])[::10]
+    X = np.column_stack([low_passed_rows(c, taps, 10)[0] for c in columns])
+    y, rows = low_passed_rows(data["tau"], taps, 10)
     theta = np.linalg.lstsq(X, y, rcond=None)[0]
     np.testing.assert_allclose(logs.result.estimate, theta, rtol=1e-9)
     assert logs.result.training.count == len(y)
     np.testing.assert_allclose(logs.result.training.tau, y, rtol=1e-12)
+    np.testing.assert_array_equal(logs.result.training.t, data["t"][rows])  # the kept instants, not shifted
     # Filtering q and building the columns after would not be the same fit (cos is nonlinear, sign more so).
-    q_first = np.column_stack([sosfiltfilt(sos, data["qdd"]), G * np.cos(sosfiltfilt(sos, data["q"])),
-                               sosfiltfilt(sos, data["qd"])])[::10]
+    q_first = np.column_stack([low_passed_rows(data["qdd"], taps, 10)[0],
+                               G * np.cos(low_passed_rows(data["q"], taps, 10)[0]),
+                               low_passed_rows(data["qd"], taps, 10)[0]])
     if model == "plain":
         assert np.max(np.abs(np.linalg.lstsq(q_first, y, rcond=None)[0] - theta)) > 1e-6
+
+
+@pytest.mark.parametrize("rate", [50.0, 200.0, 1000.0])
+def test_the_taps_are_the_stated_low_pass(rate):
+    """Flat within 0.1 % to half the cutoff, 60 dB down from 1.5 times it (or the narrower band near Nyquist),
+    half the amplitude at the cutoff, unit gain at 0 Hz, symmetric (zero phase): read from the taps."""
+    for cutoff in np.geomspace(rate / 400, 0.49 * rate, 9):
+        taps = LowPassDesign(cutoff, rate).taps
+        np.testing.assert_allclose(taps, reference_taps(cutoff, rate), rtol=0, atol=1e-15)
+        assert len(taps) % 2 == 1 and np.array_equal(taps, taps[::-1]) and taps.sum() == pytest.approx(1, abs=1e-14)
+        transition = min(cutoff, 2 * (rate / 2 - cutoff))
+        frequencies = np.linspace(0, rate / 2, 4001)
+        response = gain(taps, frequencies, rate)
+        passband = frequencies <= cutoff - transition / 2
+        stopband = frequencies >= cutoff + transition / 2
+        assert np.max(np.abs(response[passband] - 1)) <= 1e-3, cutoff
+        assert np.max(np.abs(response[stopband])) <= 1e-3, cutoff
+        assert gain(taps, [cutoff], rate)[0] == pytest.approx(0.5, abs=2e-3)
+
+
+def test_only_the_kept_samples_are_computed_and_they_are_the_full_rate_filter_s():
+    """Polyphase at the kept rows against np.convolve at full rate, over random lengths, rates and decimations."""
+    rng = np.random.default_rng(11)
+    for _ in range(60):
+        rate = float(rng.choice([50, 300, 1000]))
+        cutoff = float(rng.uniform(0.02, 0.45)) * rate
+        decimation = int(rng.integers(1, 40))
+        chosen = ParallelFilter(cutoff, rate, decimation, "test")
+        taps = reference_taps(cutoff, rate)
+        count = int(rng.integers(len(taps), len(taps) + 2000))
+        columns = rng.normal(size=(count, 2))
+        expected, rows = low_passed_rows(columns[:, 1], taps, decimation)
+        np.testing.assert_array_equal(chosen.rows(count), rows)
+        np.testing.assert_allclose(chosen.apply(columns)[:, 1], expected, rtol=0, atol=1e-13)
+        np.testing.assert_allclose(chosen.apply_column(np.ascontiguousarray(columns[:, 1])), expected,
+                                   rtol=0, atol=1e-13)
+
+
+def test_one_filter_on_both_sides_keeps_the_model_exact():
+    """L(X theta) = L(X) theta for hand-built columns, including a sign column and a constant."""
+    rng = np.random.default_rng(2)
+    t = np.arange(5000) / 500.0
+    q = 0.9 * np.sin(0.7 * t) + 0.3 * np.sin(2.9 * t + 1)
+    X = np.column_stack([np.gradient(np.gradient(q, t), t), G * np.cos(q), np.gradient(q, t),
+                         np.sign(np.gradient(q, t)), np.ones_like(t)])
+    theta = rng.normal(size=5)
+    chosen = ParallelFilter(4.0, 500.0, 62, "test")
+    np.testing.assert_allclose(chosen.apply_column(X @ theta), chosen.apply(X) @ theta, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(chosen.apply(X)[:, 4], 1.0, rtol=0, atol=1e-14)  # unit gain at 0 Hz
+
+
+def test_a_default_log_fit_imports_no_scipy(tmp_path):
+    data = full_log()
+    path = tmp_path / "log.csv"
+    path.write_text("t,q,tau\n" + "".join(f"{a!r},{b!r},{c!r}\n" for a, b, c in
+                                          zip(data["t"], data["q"], data["tau"])))
+    run = f"jointid.cli.main(['fit', '--csv', {str(path)!r}, '--json'])"
+    assert packages_loaded("jointid.cli", {"scipy"}, run) == []
 
 
 def test_noise_free_data_stay_exact_through_the_filter():
@@ -69,7 +158,11 @@ def test_the_automatic_choice_is_twelve_bandwidths_and_decimates_to_twice_the_cu
     too_fast = choose_filter(FilterRequest(), 0.1, True, 0.5, 1000)  # 6 Hz against a 5 Hz Nyquist frequency
     assert not too_fast.active and "reaches the Nyquist frequency" in too_fast.reason
     short = choose_filter(FilterRequest(), 0.001, True, 0.5, 1000)
-    assert short.decimation == 1000 // 50  # never fewer than 50 samples left
+    with_window = 1000 - (len(reference_taps(6.0, 1000.0)) - 1)  # samples with a full window of taps
+    assert short.decimation == with_window // 50  # never fewer than 50 samples left
+    assert len(short.rows(1000)) >= 50
+    shorter = choose_filter(FilterRequest(), 0.001, True, 0.5, 600)  # fewer samples than taps + 50
+    assert not shorter.active and "leaves fewer than 50 of the log's 600 samples with a full window" in shorter.reason
 
 
 def test_off_and_given_settings(capsys, tmp_path):
@@ -83,8 +176,12 @@ def test_off_and_given_settings(capsys, tmp_path):
     assert off["low_pass"]["cutoff_hz"] is None and off["samples"] == len(data["t"])
     assert main(["fit", "--csv", str(path), "--json", "--cutoff", "4", "--decimate", "3"]) == 0
     given = json.loads(capsys.readouterr().out)
-    assert (given["low_pass"]["cutoff_hz"], given["low_pass"]["decimation"]) == (4.0, 3)
-    assert given["samples"] == len(range(0, len(data["t"]), 3))
+    low_pass = given["low_pass"]
+    assert (low_pass["cutoff_hz"], low_pass["decimation"]) == (4.0, 3)
+    taps = len(reference_taps(4.0, 200.0))
+    assert (low_pass["taps"], low_pass["edge_samples_dropped"]) == (taps, (taps - 1) // 2)
+    assert (low_pass["passband_edge_hz"], low_pass["stopband_edge_hz"]) == (2.0, 6.0)
+    assert given["samples"] == len(low_passed_rows(data["t"], np.ones(taps) / taps, 3)[1])
     cutoffs = [s["cutoff_hz"] for s in given["sensitivity"]["settings"]]
     assert cutoffs == [4.0, 2.0, 8.0]  # nothing differentiated: only the cutoff is varied
 
@@ -93,6 +190,7 @@ def test_off_and_given_settings(capsys, tmp_path):
     (["--cutoff", "100"], "cutoff must be below the Nyquist frequency 100 Hz of this log; got 100"),
     (["--cutoff", "-1"], "argument --cutoff: must be a number of hertz, 0 (off) or more"),
     (["--decimate", "0"], "argument --decimate"),
+    (["--cutoff", "0.5"], "cannot be low-passed: the cutoff 0.5 Hz needs at least"),
 ])
 def test_filter_mistakes_are_one_line_and_exit_2(capsys, tmp_path, options, words):
     data = full_log(rate=200.0, duration=2.0)
@@ -130,3 +228,16 @@ def test_the_sensitivity_flag_is_a_move_of_more_than_two_standard_errors():
     document = check.to_dict()
     assert document["flagged"] is True and document["flags"] == {"I": False, "h": True, "B": False}
     assert [s["setting"] for s in document["settings"]] == [None, "window", "cutoff"]
+
+
+def test_the_note_names_the_filter_and_counts_in_ordinals():
+    chosen = ParallelFilter(5.0, 200.0, 21, "cutoff given")
+    taps = len(reference_taps(5.0, 200.0))
+    assert chosen.description == (
+        f"torque and every regressor column low-passed alike at 5 Hz (zero-phase FIR, Kaiser-windowed sinc, "
+        f"{taps} taps, Kaiser beta 6.2: flat within 0.1% below 2.5 Hz, 60 dB down above 7.5 Hz; the "
+        f"{(taps - 1) // 2} samples at each end, without a full window, not kept), then every 21st sample kept "
+        f"(cutoff given); the training RMSE is of the filtered torque.")
+    assert chosen.short_description == "torque and regressor low-passed at 5 Hz, every 21st sample kept"
+    assert ", every 22nd sample" in ParallelFilter(5.0, 200.0, 22, "").short_description
+    assert ", every 12th sample" in ParallelFilter(5.0, 200.0, 12, "").short_description

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from ..residuals import AXIS_LABELS
-from .text import format_number
+from .text import format_number, ordinal
 
 if TYPE_CHECKING:
     from ..dataset import JointData
@@ -69,12 +69,6 @@ class ChartData:
 def thin_stride(count: int, columns: int) -> int:
     """k such that every k-th of `count` samples gives at most `columns` points (1: show all)."""
     return max(1, math.ceil(count / max(columns, 1)))
-
-
-def ordinal(number: int) -> str:
-    """2nd, 3rd, 4th, 11th, 21st ..."""
-    suffix = "th" if 10 <= number % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(number % 10, "th")
-    return f"{number}{suffix}"
 
 
 def torque_chart(result: FitResult, data: JointData, predictions: np.ndarray | None, rmse: float | None, *,

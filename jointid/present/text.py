@@ -16,6 +16,12 @@ be 160 characters wide. Below: 1e-170 would read 0.000000, as if nothing moved; 
 residues (about 1e-16 of their scale) stay well above it, so their zeros still read 0.000000."""
 
 
+def ordinal(number: int) -> str:
+    """2nd, 3rd, 4th, 11th, 21st ..."""
+    suffix = "th" if 10 <= number % 100 <= 20 else {1: "st", 2: "nd", 3: "rd"}.get(number % 10, "th")
+    return f"{number}{suffix}"
+
+
 def format_number(value: float, decimals: int = 6) -> str:
     """Fixed-point text with `decimals` places and no negative zero (scientific outside FIXED_POINT_RANGE)."""
     low, high = FIXED_POINT_RANGE
