@@ -67,7 +67,9 @@ def test_noiseless_full_log_recovers_the_truth(capsys, tmp_path):
     assert document["source"] == {"training": str(path), "heldout": None}
     decimation = document["low_pass"]["decimation"]
     assert document["low_pass"]["cutoff_hz"] is not None and decimation > 1
-    assert document["samples"] == len(range(0, 500, decimation)) and document["rank"] == 3
+    edge = document["low_pass"]["edge_samples_dropped"]  # (taps - 1) / 2: test_parallel_filter checks the taps
+    kept = [n for n in range(0, 500, decimation) if edge <= n < 500 - edge]  # every D-th with a full window
+    assert document["samples"] == len(kept) and document["rank"] == 3
     assert document["heldout_rmse"] is None
     assert document["expected_std_error"] is None
     assert "No held-out data" in document["message"]
@@ -126,7 +128,9 @@ def test_angle_only_quantised_log_lands_within_tolerance(capsys, tmp_path, count
         "trimmed_samples": window - 1, "estimated": ["qd", "qdd"], "window_chosen": "automatic",
         "bandwidth_hz": pytest.approx(0.625, abs=0.2),
     }
-    assert document["samples"] == len(range(0, 8001 - (window - 1), document["low_pass"]["decimation"]))
+    count, edge = 8001 - (window - 1), document["low_pass"]["edge_samples_dropped"]
+    kept = [n for n in range(0, count, document["low_pass"]["decimation"]) if edge <= n < count - edge]
+    assert document["samples"] == len(kept)
 
 
 def test_the_quantised_angles_are_whole_counts(capsys, tmp_path):
