@@ -11,10 +11,11 @@ rotated order each round:
 - off:     `jointid fit --csv FILE --json --cutoff 0` (neither),
 - pandas:  the script a user would write, `pandas.read_csv(path)` + `numpy.linalg.lstsq`.
 
-Each child's wall time (from spawning it to its exit) and peak resident set
-(ru_maxrss from os.wait4; this parent imports nothing heavy before the
-children run, so its own pages do not count) are printed as min / median /
-max over the rounds, with per-round ratios. Goals: the default's overhead over
+Each child's wall time (from spawning it to its exit), CPU time (user +
+system, less disturbed than wall time by other processes on a shared machine)
+and peak resident set (ru_maxrss from os.wait4; this parent imports nothing
+heavy before the children run, so its own pages do not count) are printed as
+min / median / max over the rounds, with per-round ratios. Goals: the default's overhead over
 `off`, (default - off) / pandas per round, at most 0.10 at the median; the
 default's peak RSS at most the pandas script's (median of the per-round ratio
 at most 1.0).
@@ -51,8 +52,8 @@ GOAL_RSS = 1.0
 """default peak RSS / pandas peak RSS, median over the rounds."""
 
 
-def run(command: list[str]) -> tuple[float, int]:
-    """(wall seconds, peak RSS bytes) of one child process, its output discarded; exits on failure."""
+def run(command: list[str]) -> tuple[float, float, int]:
+    """(wall seconds, CPU seconds, peak RSS bytes) of one child process, its output discarded; exits on failure."""
     env = dict(os.environ, PYTHONPATH=str(ROOT))
     devnull = os.open(os.devnull, os.O_WRONLY)
     actions = [(os.POSIX_SPAWN_DUP2, devnull, 1)]
@@ -63,7 +64,7 @@ def run(command: list[str]) -> tuple[float, int]:
     os.close(devnull)
     if os.waitstatus_to_exitcode(status) != 0:
         raise SystemExit(f"failed: {' '.join(command)}")
-    return seconds, usage.ru_maxrss * 1024
+    return seconds, usage.ru_utime + usage.ru_stime, usage.ru_maxrss * 1024
 
 
 def spread(values) -> str:
@@ -101,6 +102,8 @@ def in_process(path: Path, rounds: int) -> None:
     for name in ("default", "off"):
         ratios = [a / b for a, b in zip(times[name], times["lstsq"])]
         print(f"  fit_logs {name:<8} / one lstsq of the {len(tau)} x 3 regressor: {spread(ratios)}")
+    added = [(d - o) / b for d, o, b in zip(times["default"], times["off"], times["lstsq"])]
+    print(f"  (default - off) / lstsq, what the filter and the check add: {spread(added)}")
     print(f"  (seconds, min / median / max: default {spread(times['default'])}, off {spread(times['off'])}, "
           f"lstsq {spread(times['lstsq'])})")
 
@@ -118,21 +121,26 @@ def main(rows: int = 1_000_000, rounds: int = 7) -> int:
         fit = [python, "-m", "jointid", "fit", "--csv", str(path), "--json"]
         commands = {"default": fit, "off": fit + ["--cutoff", "0"], "pandas": [python, str(script), str(path)]}
         seconds = {name: [] for name in commands}
+        cpu = {name: [] for name in commands}
         rss = {name: [] for name in commands}
         names = list(commands)
         for round_ in range(rounds):
             for name in names[round_ % 3:] + names[: round_ % 3]:
-                wall, peak = run(commands[name])
+                wall, used, peak = run(commands[name])
                 seconds[name].append(wall)
+                cpu[name].append(used)
                 rss[name].append(peak)
-        print("fresh processes, seconds and peak RSS (MB), min / median / max:")
+        print("fresh processes, wall seconds, CPU seconds (user + system) and peak RSS (MB), min / median / max:")
         for name in names:
-            print(f"  {name:<8} {spread(seconds[name])} s   {spread([b / 1e6 for b in rss[name]])} MB")
+            print(f"  {name:<8} {spread(seconds[name])} s   {spread(cpu[name])} s CPU   "
+                  f"{spread([b / 1e6 for b in rss[name]])} MB")
         per_round = {
             "default / pandas, time": [d / p for d, p in zip(seconds["default"], seconds["pandas"])],
             "off / pandas, time": [o / p for o, p in zip(seconds["off"], seconds["pandas"])],
             "(default - off) / pandas, time": [(d - o) / p for d, o, p in
                                                zip(seconds["default"], seconds["off"], seconds["pandas"])],
+            "(default - off) / pandas, CPU": [(d - o) / p for d, o, p in
+                                              zip(cpu["default"], cpu["off"], cpu["pandas"])],
             "default / pandas, peak RSS": [d / p for d, p in zip(rss["default"], rss["pandas"])],
             "default / off, peak RSS": [d / o for d, o in zip(rss["default"], rss["off"])],
         }
