@@ -85,10 +85,14 @@ class LoadedLogs:
         return tuple(f"{role} {text}" for role, text in zip(roles, self.source_texts()))
 
     def source_texts(self) -> tuple[str, ...]:
-        """Each log's source_text, the training log's with the samples left after decimation."""
+        """Each log's source_text, the training log's with the samples left after the low-pass and decimation."""
         texts = [log.source_text() for log in self.logs]
-        if self.filter is not None and self.filter.decimation > 1:
-            texts[0] += f" ({self.result.training.count} after decimation)"
+        chosen = self.filter
+        if chosen is not None and (chosen.active or chosen.decimation > 1):
+            # The low-pass keeps only samples with a full window of taps; decimation every D-th of those.
+            steps = [step for step, used in (("the low-pass", chosen.active), ("decimation", chosen.decimation > 1))
+                     if used]
+            texts[0] += f" ({self.result.training.count} after {' and '.join(steps)})"
         return tuple(texts)
 
     def notes(self) -> tuple[str, ...]:
