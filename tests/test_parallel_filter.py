@@ -18,7 +18,12 @@ from jointid.cli import main
 from jointid.csvlog import LogError, LogTable, joint_log_from_table
 from jointid.logfit import fit_logs
 from jointid.model import model_named
-from jointid.parallel_filter import FilterRequest, LowPassDesign, ParallelFilter, choose_filter
+from jointid.parallel_filter import (
+    FilterRequest,
+    LowPassDesign,
+    ParallelFilter,
+    choose_filter,
+)
 from jointid.sensitivity import SensitivityCheck, Variant
 
 G = 9.81
