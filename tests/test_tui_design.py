@@ -2,17 +2,22 @@
 
 from __future__ import annotations
 
+import os
+import signal
 from dataclasses import replace
+from functools import partial
 
 import numpy as np
-from textual.widgets import Static
+from textual.widgets import ProgressBar, Static
 
+from design_stand_ins import broken_design, gone
+from jointid import design_process
 from jointid.fourier import FourierMotion, load_motion
 from jointid.settings import Settings
 from tui.screens.design import DesignScreen
 from tui.screens.main import MainScreen
 from tui.widgets.direct_controls import ChoiceList
-from tui_support import run_app
+from tui_support import run_app, time_limit
 
 NOISY = Settings(noise=0.2)
 
@@ -206,3 +211,84 @@ def test_the_explorer_opens_on_a_motion_file_as_its_fourth_motion():
 
     pressed, hidden, designed = run_app(scenario, Settings(motion=motion, noise=0.2))
     assert pressed == "motion-design" and "motion-design" not in hidden and designed == motion
+
+
+async def running_design_pid(pilot, screen) -> int:
+    """Press g and wait until the view's design process is optimising (its first start reported)."""
+    await pilot.press("g")
+    for _ in range(600):  # the child's start-up (imports) takes about a second here
+        if screen.designer is not None and screen.designer.pid is not None and screen.query_one(ProgressBar).progress:
+            return screen.designer.pid
+        await pilot.pause(0.05)
+    raise AssertionError("the design process never reported a start")
+
+
+def test_cancel_kills_the_design_process(monkeypatch):
+    long_designs(monkeypatch)
+
+    async def scenario(pilot, app):
+        screen = await open_design(pilot)
+        pid = await running_design_pid(pilot, screen)
+        await pilot.press("c")
+        await app.workers.wait_for_complete()
+        await pilot.pause()
+        return pid, screen.designer.pid, text_of(screen, "#design-state")
+
+    with time_limit(120):
+        pid, now, state = run_app(scenario, NOISY)
+    assert gone(pid) and now is None and state == "cancelled"
+
+
+def test_quitting_while_a_design_runs_leaves_no_process(monkeypatch):
+    long_designs(monkeypatch)
+
+    async def scenario(pilot, app):
+        screen = await open_design(pilot)
+        pid = await running_design_pid(pilot, screen)
+        await pilot.press("ctrl+q")
+        return pid
+
+    with time_limit(120):
+        pid = run_app(scenario, NOISY)
+    assert gone(pid)
+
+
+def test_closing_the_view_ends_its_idle_design_process():
+    async def scenario(pilot, app):
+        screen = await run_design(pilot)
+        pid = screen.designer.pid  # the child waits for the next design
+        alive = not gone(pid)
+        await pilot.press("escape")
+        await pilot.pause()
+        return pid, alive, app.screen
+
+    pid, alive, back = run_app(scenario, NOISY)
+    assert alive and gone(pid) and isinstance(back, MainScreen)
+
+
+def test_a_failure_inside_the_optimiser_is_a_notification(monkeypatch):
+    monkeypatch.setattr(design_process, "DesignProcess", partial(design_process.DesignProcess, broken_design))
+
+    async def scenario(pilot, app):
+        screen = await run_design(pilot)
+        return screen.result, text_of(screen, "#design-state"), [(n.title, n.message) for n in app._notifications]
+
+    result, state, notes = run_app(scenario, NOISY)
+    assert result is None and state == "no design"
+    assert ("No design", "the optimiser failed: ZeroDivisionError: division by zero") in notes
+
+
+def test_a_design_process_killed_from_outside_is_a_notification(monkeypatch):
+    long_designs(monkeypatch)
+
+    async def scenario(pilot, app):
+        screen = await open_design(pilot)
+        pid = await running_design_pid(pilot, screen)
+        os.kill(pid, signal.SIGKILL)
+        await app.workers.wait_for_complete()
+        await pilot.pause()
+        return text_of(screen, "#design-state"), [n.message for n in app._notifications]
+
+    with time_limit(120):
+        state, messages = run_app(scenario, NOISY)
+    assert state == "no design" and "the optimiser's process stopped (exit status -9)" in messages

@@ -285,6 +285,34 @@ def after_compositor_refresh(callback: Callable[[Screen], None]) -> Callable[[],
     return undo
 
 
+def after_screen_update(callback: Callable[[Screen], None]) -> Callable[[], None]:
+    """Call `callback(screen)` after every frame of a screen's update timer, layout included; returns an undo.
+
+    A frame that lays out the screen paints (`_compositor_refresh`) before Textual clears its layout flag,
+    so `screen_settled` read in an `after_compositor_refresh` callback calls such a frame unsettled; read
+    here, after the whole frame, it is exact (benchmarks/bench_design.py: with a progress readout laying
+    out the screen most frames, no key's frame ever looked settled there).
+
+    Raises:
+        RuntimeError: The installed Textual is not the pinned one, whose update method this wraps.
+    """
+    _require_pinned_textual("after_screen_update")
+    from textual.screen import Screen
+
+    original = Screen._on_timer_update
+
+    def update_then_call(screen: Screen) -> None:
+        original(screen)
+        callback(screen)
+
+    Screen._on_timer_update = update_then_call
+
+    def undo() -> None:
+        Screen._on_timer_update = original
+
+    return undo
+
+
 def app_exception(app) -> BaseException | None:
     """The exception an app ended by, or None (Textual keeps the first one in a private attribute)."""
     return getattr(app, "_exception", None)  # absent in another release: fall back to the return code

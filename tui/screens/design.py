@@ -1,7 +1,9 @@
 """The design view: the Fourier-series motion that reveals the parameters best within the joint's limits.
 
-The limits and the criterion are fields here; the optimiser runs in a worker
-thread with a progress bar and can be cancelled. The result shows q(t) against
+The limits and the criterion are fields here; the optimiser runs in a child
+process (`jointid.design_process`), so it never holds the GIL the app's loop
+needs, waited on by a worker thread, with a progress bar; cancelling kills the
+process, and so does closing the view. The result shows q(t) against
 rich motion's, both motions' expected standard errors, the limits' margins and
 the verdict (the `cond` criterion's counter-example included). `t` trains the
 explorer on the design (it joins the motion list as a fourth motion); `w`
@@ -11,7 +13,6 @@ saves it as a motion file for `--motion-file`.
 from __future__ import annotations
 
 import math
-import time
 from contextlib import suppress
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -107,6 +108,8 @@ class DesignScreen(Screen):
         self.result = result
         self.limits = dict(limits or {**RICH_ENVELOPE, "tau_max": 0.0})
         self.criterion = criterion
+        self.designer = None
+        """The jointid.design_process.DesignProcess that runs this view's designs (started at the first run)."""
 
     def compose(self) -> ComposeResult:
         """Title; limits, criterion and progress beside the chart; the comparison below; footer."""
@@ -175,31 +178,31 @@ class DesignScreen(Screen):
         self.query_one(ProgressBar).update(total=spec.starts, progress=0)
         self.query_one("#design-state", Static).update(f"running: 0 of {spec.starts} starts…")
         self.refresh_bindings()
-        self.design(spec)
+        if self.designer is None:
+            from jointid.design_process import DesignProcess
+
+            self.designer = DesignProcess()
+        self.design(self.designer, spec)
 
     @work(thread=True, exclusive=True, group="design")
-    def design(self, spec) -> None:
-        """Optimise in a thread, reporting each start; the outcome is shown on the main thread."""
-        from jointid.design import DesignCancelled, DesignError, design_motion
+    def design(self, designer, spec) -> None:
+        """Wait in a thread for the design process, reporting each start; the outcome is shown on the main thread."""
+        from jointid.design import DesignCancelled, DesignError
+        from jointid.design_process import DesignFailed
 
         worker = get_current_worker()
 
-        def progress(done: int, total: int) -> None:
+        def progress(done: int, total: int) -> None:  # a few times a second (design_process.PROGRESS_SECONDS)
             if not worker.is_cancelled:
                 self.app.call_from_thread(self._progress, worker, done, total)
 
-        def cancelled() -> bool:
-            # Polled at every criterion evaluation (a few thousand a second). sleep(0) hands the GIL to
-            # the app's loop if it waits for it, rather than after Python's 5 ms switch interval: a key
-            # pressed during a design is then handled as fast as when idle (benchmarks/bench_design.py).
-            time.sleep(0)
-            return worker.is_cancelled
-
         try:
-            result = design_motion(spec, progress=progress, cancelled=cancelled)
+            # In this view's child process: a design in this thread would hold the GIL between its numpy
+            # calls and delay the app's keys (benchmarks/bench_design.py, part 3).
+            result = designer.run(spec, progress=progress, cancelled=lambda: worker.is_cancelled)
         except DesignCancelled:
             return
-        except DesignError as error:
+        except (DesignError, DesignFailed) as error:
             if not worker.is_cancelled:
                 self.app.call_from_thread(self._failed, worker, str(error))
             return
@@ -213,7 +216,8 @@ class DesignScreen(Screen):
             return
         with suppress(NoMatches):
             self.query_one(ProgressBar).update(total=total, progress=done)
-            self.query_one("#design-state", Static).update(f"running: {done} of {total} starts…")
+            # One line of fixed size (views.tcss): no layout, only this line and the bar repaint.
+            self.query_one("#design-state", Static).update(f"running: {done} of {total} starts…", layout=False)
 
     def _failed(self, worker: Worker, problem: str) -> None:
         if worker.is_cancelled:
@@ -255,6 +259,11 @@ class DesignScreen(Screen):
             with suppress(NoMatches):
                 self.query_one("#design-state", Static).update("cancelled")
 
+    def on_unmount(self) -> None:
+        """Closing the view (or the app) ends its design process, running or not."""
+        if self.designer is not None:
+            self.designer.close()
+
     def check_action(self, action: str, parameters: tuple) -> bool | None:
         """Cancel only while a design runs; train and save only with a design to use (dimmed otherwise)."""
         if action == "cancel":
@@ -268,6 +277,7 @@ class DesignScreen(Screen):
         if not self.running:
             return False
         self.workers.cancel_group(self, "design")
+        self.designer.stop()  # at once, whatever the optimiser is doing
         self.query_one("#design-state", Static).update("cancelled")
         return True
 
