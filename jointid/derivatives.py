@@ -15,23 +15,10 @@ from math import factorial
 
 import numpy as np
 
+from .choices import DEFAULT_ORDER, DEFAULT_WINDOW, MAX_ORDER, MAX_WINDOW  # noqa: F401  (also this module's API)
+
 METHOD = "savitzky-golay"
 """Name of the differentiation method, as results and JSON record it."""
-
-DEFAULT_WINDOW = 201
-"""Default window (samples): 0.2 s at 1 kHz, see tests/test_derivatives.py for the evidence."""
-
-DEFAULT_ORDER = 4
-"""Default polynomial order: unbiased for quartics, so curvature inside the window costs little."""
-
-MAX_WINDOW = 4001
-"""Widest window (samples): 0.2 s at 20 kHz. The filter costs N*window operations (about 2 s for a
-million rows at this width), and 0.2 s already smooths the lesson's motions; wider only costs time."""
-
-MAX_ORDER = 10
-"""Highest polynomial order: beyond it the polynomial follows the noise, and its fit costs window*order^2
-(order 6999 over 7001 samples ran for minutes)."""
-
 
 @dataclass(frozen=True, eq=False)
 class DerivativeEstimate:

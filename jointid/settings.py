@@ -2,7 +2,8 @@
 
 Motion, noise, samples and seed describe the lesson's experiment; `model`
 names the fitted model; the `true_*` settings add physics the plain model
-cannot see to the synthetic joint (all zero by default).
+cannot see to the synthetic joint (all zero by default). No numpy here: the
+command line parses settings before it loads the numeric modules.
 """
 
 from __future__ import annotations
@@ -10,17 +11,25 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from .model import ModelError, describe_models, model_named
-from .motions import TRAINING_MOTIONS
-from .number_text import parse_float, parse_int
-from .truth import ANGLE_OFFSET_LIMITS, BIAS_LIMITS, COULOMB_LIMITS, TrueJoint
+from typing import TYPE_CHECKING
 
-NOISE_LIMITS = (0.0, 100.0)
-"""Allowed torque noise bound (N m)."""
-SAMPLES_LIMITS = (2, 10_000_000)
-"""Allowed number of training samples."""
-SEED_LIMITS = (0, 2**32 - 1)
-"""Allowed noise seed."""
+from .choices import (  # noqa: F401  (NOISE_LIMITS etc. are also this module's API)
+    ANGLE_OFFSET_LIMITS,
+    BIAS_LIMITS,
+    COULOMB_LIMITS,
+    NOISE_LIMITS,
+    SAMPLES_LIMITS,
+    SEED_LIMITS,
+    TRAINING_MOTION_NAMES,
+    ModelError,
+    describe_models,
+    model_extras,
+)
+from .number_text import parse_float, parse_int
+
+if TYPE_CHECKING:
+    from .model import JointModel
+    from .truth import TrueJoint
 
 REAL_SETTINGS = {
     "noise": (NOISE_LIMITS, "N m"),
@@ -63,13 +72,17 @@ class Settings:
             check_setting(field, getattr(self, field))
 
     @property
-    def joint_model(self):
+    def joint_model(self) -> JointModel:
         """The JointModel that `model` names."""
+        from .model import model_named  # numpy: only when a fit needs the model
+
         return model_named(self.model)
 
     @property
     def true_joint(self) -> TrueJoint:
         """The synthetic joint with these settings' missing physics."""
+        from .truth import TrueJoint  # numpy: only when data are generated
+
         return TrueJoint(coulomb=self.true_coulomb, bias=self.true_bias, angle_offset=self.true_angle_offset)
 
 
@@ -81,7 +94,7 @@ FIELDS = ("motion", "noise", "samples", "seed", "model", "true_coulomb", "true_b
 def describe_range(field: str, *, finite: bool = False) -> str:
     """The allowed values of a setting, as a phrase for error messages and help ('a finite number' if `finite`)."""
     if field == "motion":
-        return "one of " + ", ".join(TRAINING_MOTIONS)
+        return "one of " + ", ".join(TRAINING_MOTION_NAMES)
     if field == "constrained":
         return "true or false"
     if field == "model":
@@ -96,10 +109,10 @@ def describe_range(field: str, *, finite: bool = False) -> str:
 def check_setting(field: str, value) -> None:
     """Raise SettingsError unless value is allowed for the named setting."""
     if field == "motion":
-        ok = value in TRAINING_MOTIONS
+        ok = value in TRAINING_MOTION_NAMES
     elif field == "model":
         try:
-            model_named(value)
+            model_extras(value)
         except ModelError as error:
             raise SettingsError(field, str(error)) from None
         ok = True

@@ -20,6 +20,7 @@ from functools import cached_property
 
 import numpy as np
 
+from .choices import DEFAULT_SEED_COUNT, SEED_COUNT_LIMITS, WORK_BUDGET  # noqa: F401  (also this module's API)
 from .experiment import training_data, validation_data
 from .fit import fitted_torque
 from .model import JointModel
@@ -31,13 +32,6 @@ from .solver import solve_least_squares
 from .present.tables import sweep_message
 from .uncertainty import parameter_uncertainty
 
-SEED_COUNT_LIMITS = (1, 1_000_000)
-"""Allowed number of seeds in one sweep."""
-DEFAULT_SEED_COUNT = 1000
-"""Seeds in a sweep unless told otherwise."""
-WORK_BUDGET = 100_000_000
-"""Samples x seeds a sweep takes without being asked twice: about 10 s here (1,000,000 samples x 1,000
-seeds took 3 minutes). The command line refuses more unless forced; see `sweep_work`."""
 CHUNK_ELEMENTS = 2**21
 """Torque values (seeds x samples) handled per chunk: about 16 MB per array."""
 RMSE_QUANTITIES = ("training_rmse", "heldout_rmse")

@@ -1,4 +1,4 @@
-"""Argument types and the parser class shared by every subcommand."""
+"""Argument types and the parser class shared by every subcommand (no numpy: help must start fast)."""
 
 from __future__ import annotations
 
@@ -7,8 +7,7 @@ import math
 import re
 import sys
 
-from ..model import describe_models
-from ..motions import TRAINING_MOTIONS
+from ..choices import TRAINING_MOTION_NAMES, describe_models
 from ..number_text import parse_float, parse_int
 from ..settings import DEFAULT_SETTINGS, FIELDS, Settings, SettingsError, parse_setting
 
@@ -138,7 +137,7 @@ def add_settings_arguments(parser: argparse.ArgumentParser) -> None:
     defaults = DEFAULT_SETTINGS
     flags = {
         "motion": (
-            "{" + ",".join(TRAINING_MOTIONS) + "}",
+            "{" + ",".join(TRAINING_MOTION_NAMES) + "}",
             "training motion: rich (two sines), slow (one small slow sine) or holds "
             f"(q = qd = qdd = 0); default {defaults.motion}",
         ),

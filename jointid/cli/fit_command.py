@@ -4,12 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..experiment import run_experiment
-from ..present.documents import fit_document, simulation_object
-from ..present.readouts import readouts_text, uncertainty_text
-from ..present.status import simulation_text
-from ..present.text import settings_header
-from ..simulation import DEFAULT_HORIZON, HORIZON_LIMITS, simulation_check
+from ..choices import DEFAULT_HORIZON, HORIZON_LIMITS
 from .arguments import add_model_argument, add_settings_arguments, bounded_number, settings_from
 from .log_fit import add_log_arguments, run_log_fit, with_default_settings
 from .output import print_json
@@ -43,6 +38,13 @@ def run(args: argparse.Namespace) -> int:
     """Run the experiment (or fit the --csv log) and print text or JSON; exit status 0."""
     if args.csv is not None:
         return run_log_fit(args)
+    from ..experiment import run_experiment  # numpy and the numeric modules load only to run
+    from ..present.documents import fit_document, simulation_object
+    from ..present.readouts import readouts_text, uncertainty_text
+    from ..present.status import simulation_text
+    from ..present.text import settings_header
+    from ..simulation import simulation_check
+
     settings = settings_from(with_default_settings(args))
     result = run_experiment(settings)
     simulate = args.simulate or args.horizon is not None

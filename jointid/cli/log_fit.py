@@ -11,14 +11,16 @@ from __future__ import annotations
 
 import argparse
 
-from ..csvlog import JointLog, LogError, load_log
-from ..derivatives import DEFAULT_ORDER, DEFAULT_WINDOW, FilterSettingError, check_filter
-from ..logfit import LoadedLogs, fit_logs
-from ..model import model_named
-from ..present.readouts import readouts_text, uncertainty_text
+from typing import TYPE_CHECKING
+
+from ..choices import DEFAULT_ORDER, DEFAULT_WINDOW
 from ..settings import DEFAULT_SETTINGS
 from .arguments import UserError, whole_number
 from .output import print_json
+
+if TYPE_CHECKING:
+    from ..csvlog import JointLog
+    from ..logfit import LoadedLogs
 
 SETTING_FLAGS = ("motion", "noise", "samples", "seed", "true_coulomb", "true_bias", "true_angle_offset")
 """Synthetic-experiment options that a log fit rejects."""
@@ -62,6 +64,8 @@ def with_default_settings(args: argparse.Namespace) -> argparse.Namespace:
 
 def derivative_options(args: argparse.Namespace) -> tuple[int, int]:
     """The Savitzky-Golay window and order from --window and --order; UserError if they do not fit together."""
+    from ..derivatives import FilterSettingError, check_filter  # numpy: only once a command runs
+
     window = DEFAULT_WINDOW if args.window is None else args.window
     order = DEFAULT_ORDER if args.order is None else args.order
     try:
@@ -81,6 +85,8 @@ def load_logs(args: argparse.Namespace) -> tuple[JointLog, JointLog | None]:
         raise UserError(f"{', '.join(simulated)}: needs the synthetic joint's true torque, which a log does not "
                         "have; drop it")
     window, order = derivative_options(args)
+    from ..csvlog import LogError, load_log
+
     try:
         training = load_log(args.csv, degrees=args.degrees, window=window, order=order)
         heldout = None if args.heldout is None else load_log(
@@ -94,6 +100,10 @@ def load_logs(args: argparse.Namespace) -> tuple[JointLog, JointLog | None]:
 def fit_loaded_logs(args: argparse.Namespace) -> LoadedLogs:
     """The --csv (and --heldout) logs loaded and fitted with --model (and --constrained); UserError (one line)
     on any problem."""
+    from ..csvlog import LogError
+    from ..logfit import fit_logs
+    from ..model import model_named
+
     training, heldout = load_logs(args)
     try:
         return fit_logs(training, heldout, model=model_named(args.model),
@@ -104,6 +114,8 @@ def fit_loaded_logs(args: argparse.Namespace) -> LoadedLogs:
 
 def run_log_fit(args: argparse.Namespace) -> int:
     """Load the training (and held-out) log, fit, and print text or JSON; exit status 0."""
+    from ..present.readouts import readouts_text, uncertainty_text
+
     logs = fit_loaded_logs(args)
     if args.json:
         print_json(logs.document())

@@ -12,12 +12,7 @@ from __future__ import annotations
 import argparse
 import math
 
-import numpy as np
-
-from ..export import ExportError, atomic_output
-from ..truth import TrueJoint
-from ..motions import ALL_MOTIONS, DURATION
-from ..noise import torque_noise
+from ..choices import ALL_MOTION_NAMES, DURATION
 from ..settings import DEFAULT_SETTINGS, SettingsError, check_setting
 from .arguments import UserError, positive_number, setting_type, whole_number
 
@@ -58,8 +53,8 @@ def encoder_counts(text: str) -> int:
 def motion_name(text: str) -> str:
     """An argparse type for any motion, the validation motion `test` included."""
     name = text.strip().lower()
-    if name not in ALL_MOTIONS:
-        raise argparse.ArgumentTypeError(f"must be one of {', '.join(ALL_MOTIONS)}; got {text!r}")
+    if name not in ALL_MOTION_NAMES:
+        raise argparse.ArgumentTypeError(f"must be one of {', '.join(ALL_MOTION_NAMES)}; got {text!r}")
     return name
 
 
@@ -75,7 +70,7 @@ def add_parser(subparsers) -> None:
         "existing one without --force.",
     )
     parser.add_argument("--motion", type=motion_name, default=DEFAULT_SETTINGS.motion,
-                        metavar="{" + ",".join(ALL_MOTIONS) + "}",
+                        metavar="{" + ",".join(ALL_MOTION_NAMES) + "}",
                         help=f"motion to sample, the validation motion test included; default {DEFAULT_SETTINGS.motion}")
     parser.add_argument("--noise", type=setting_type("noise"), default=DEFAULT_SETTINGS.noise, metavar="X",
                         help="bound of the uniform torque noise, 0 to 100 N m; default 0")
@@ -133,6 +128,13 @@ def timing(samples: int | None, rate: float | None, duration: float | None) -> t
 
 def run(args: argparse.Namespace) -> int:
     """Write the log; print one line saying what was written; exit status 0."""
+    import numpy as np  # numpy and the numeric modules load only to run
+
+    from ..export import ExportError, atomic_output
+    from ..motions import ALL_MOTIONS
+    from ..noise import torque_noise
+    from ..truth import TrueJoint
+
     samples, duration = timing(args.samples, args.rate, args.duration)
     t = np.linspace(0.0, duration, samples)
     states = ALL_MOTIONS[args.motion].states(t)
