@@ -27,6 +27,20 @@ EXTRA_TERM_NAMES = ("coulomb", "bias", "angle-offset")
 LADDER = ("plain", "coulomb", "bias", "angle-offset", "coulomb+bias", "coulomb+angle-offset")
 """The models `jointid compare` fits, simplest first."""
 
+SETTING_DEFAULTS = {
+    "motion": "rich",
+    "noise": 0.0,
+    "samples": 24,
+    "seed": 7,
+    "model": "plain",
+    "true_coulomb": 0.0,
+    "true_bias": 0.0,
+    "true_angle_offset": 0.0,
+    "constrained": False,
+}
+"""Every experiment setting's default, in display order: rich motion, no noise, 24 samples, seed 7, the plain
+model and none of the missing physics (`jointid.settings.Settings` takes its defaults from here)."""
+
 NOISE_LIMITS = (0.0, 100.0)
 """Allowed torque noise bound (N m)."""
 SAMPLES_LIMITS = (2, 10_000_000)

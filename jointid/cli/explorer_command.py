@@ -9,7 +9,7 @@ SettingsError for a value outside them.
 
 from __future__ import annotations
 
-from ..settings import SettingsError
+from ..setting_checks import SettingsError
 from .arguments import UserError, settings_from
 from .floating_point import strict_arithmetic
 from .log_fit import derivative_options, fit_loaded_logs, with_default_settings

@@ -11,13 +11,11 @@ from __future__ import annotations
 
 import argparse
 
-from typing import TYPE_CHECKING
-
-from ..choices import DEFAULT_ORDER, DEFAULT_WINDOW
-from ..settings import DEFAULT_SETTINGS
+from ..choices import DEFAULT_ORDER, DEFAULT_WINDOW, SETTING_DEFAULTS
 from .arguments import UserError, whole_number
 from .output import print_json
 
+TYPE_CHECKING = False  # typing itself would cost 3 ms of every start
 if TYPE_CHECKING:
     from ..csvlog import JointLog
     from ..logfit import LoadedLogs
@@ -58,7 +56,7 @@ def with_default_settings(args: argparse.Namespace) -> argparse.Namespace:
         raise UserError(f"{', '.join(stray)}: only for fitting a log; add --csv TRAIN.csv")
     for name in SETTING_FLAGS:
         if getattr(args, name) is None:
-            setattr(args, name, getattr(DEFAULT_SETTINGS, name))
+            setattr(args, name, SETTING_DEFAULTS[name])
     return args
 
 

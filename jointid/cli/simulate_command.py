@@ -13,7 +13,8 @@ import argparse
 import math
 
 from ..choices import ALL_MOTION_NAMES, DURATION
-from ..settings import DEFAULT_SETTINGS, SettingsError, check_setting
+from ..choices import SETTING_DEFAULTS
+from ..setting_checks import SettingsError, check_setting
 from .arguments import UserError, positive_number, setting_type, whole_number
 
 NAME = "simulate"
@@ -69,15 +70,15 @@ def add_parser(subparsers) -> None:
         "fix the third, and three that disagree are refused. The file is written atomically and never over an "
         "existing one without --force.",
     )
-    parser.add_argument("--motion", type=motion_name, default=DEFAULT_SETTINGS.motion,
+    parser.add_argument("--motion", type=motion_name, default=SETTING_DEFAULTS["motion"],
                         metavar="{" + ",".join(ALL_MOTION_NAMES) + "}",
-                        help=f"motion to sample, the validation motion test included; default {DEFAULT_SETTINGS.motion}")
-    parser.add_argument("--noise", type=setting_type("noise"), default=DEFAULT_SETTINGS.noise, metavar="X",
+                        help=f"motion to sample, the validation motion test included; default {SETTING_DEFAULTS['motion']}")
+    parser.add_argument("--noise", type=setting_type("noise"), default=SETTING_DEFAULTS["noise"], metavar="X",
                         help="bound of the uniform torque noise, 0 to 100 N m; default 0")
-    parser.add_argument("--seed", type=setting_type("seed"), default=DEFAULT_SETTINGS.seed, metavar="S",
-                        help=f"noise seed, 0 to 4294967295; default {DEFAULT_SETTINGS.seed}")
+    parser.add_argument("--seed", type=setting_type("seed"), default=SETTING_DEFAULTS["seed"], metavar="S",
+                        help=f"noise seed, 0 to 4294967295; default {SETTING_DEFAULTS['seed']}")
     parser.add_argument("--samples", type=setting_type("samples"), default=None, metavar="N",
-                        help=f"number of samples, 2 to 10000000; default {DEFAULT_SETTINGS.samples} "
+                        help=f"number of samples, 2 to 10000000; default {SETTING_DEFAULTS['samples']} "
                         "(or duration*rate + 1 with --rate)")
     parser.add_argument("--rate", type=bounded_positive(RATE_LIMIT), default=None, metavar="HZ",
                         help=f"sample rate (Hz), at most {RATE_LIMIT:g}; samples = duration*rate + 1")
@@ -123,7 +124,7 @@ def timing(samples: int | None, rate: float | None, duration: float | None) -> t
             check_setting("samples", samples)
         except SettingsError as error:
             raise UserError(f"--rate {rate:g} Hz over {duration:g} s gives {error}") from None
-    return (DEFAULT_SETTINGS.samples if samples is None else samples), (DURATION if duration is None else duration)
+    return (SETTING_DEFAULTS["samples"] if samples is None else samples), (DURATION if duration is None else duration)
 
 
 def run(args: argparse.Namespace) -> int:
