@@ -43,13 +43,16 @@ def run(args: argparse.Namespace) -> int:
     from ..present.readouts import readouts_text, uncertainty_text
     from ..present.status import simulation_text
     from ..present.text import settings_header
-    from ..simulation import simulation_check
 
     settings = settings_from(with_default_settings(args))
     result = run_experiment(settings)
     simulate = args.simulate or args.horizon is not None
     horizon = DEFAULT_HORIZON if args.horizon is None else args.horizon
-    check = simulation_check(result, settings.true_joint, horizon) if simulate else None
+    check = None
+    if simulate:
+        from ..simulation import simulation_check
+
+        check = simulation_check(result, settings.true_joint, horizon)
     if args.json:
         extra = simulation_object(check) if simulate else {}
         print_json(fit_document(result, settings=settings, **extra))

@@ -1,0 +1,126 @@
+"""Command-line start-up: `jointid` commands as fresh processes against Python's own start and `import numpy`.
+
+Run from the repository root: PYTHONPATH=. .venv/bin/python benchmarks/bench_cli_startup.py [ROUNDS]
+
+Each command runs as a user runs it, through the `jointid` console script next
+to this interpreter (or `python -m jointid` without one), output discarded.
+Every round launches every command and both baselines once, in an order
+rotated from round to round, and divides each command's wall time by its
+baseline's in the same round:
+
+- `jointid --help` and every subcommand's `--help` (whatever
+  `jointid.cli.SUBCOMMANDS` lists) by `python -c pass`; goal <= 2.0. The floor
+  printed beside them is a script that builds an argparse parser and prints its
+  help, which no help text can undercut.
+- `jointid fit` for every training motion, as text and with --json, and
+  `sweep`, `matrix` and `torque` with their defaults, by
+  `python -c "import numpy"`; goal <= 1.3. The floor printed beside them is
+  `python -c "import numpy, argparse, json, dataclasses"`, the stack any
+  numeric command needs before its own code.
+
+It prints min / median / max of the per-round ratios and whether each median
+meets its goal; the run exits 1 if one does not. Python may cache bytecode, as
+on a user's machine (this VM sets PYTHONDONTWRITEBYTECODE; it is unset for the
+runs, and one warm-up round writes the caches).
+"""
+
+from __future__ import annotations
+
+import os
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from jointid.choices import TRAINING_MOTION_NAMES  # noqa: E402
+from jointid.cli import SUBCOMMANDS  # noqa: E402
+
+ROUNDS = 9
+HELP_GOAL = 2.0
+COMMAND_GOAL = 1.3
+
+ENVIRONMENT = {name: value for name, value in os.environ.items() if name != "PYTHONDONTWRITEBYTECODE"}
+ENVIRONMENT["PYTHONPATH"] = os.pathsep.join(p for p in (str(ROOT), os.environ.get("PYTHONPATH")) if p)
+"""This tree's jointid first on the path; bytecode caching allowed, as on a user's machine."""
+
+SCRIPT = Path(sys.executable).parent / "jointid"
+JOINTID = [sys.executable, str(SCRIPT)] if SCRIPT.exists() else [sys.executable, "-m", "jointid"]
+"""The console script pip installed (run by this interpreter, so that PYTHONPATH picks this tree)."""
+
+PYTHON_START = [sys.executable, "-c", "pass"]
+NUMPY_IMPORT = [sys.executable, "-c", "import numpy"]
+HELP_FLOOR = [sys.executable, "-c", "import argparse; argparse.ArgumentParser(prog='x').print_help()"]
+COMMAND_FLOOR = [sys.executable, "-c", "import numpy, argparse, json, dataclasses"]
+
+HELPS = {"jointid --help": ["--help"]} | {f"jointid {m.NAME} --help": [m.NAME, "--help"] for m in SUBCOMMANDS}
+COMMANDS = {
+    **{f"jointid fit --motion {motion}{flag}": ["fit", "--motion", motion, *flag.split()]
+       for motion in TRAINING_MOTION_NAMES for flag in ("", " --json")},
+    "jointid sweep": ["sweep"],
+    "jointid matrix": ["matrix"],
+    "jointid torque --q 1 --qd 2 --qdd 3": ["torque", "--q", "1", "--qd", "2", "--qdd", "3"],
+}
+
+
+def launch(command: list[str]) -> float:
+    """Wall seconds of one fresh process running `command` to its exit (status 0 required)."""
+    start = time.perf_counter()
+    subprocess.run(command, cwd=ROOT, env=ENVIRONMENT, stdout=subprocess.DEVNULL, check=True)
+    return time.perf_counter() - start
+
+
+def spread(values: list[float]) -> str:
+    """'min / median / max' of per-round ratios."""
+    return f"{min(values):.2f} / {statistics.median(values):.2f} / {max(values):.2f}"
+
+
+def main() -> int:
+    """Time every command against its baseline, round by round, and print the ratios."""
+    rounds = int(sys.argv[1]) if len(sys.argv) > 1 else ROUNDS
+    runs = {"python -c pass": PYTHON_START, "python -c 'import numpy'": NUMPY_IMPORT,
+            "help floor (argparse help)": HELP_FLOOR, "command floor (numpy, argparse, json, dataclasses)":
+            COMMAND_FLOOR, **{name: JOINTID + args for name, args in {**HELPS, **COMMANDS}.items()}}
+    names = list(runs)
+    for name in names:  # warm-up: write bytecode caches, load files into the page cache
+        launch(runs[name])
+    times: dict[str, list[float]] = {name: [] for name in names}
+    for index in range(rounds):
+        shift = index * len(names) // rounds
+        for name in names[shift:] + names[:shift]:
+            times[name].append(launch(runs[name]))
+
+    def ratios(name: str, baseline: str) -> list[float]:
+        return [a / b for a, b in zip(times[name], times[baseline])]
+
+    print(f"jointid command-line start-up: {rounds} interleaved rounds, fresh processes, {' '.join(JOINTID)}")
+    print(f"python -c pass: median {statistics.median(times['python -c pass']) * 1e3:.0f} ms; "
+          f"import numpy: median {statistics.median(times[names[1]]) * 1e3:.0f} ms (for scale only)")
+    print()
+    missed = []
+    print(f"{'ratio to python -c pass (goal <= ' + format(HELP_GOAL, '.1f') + ')':<52} min / median / max")
+    for name in ["help floor (argparse help)", *HELPS]:
+        values = ratios(name, "python -c pass")
+        verdict = "" if name not in HELPS else ("  met" if statistics.median(values) <= HELP_GOAL else "  MISSED")
+        if verdict == "  MISSED":
+            missed.append(name)
+        print(f"  {name:<50}{spread(values)}{verdict}")
+    print()
+    print(f"{'ratio to python -c import numpy (goal <= ' + format(COMMAND_GOAL, '.1f') + ')':<52} min / median / max")
+    for name in ["command floor (numpy, argparse, json, dataclasses)", *COMMANDS]:
+        values = ratios(name, "python -c 'import numpy'")
+        verdict = "" if name not in COMMANDS else ("  met" if statistics.median(values) <= COMMAND_GOAL
+                                                   else "  MISSED")
+        if verdict == "  MISSED":
+            missed.append(name)
+        print(f"  {name:<50}{spread(values)}{verdict}")
+    print()
+    print("goals met: all" if not missed else f"goals missed: {', '.join(missed)}")
+    return 1 if missed else 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
