@@ -4,9 +4,9 @@ Run from the repository root: PYTHONPATH=. .venv/bin/python benchmarks/bench_cli
 
 Each command runs as a user runs it, through the `jointid` console script next
 to this interpreter (or `python -m jointid` without one), output discarded.
-Every round launches every command and both baselines once, in an order
-rotated from round to round, and divides each command's wall time by its
-baseline's in the same round:
+Every round launches each command once right beside a launch of its
+baseline (which of the two goes first alternates), in an order rotated from
+round to round, and divides the command's wall time by that baseline's:
 
 - `jointid --help` and every subcommand's `--help` (whatever
   `jointid.cli.SUBCOMMANDS` lists) by `python -c pass`; goal <= 2.0. The floor
@@ -79,44 +79,45 @@ def spread(values: list[float]) -> str:
 
 
 def main() -> int:
-    """Time every command against its baseline, round by round, and print the ratios."""
+    """Time every command against its baseline, in adjacent pairs round by round, and print the ratios."""
     rounds = int(sys.argv[1]) if len(sys.argv) > 1 else ROUNDS
-    runs = {"python -c pass": PYTHON_START, "python -c 'import numpy'": NUMPY_IMPORT,
-            "help floor (argparse help)": HELP_FLOOR, "command floor (numpy, argparse, json, dataclasses)":
-            COMMAND_FLOOR, **{name: JOINTID + args for name, args in {**HELPS, **COMMANDS}.items()}}
-    names = list(runs)
-    for name in names:  # warm-up: write bytecode caches, load files into the page cache
-        launch(runs[name])
-    times: dict[str, list[float]] = {name: [] for name in names}
+    help_runs = {"help floor (argparse help)": HELP_FLOOR} | {name: JOINTID + args for name, args in HELPS.items()}
+    command_runs = {"command floor (numpy, argparse, json, dataclasses)": COMMAND_FLOOR} | {
+        name: JOINTID + args for name, args in COMMANDS.items()}
+    pairs = [(name, command, PYTHON_START) for name, command in help_runs.items()]
+    pairs += [(name, command, NUMPY_IMPORT) for name, command in command_runs.items()]
+    for _, command, baseline in pairs:  # warm-up: write bytecode caches, fill the page cache
+        launch(command), launch(baseline)
+    ratios: dict[str, list[float]] = {name: [] for name, _, _ in pairs}
+    baselines: dict[str, list[float]] = {"pass": [], "numpy": []}
     for index in range(rounds):
-        shift = index * len(names) // rounds
-        for name in names[shift:] + names[:shift]:
-            times[name].append(launch(runs[name]))
-
-    def ratios(name: str, baseline: str) -> list[float]:
-        return [a / b for a, b in zip(times[name], times[baseline])]
+        shift = index * len(pairs) // rounds
+        for turn, (name, command, baseline) in enumerate(pairs[shift:] + pairs[:shift]):
+            # Each command right beside its baseline, which goes first every other time.
+            if (index + turn) % 2:
+                base, own = launch(baseline), launch(command)
+            else:
+                own, base = launch(command), launch(baseline)
+            ratios[name].append(own / base)
+            baselines["pass" if baseline is PYTHON_START else "numpy"].append(base)
 
     print(f"jointid command-line start-up: {rounds} interleaved rounds, fresh processes, {' '.join(JOINTID)}")
-    print(f"python -c pass: median {statistics.median(times['python -c pass']) * 1e3:.0f} ms; "
-          f"import numpy: median {statistics.median(times[names[1]]) * 1e3:.0f} ms (for scale only)")
-    print()
+    print(f"python -c pass: median {statistics.median(baselines['pass']) * 1e3:.0f} ms; import numpy: median "
+          f"{statistics.median(baselines['numpy']) * 1e3:.0f} ms (for scale only: the goals are the ratios)")
     missed = []
-    print(f"{'ratio to python -c pass (goal <= ' + format(HELP_GOAL, '.1f') + ')':<52} min / median / max")
-    for name in ["help floor (argparse help)", *HELPS]:
-        values = ratios(name, "python -c pass")
-        verdict = "" if name not in HELPS else ("  met" if statistics.median(values) <= HELP_GOAL else "  MISSED")
-        if verdict == "  MISSED":
-            missed.append(name)
-        print(f"  {name:<50}{spread(values)}{verdict}")
-    print()
-    print(f"{'ratio to python -c import numpy (goal <= ' + format(COMMAND_GOAL, '.1f') + ')':<52} min / median / max")
-    for name in ["command floor (numpy, argparse, json, dataclasses)", *COMMANDS]:
-        values = ratios(name, "python -c 'import numpy'")
-        verdict = "" if name not in COMMANDS else ("  met" if statistics.median(values) <= COMMAND_GOAL
-                                                   else "  MISSED")
-        if verdict == "  MISSED":
-            missed.append(name)
-        print(f"  {name:<50}{spread(values)}{verdict}")
+    for title, runs, goal in ((f"ratio to python -c pass (goal <= {HELP_GOAL:.1f})", help_runs, HELP_GOAL),
+                              (f"ratio to python -c 'import numpy' (goal <= {COMMAND_GOAL:.1f})", command_runs,
+                               COMMAND_GOAL)):
+        print()
+        print(f"{title:<54}min / median / max")
+        for position, name in enumerate(runs):
+            values = ratios[name]
+            verdict = ""
+            if position:  # the first line is the floor, without a goal
+                met = statistics.median(values) <= goal
+                verdict = "  met" if met else "  MISSED"
+                missed += [] if met else [name]
+            print(f"  {name:<52}{spread(values)}{verdict}")
     print()
     print("goals met: all" if not missed else f"goals missed: {', '.join(missed)}")
     return 1 if missed else 0
