@@ -12,7 +12,7 @@ two sides of a pair in alternating order:
    `pandas.read_csv(path)` (C engine, its defaults), a regressor by hand and
    `numpy.linalg.lstsq`. Both include every import (pandas among them).
    Ratios: wall time, and peak resident set (each child's own ru_maxrss, from
-   os.wait4). Goals: time <= 1.0, memory <= 1.0.
+   GNU time). Goals: time <= 1.0, memory <= 1.0.
 2. In-process: `jointid.csvlog.load_log(path)` against one
    `pandas.read_csv(path)`, both after a warm-up in this process. Goal <= 1.3.
 
@@ -74,17 +74,20 @@ def write_log(path: Path, rows: int) -> None:
     np.savetxt(path, table, delimiter=",", fmt="%.17g", header="t,q,qd,qdd,tau", comments="")
 
 
-def child(command: list[str]) -> tuple[float, int, str]:
-    """(wall seconds, peak resident bytes, stdout) of one fresh process run to its end (status 0 required)."""
+def child(command: list[str], folder: Path) -> tuple[float, int, str]:
+    """(wall seconds, peak resident bytes, stdout) of one fresh process run to its end (status 0 required).
+
+    The peak comes from /usr/bin/time (GNU time's %M, the child's ru_maxrss): a child forked from this
+    process would report this process's resident set, from before its exec, if that were larger.
+    """
+    report = folder / "rss.txt"
     start = time.perf_counter()
-    process = subprocess.Popen(command, cwd=ROOT, env=ENVIRONMENT, stdout=subprocess.PIPE)
-    output = process.stdout.read()
-    _, status, usage = os.wait4(process.pid, 0)
+    done = subprocess.run(["/usr/bin/time", "-f", "%M", "-o", str(report), *command], cwd=ROOT, env=ENVIRONMENT,
+                          stdout=subprocess.PIPE)
     seconds = time.perf_counter() - start
-    process.returncode = os.waitstatus_to_exitcode(status)
-    if process.returncode:
-        raise SystemExit(f"{command} exited with {process.returncode}")
-    return seconds, usage.ru_maxrss * 1024, output.decode()
+    if done.returncode:
+        raise SystemExit(f"{command} exited with {done.returncode}")
+    return seconds, int(report.read_text().split()[-1]) * 1024, done.stdout.decode()
 
 
 def in_process(function) -> float:
@@ -118,9 +121,9 @@ def main() -> int:
         # Warm-up: bytecode caches, the page cache, pandas imported here.
         import json
 
-        document = json.loads(child(ours_command)[2])
+        document = json.loads(child(ours_command, Path(folder))[2])
         estimate = np.array([document["estimate"][name] for name in ("I", "h", "B")])
-        theirs = np.array([float(v) for v in child(baseline_command)[2].split()])
+        theirs = np.array([float(v) for v in child(baseline_command, Path(folder))[2].split()])
         for name, values in (("jointid fit", estimate), ("pandas script", theirs)):
             if np.max(np.abs(values / TRUE_PARAMETERS - 1)) > 1e-6:
                 print(f"{name}: wrong estimate {values}")
@@ -131,9 +134,9 @@ def main() -> int:
             for kind, _, _ in pairs[index % 2:] + pairs[:index % 2]:
                 if kind == "fresh":
                     if index % 2:
-                        theirs, ours = child(baseline_command), child(ours_command)
+                        theirs, ours = child(baseline_command, Path(folder)), child(ours_command, Path(folder))
                     else:
-                        ours, theirs = child(ours_command), child(baseline_command)
+                        ours, theirs = child(ours_command, Path(folder)), child(baseline_command, Path(folder))
                     seconds["jointid fit"].append(ours[0])
                     seconds["pandas script"].append(theirs[0])
                     ratios["fresh process, wall time"].append(ours[0] / theirs[0])

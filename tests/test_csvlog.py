@@ -431,6 +431,8 @@ DOUBTFUL_FILES = {
     "a short row": "t,q,qd,qdd,tau\n0,1,2,3,4\n1,1,2,3\n2,1,2,3,4\n",
     "a comment line": "t,q,qd,qdd,tau\n0,1,2,3,4\n# pause\n1,1,2,3,4\n2,1,2,3,4\n",
     "an indented comment": "t,q,qd,qdd,tau\n0,1,2,3,4\n  #,1,2,3,4\n1,1,2,3,4\n2,1,2,3,4\n",
+    "a commented-out row": "t,q,qd,qdd,tau\n0,1,2,3,4\n#1,1,2,3,4\n2,1,2,3,4\n3,1,2,3,4\n",
+    "a NUL byte": "t,q,qd,qdd,tau\n0,1,2,3,4\n1,1\x00,2,3,4\n2,1,2,3,4\n",
     "true": "t,q,qd,qdd,tau\n0,1,2,3,4\n1,true,2,3,4\n2,1,2,3,4\n",
     "a tab inside a number": "t,q,qd,qdd,tau\n0,1,2,3,4\n1,+8e\t1,2,3,4\n2,1,2,3,4\n",
     "a lone carriage return": "t,q,qd,qdd,tau\n0,1,2,3,4\r1,1,2,3,4\n2,1,2,3,4\n",
