@@ -98,11 +98,12 @@ def load_logs(args: argparse.Namespace) -> tuple[JointLog, JointLog | None]:
 def fit_loaded_logs(args: argparse.Namespace) -> LoadedLogs:
     """The --csv (and --heldout) logs loaded and fitted with --model (and --constrained); UserError (one line)
     on any problem."""
+    training, heldout = load_logs(args)
+    # Imported after the load: code loaded before it would add to the load's peak resident set.
     from ..csvlog import LogError
     from ..logfit import fit_logs
     from ..model import model_named
 
-    training, heldout = load_logs(args)
     try:
         return fit_logs(training, heldout, model=model_named(args.model),
                         constrained=getattr(args, "constrained", False))
@@ -112,9 +113,9 @@ def fit_loaded_logs(args: argparse.Namespace) -> LoadedLogs:
 
 def run_log_fit(args: argparse.Namespace) -> int:
     """Load the training (and held-out) log, fit, and print text or JSON; exit status 0."""
+    logs = fit_loaded_logs(args)
     from ..present.readouts import readouts_text, uncertainty_text
 
-    logs = fit_loaded_logs(args)
     if args.json:
         print_json(logs.document())
         return 0
