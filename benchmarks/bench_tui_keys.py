@@ -306,8 +306,9 @@ def compare_with_stock_chart(rounds: int) -> None:
         middle = statistics.median(values)
         print(f"  {name:<7}{min(values):.2f} / {middle:.2f} / {max(values):.2f}  "
               f"goal <= 1.0: {'met' if middle <= 1.0 else 'MISSED'}")
-    print(f"all presses pooled: median {statistics.median(pooled['explorer']) / statistics.median(pooled['stock']):.2f}, "
-          f"p95 {percentile(pooled['explorer'], 0.95) / percentile(pooled['stock'], 0.95):.2f}")
+    explorer, stock = pooled["explorer"], pooled["stock"]
+    print(f"all presses pooled: median {statistics.median(explorer) / statistics.median(stock):.2f}, "
+          f"p95 {percentile(explorer, 0.95) / percentile(stock, 0.95):.2f}")
 
 
 def compare_models_latency(model: str, rounds: int) -> None:
