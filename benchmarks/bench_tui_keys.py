@@ -268,8 +268,11 @@ def training_chart_size() -> tuple[int, int]:
     return asyncio.run(size())
 
 
-def compare_with_stock_chart(rounds: int) -> None:
-    """Explorer against the stock one-chart app, alternating fresh apps (A B B A ...); print the ratios."""
+def compare_with_stock_chart(rounds: int) -> bool:
+    """Explorer against the stock one-chart app, alternating fresh apps (A B B A ...); print the ratios.
+
+    Returns whether both goals are met.
+    """
     from jointid.experiment import run_experiment
     from jointid.present.charts import training_chart
 
@@ -302,13 +305,16 @@ def compare_with_stock_chart(rounds: int) -> None:
     third_party.activate()
     print()
     print("explorer / stock PlotextPlot over the rounds, min / median / max:")
+    met = True
     for name, values in ratios.items():
         middle = statistics.median(values)
+        met = met and middle <= 1.0
         print(f"  {name:<7}{min(values):.2f} / {middle:.2f} / {max(values):.2f}  "
               f"goal <= 1.0: {'met' if middle <= 1.0 else 'MISSED'}")
     explorer, stock = pooled["explorer"], pooled["stock"]
     print(f"all presses pooled: median {statistics.median(explorer) / statistics.median(stock):.2f}, "
           f"p95 {percentile(explorer, 0.95) / percentile(stock, 0.95):.2f}")
+    return met
 
 
 def compare_models_latency(model: str, rounds: int) -> None:
@@ -342,8 +348,7 @@ def main() -> None:
         compare_models_latency(args.model, args.runs or RUNS)
         return
     if args.gc is None:
-        compare_with_stock_chart(args.runs or ROUNDS)
-        return
+        raise SystemExit(0 if compare_with_stock_chart(args.runs or ROUNDS) else 1)
     args.runs = args.runs or RUNS
     modes = ["tuned", "stock"] if args.gc == "both" else [args.gc]
 
