@@ -281,6 +281,9 @@ def compare_with_stock_chart(rounds: int) -> bool:
     reached.clear()
     asyncio.run(measure())  # warm-up, and the settings sequence every round walks again
     datasets = [training_chart(run_experiment(settings)) for settings in reached]
+    # The stock app's warm-up too: its first run would otherwise pay textual-plotext's imports.
+    third_party.uninstall()
+    asyncio.run(measure_stock(datasets, size, 20))
     print(f"{len(datasets)} timed presses per round at {SIZE[0]}x{SIZE[1]}; the stock PlotextPlot is "
           f"{size[0]}x{size[1]}, the explorer's training chart; {rounds} rounds")
     ratios: dict[str, list[float]] = {"median": [], "p95": []}
