@@ -39,10 +39,6 @@ def run(args: argparse.Namespace) -> int:
     if args.csv is not None:
         return run_log_fit(args)
     from ..experiment import run_experiment  # numpy and the numeric modules load only to run
-    from ..present.documents import fit_document, simulation_object
-    from ..present.readouts import readouts_text, uncertainty_text
-    from ..present.status import simulation_text
-    from ..present.text import settings_header
 
     settings = settings_from(with_default_settings(args))
     result = run_experiment(settings)
@@ -53,10 +49,16 @@ def run(args: argparse.Namespace) -> int:
         from ..simulation import simulation_check
 
         check = simulation_check(result, settings.true_joint, horizon)
-    if args.json:
+    if args.json:  # each output loads only its own presentation modules
+        from ..present.documents import fit_document, simulation_object
+
         extra = simulation_object(check) if simulate else {}
         print_json(fit_document(result, settings=settings, **extra))
     else:
+        from ..present.readouts import readouts_text, uncertainty_text
+        from ..present.status import simulation_text
+        from ..present.text import settings_header
+
         print(settings_header(settings))
         print(readouts_text(result))
         print()
