@@ -18,8 +18,10 @@ round to round, and divides the command's wall time by that baseline's:
   `python -c "import numpy, argparse, json, dataclasses"`, the stack any
   numeric command needs before its own code.
 
-It prints min / median / max of the per-round ratios and whether each median
-meets its goal; the run exits 1 if one does not. Python may cache bytecode, as
+It prints min / median / max of the per-round ratios of wall time (the goals)
+and, beside them, of CPU time (user + system of the child, which the other
+work on this shared machine disturbs much less), and whether each wall
+median meets its goal; the run exits 1 if one does not. Python may cache bytecode, as
 on a user's machine (this VM sets PYTHONDONTWRITEBYTECODE; it is unset for the
 runs, and one warm-up round writes the caches).
 """
@@ -66,11 +68,20 @@ COMMANDS = {
 }
 
 
-def launch(command: list[str]) -> float:
-    """Wall seconds of one fresh process running `command` to its exit (status 0 required)."""
+def launch(command: list[str]) -> tuple[float, float]:
+    """(wall, CPU) seconds of one fresh process running `command` to its exit (status 0 required).
+
+    CPU is the child's user + system time (os.wait4), which other processes on this shared machine
+    disturb far less than wall time.
+    """
     start = time.perf_counter()
-    subprocess.run(command, cwd=ROOT, env=ENVIRONMENT, stdout=subprocess.DEVNULL, check=True)
-    return time.perf_counter() - start
+    process = subprocess.Popen(command, cwd=ROOT, env=ENVIRONMENT, stdout=subprocess.DEVNULL)
+    _, status, usage = os.wait4(process.pid, 0)
+    wall = time.perf_counter() - start
+    process.returncode = os.waitstatus_to_exitcode(status)
+    if process.returncode:
+        raise SystemExit(f"{command} exited with {process.returncode}")
+    return wall, usage.ru_utime + usage.ru_stime
 
 
 def spread(values: list[float]) -> str:
@@ -89,6 +100,7 @@ def main() -> int:
     for _, command, baseline in pairs:  # warm-up: write bytecode caches, fill the page cache
         launch(command), launch(baseline)
     ratios: dict[str, list[float]] = {name: [] for name, _, _ in pairs}
+    cpu_ratios: dict[str, list[float]] = {name: [] for name, _, _ in pairs}
     baselines: dict[str, list[float]] = {"pass": [], "numpy": []}
     for index in range(rounds):
         shift = index * len(pairs) // rounds
@@ -98,8 +110,9 @@ def main() -> int:
                 base, own = launch(baseline), launch(command)
             else:
                 own, base = launch(command), launch(baseline)
-            ratios[name].append(own / base)
-            baselines["pass" if baseline is PYTHON_START else "numpy"].append(base)
+            ratios[name].append(own[0] / base[0])
+            cpu_ratios[name].append(own[1] / base[1])
+            baselines["pass" if baseline is PYTHON_START else "numpy"].append(base[0])
 
     print(f"jointid command-line start-up: {rounds} interleaved rounds, fresh processes, {' '.join(JOINTID)}")
     print(f"python -c pass: median {statistics.median(baselines['pass']) * 1e3:.0f} ms; import numpy: median "
@@ -109,7 +122,7 @@ def main() -> int:
                               (f"ratio to python -c 'import numpy' (goal <= {COMMAND_GOAL:.1f})", command_runs,
                                COMMAND_GOAL)):
         print()
-        print(f"{title:<54}min / median / max")
+        print(f"{title:<54}{'wall: min / median / max':<26}CPU: min / median / max")
         for position, name in enumerate(runs):
             values = ratios[name]
             verdict = ""
@@ -117,7 +130,7 @@ def main() -> int:
                 met = statistics.median(values) <= goal
                 verdict = "  met" if met else "  MISSED"
                 missed += [] if met else [name]
-            print(f"  {name:<52}{spread(values)}{verdict}")
+            print(f"  {name:<52}{spread(values):<26}{spread(cpu_ratios[name])}{verdict}")
     print()
     print("goals met: all" if not missed else f"goals missed: {', '.join(missed)}")
     return 1 if missed else 0
