@@ -59,9 +59,10 @@ DEFAULT_HORIZON = 1.0
 HORIZON_LIMITS = (0.05, DURATION)
 """Allowed horizon (s): from a few integration steps to the whole motion."""
 
-DEFAULT_WINDOW = 201
-"""Default Savitzky-Golay window (samples): 0.2 s at 1 kHz, see tests/test_derivatives.py for the evidence."""
-DEFAULT_ORDER = 4
+DEFAULT_WINDOW = None
+"""Default Savitzky-Golay window: None, chosen from the log by `jointid.derivatives.choose_window` (its span in
+time from the motion's bandwidth)."""
+DEFAULT_ORDER = 6
 """Default polynomial order: unbiased for quartics, so curvature inside the window costs little."""
 MAX_WINDOW = 4001
 """Widest window (samples): 0.2 s at 20 kHz. The filter costs N*window operations (about 2 s for a

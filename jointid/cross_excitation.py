@@ -44,6 +44,8 @@ class CrossExcitationRow:
     training_motion: str
     fit: FitResult
     cells: tuple[CrossExcitationCell, ...]
+    label: str = ""
+    """The training motion's label, e.g. 'Rich motion' or 'Designed motion'."""
 
     @property
     def available(self) -> bool:
@@ -53,7 +55,7 @@ class CrossExcitationRow:
 
 @dataclass(frozen=True, eq=False)
 class CrossExcitationTable:
-    """Rows per training motion (rich, slow, holds), columns per prediction motion."""
+    """Rows per training motion (rich, slow, holds, and a designed motion's), columns per prediction motion."""
 
     settings: Settings
     """Noise, samples and seed used for every row (its motion is the one the user had chosen)."""
@@ -91,8 +93,12 @@ def cross_excitation(settings: Settings) -> CrossExcitationTable:
     targets = {motion: prediction_data(motion, settings) for motion in PREDICTION_MOTIONS}
     regressors = {motion: model.data_regressor(target) for motion, target in targets.items()}
     rows = []
-    for training_motion in TRAINING_MOTIONS:
-        fit = run_experiment(replace(settings, motion=training_motion))
+    training = dict(zip(TRAINING_MOTIONS, TRAINING_MOTIONS))
+    if not isinstance(settings.motion, str):  # a designed motion gets a row of its own, after the lesson's
+        training[settings.motion_name] = settings.motion
+    for training_motion, motion in training.items():
+        row_settings = replace(settings, motion=motion)
+        fit = run_experiment(row_settings)
         cells = tuple(
             CrossExcitationCell(
                 training_motion=training_motion,
@@ -104,5 +110,5 @@ def cross_excitation(settings: Settings) -> CrossExcitationTable:
             )
             for motion, target in targets.items()
         )
-        rows.append(CrossExcitationRow(training_motion, fit, cells))
+        rows.append(CrossExcitationRow(training_motion, fit, cells, row_settings.training_motion.label))
     return CrossExcitationTable(settings=settings, rows=tuple(rows))

@@ -16,10 +16,11 @@ line running on past MAX_LINE_BYTES is refused as soon as reading has to hold
 it whole (the header, or a data line that does not fit in one chunk), so no
 single line costs more memory than a chunk plus MAX_LINE_BYTES.
 
-Checks: every recognised cell a finite number; t, when present, strictly
-increasing. Uniform sampling (every step within 1 % of the median) is required
-only when qd or qdd must be estimated, since only the differentiator uses t:
-a log with both derivatives and jittery timestamps still fits.
+Checks: every recognised cell a finite number; t, when present, never running
+backwards and never repeating with other values (jointid.timing). Only when qd
+or qdd must be estimated does the differentiator need uniform sampling: jittered
+steps are then resampled onto a uniform grid and gaps refused (jointid.timing);
+a log with both derivatives keeps its timestamps as recorded.
 
 Speed: without a progress callback or a cancel check (the command line), the
 data go to pandas' C reader in one call given the file's path, its fastest way:
@@ -57,7 +58,16 @@ from typing import Callable
 import numpy as np
 
 from .dataset import JointData
-from .derivatives import DEFAULT_ORDER, DEFAULT_WINDOW, METHOD, DerivativeEstimate, check_filter, differentiate
+from .derivatives import (
+    DEFAULT_ORDER,
+    DEFAULT_WINDOW,
+    METHOD,
+    DerivativeEstimate,
+    check_filter,
+    choose_window,
+    differentiate,
+)
+from .timing import TimeCheck, TimeProblem, check_times
 
 COLUMNS = ("t", "q", "qd", "qdd", "tau")
 """Recognised column names, in the order the loader stores them."""
@@ -70,9 +80,6 @@ MAX_LINE_BYTES = 1 << 20
 """Longest line reading will hold whole (1 MiB, tens of thousands of columns): a file with no newline in
 its first megabyte is not a log of one sample per line, and reading on would hold all of it in memory.
 Shorter data lines are always read; longer ones inside a chunk are left to the row checks."""
-
-UNIFORM_TOLERANCE = 0.01
-"""Largest allowed relative departure of a time step from the median step."""
 
 MIN_FIT_ROWS = 3
 """A fit of three parameters needs at least three samples."""
@@ -153,6 +160,16 @@ class LogTable:
 
 
 @dataclass(frozen=True, eq=False)
+class LogSource:
+    """A table and its columns after the time checks (resampled if jittered): what differentiation starts from."""
+
+    table: LogTable
+    columns: dict
+    """Name -> (N,) array, on a uniform grid when derivatives are estimated."""
+    timing: TimeCheck | None
+
+
+@dataclass(frozen=True, eq=False)
 class JointLog:
     """A log ready to fit: joint data (SI units, trimmed) plus how it was obtained."""
 
@@ -168,6 +185,17 @@ class JointLog:
     """True when q, qd, qdd were read in degrees and converted."""
     rows: int
     """Data rows in the file, before any trimming."""
+    timing: TimeCheck | None = None
+    """What the time column showed (step, jitter, repeats dropped, resampling), or None without one."""
+    source: LogSource | None = None
+    """The checked columns before differentiation, so the log can be derived again with another window."""
+
+    def with_window(self, window: int | None, order: int | None = None) -> JointLog:
+        """The same log with its missing derivatives estimated by another window (and order); self if none."""
+        if self.source is None or self.derivatives is None:
+            return self
+        order = self.derivatives.order if order is None else order
+        return _derive(self.source, degrees=self.degrees, window=window, order=order)
 
     @property
     def notes(self) -> tuple[str, ...]:
@@ -175,8 +203,23 @@ class JointLog:
         notes = []
         if self.ignored:
             notes.append(f"{self.path}: ignored columns " + ", ".join(repr(n) for n in self.ignored) + ".")
+        if self.timing is not None:
+            notes.extend(f"{self.path}: {text}" for text in self.timing.descriptions)
         if self.derivatives is not None:
             notes.append(f"{self.path}: {self.derivatives.description}")
+        return tuple(notes)
+
+    @property
+    def short_notes(self) -> tuple[str, ...]:
+        """The notes in a few words each, naming the file without its folder, for a narrow status line."""
+        name = os.path.basename(self.path)
+        notes = []
+        if self.ignored:
+            notes.append(f"{name}: ignored " + ", ".join(repr(n) for n in self.ignored))
+        if self.timing is not None:
+            notes.extend(f"{name}: {text}" for text in self.timing.short_descriptions)
+        if self.derivatives is not None:
+            notes.append(f"{name}: {self.derivatives.short_description}")
         return tuple(notes)
 
     def source_text(self) -> str:
@@ -681,31 +724,19 @@ def _check_finite(table: LogTable) -> None:
         raise table.error(f"{kind} is not a measurement", index, name)
 
 
-def check_time(table: LogTable, uniform: bool) -> float | None:
-    """Raise LogError unless t strictly increases (and, if `uniform`, steps within 1 %).
+def check_time(table: LogTable, uniform: bool) -> tuple[dict, TimeCheck | None]:
+    """The table's columns after the time checks of jointid.timing (resampled when `uniform` is needed and
+    the steps jitter), and what they showed; LogError naming the row and time of a problem.
 
-    Returns the median step when `uniform` is asked for, else None.
+    Without a t column there is nothing to check: (columns, None).
     """
     t = table.columns.get("t")
-    if t is None or len(t) < 2:
-        return None
-    steps = np.diff(t)
-    if not (steps > 0).all():
-        i = int(np.flatnonzero(~(steps > 0))[0]) + 1
-        raise table.error(f"t = {t[i]:.9g} s does not increase (previous row has {t[i - 1]:.9g} s)", i, "t")
-    if not uniform:
-        return None
-    step = float(np.median(steps))
-    off = np.flatnonzero(np.abs(steps - step) > UNIFORM_TOLERANCE * step)
-    if len(off):
-        i = int(off[0]) + 1
-        raise table.error(
-            f"time step {steps[i - 1]:.9g} s differs from the median step {step:.9g} s by more than "
-            f"{UNIFORM_TOLERANCE:.0%}; derivative estimation needs uniform sampling",
-            i,
-            "t",
-        )
-    return step
+    if t is None:
+        return table.columns, None
+    try:
+        return check_times(t, table.columns, uniform=uniform)
+    except TimeProblem as problem:
+        raise table.error(problem.problem, problem.index, "t") from None
 
 
 def _check_estimates(table: LogTable, step: float, estimates, missing: tuple[str, ...]) -> None:
@@ -724,7 +755,7 @@ def load_log(
     path,
     *,
     degrees: bool = False,
-    window: int = DEFAULT_WINDOW,
+    window: int | None = DEFAULT_WINDOW,
     order: int = DEFAULT_ORDER,
     progress: ProgressCallback | None = None,
     cancel: CancelCheck | None = None,
@@ -737,37 +768,50 @@ def load_log(
 
 
 def joint_log_from_table(
-    table: LogTable, *, degrees: bool = False, window: int = DEFAULT_WINDOW, order: int = DEFAULT_ORDER
+    table: LogTable, *, degrees: bool = False, window: int | None = DEFAULT_WINDOW, order: int = DEFAULT_ORDER
 ) -> JointLog:
     """Check a table's time column, estimate any missing qd/qdd, convert units: the log ready to fit.
 
     Every log source ends here (a CSV file today), so all logs are checked and
-    differentiated alike; LogError on any problem.
+    differentiated alike; LogError on any problem. A window of None is chosen
+    from the motion (`derivatives.choose_window`).
     """
     check_filter(window, order)
-    columns = table.columns
+    missing = tuple(n for n in ("qd", "qdd") if n not in table.columns)
+    columns, timing = check_time(table, uniform=bool(missing))
+    return _derive(LogSource(table, columns, timing), degrees=degrees, window=window, order=order)
+
+
+def _derive(source: LogSource, *, degrees: bool, window: int | None, order: int) -> JointLog:
+    """The JointLog of checked columns: missing derivatives estimated with `window` (None: automatic), units SI."""
+    table, columns, timing = source.table, source.columns, source.timing
     missing = tuple(n for n in ("qd", "qdd") if n not in columns)
-    step = check_time(table, uniform=bool(missing))
-    needed = MIN_FIT_ROWS + (window - 1 if missing else 0)
-    if table.count < needed:
-        why = f"a window of {window} samples trims {window - 1} and " if missing else ""
-        raise LogError(
-            table.path, f"has {table.count} data rows; {why}fitting 3 parameters needs at least {needed}"
-        )
+    step = None if timing is None else timing.step
+    count = len(columns["q"])
     scale = math.pi / 180 if degrees else 1.0
     q = columns["q"] * scale if degrees else columns["q"]
+    choice = None
+    if missing and window is None:
+        choice = choose_window(q, 1.0 if step is None else step, order)  # no step: too few rows, refused below
+        window = choice.window
+    needed = MIN_FIT_ROWS + (window - 1 if missing else 0)
+    if count < needed:
+        why = f"a window of {window} samples trims {window - 1} and " if missing else ""
+        rows = f"{table.count} data rows" if count == table.count else f"{count} samples after the time checks"
+        raise LogError(table.path, f"has {rows}; {why}fitting 3 parameters needs at least {needed}")
     estimate = None
     if missing:
+        check_filter(window, order)
         # A step like 1e-302 s makes the filter's 1/dt^2 overflow: checked just below, by name.
         with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
             velocity, acceleration = differentiate(q, step, window, order)
         _check_estimates(table, step, (("qd", velocity), ("qdd", acceleration)), missing)
         half = window // 2
-        keep = slice(half, table.count - half)
+        keep = slice(half, count - half)
         qd = columns["qd"][keep] * scale if "qd" in columns else velocity
         qdd = columns["qdd"][keep] * scale if "qdd" in columns else acceleration
         t, q, tau = columns["t"][keep], q[keep], columns["tau"][keep]
-        estimate = DerivativeEstimate(METHOD, window, order, step, window - 1, missing)
+        estimate = DerivativeEstimate(METHOD, window, order, step, window - 1, missing, choice)
     else:
         qd, qdd = columns["qd"], columns["qdd"]
         if degrees:
@@ -780,4 +824,6 @@ def joint_log_from_table(
         derivatives=estimate,
         degrees=degrees,
         rows=table.count,
+        timing=timing,
+        source=source,
     )

@@ -6,7 +6,7 @@ from functools import lru_cache
 
 from .dataset import JointData
 from .fit import FitResult, fit_joint
-from .motions import TRAINING_MOTIONS, VALIDATION_MOTION, VALIDATION_SAMPLES, Motion, sample_times
+from .motions import VALIDATION_MOTION, VALIDATION_SAMPLES, Motion, sample_times
 from .noise import torque_noise
 from .settings import Settings
 from .truth import LESSON_JOINT, TrueJoint
@@ -21,7 +21,7 @@ def measured_states(motion: Motion, count: int, joint: TrueJoint) -> JointData:
 
 def training_data(settings: Settings) -> JointData:
     """Training states of the chosen motion with the true joint's measured torque plus seeded bounded noise."""
-    exact = measured_states(TRAINING_MOTIONS[settings.motion], settings.samples, settings.true_joint)
+    exact = measured_states(settings.training_motion, settings.samples, settings.true_joint)
     noisy = exact.tau + torque_noise(settings.noise, settings.samples, settings.seed)
     return JointData(t=exact.t, q=exact.q, qd=exact.qd, qdd=exact.qdd, tau=noisy)
 

@@ -59,7 +59,12 @@ def describe_range(field: str, *, finite: bool = False) -> str:
 def check_setting(field: str, value) -> None:
     """Raise SettingsError unless value is allowed for the named setting."""
     if field == "motion":
-        ok = value in TRAINING_MOTION_NAMES
+        if isinstance(value, str):
+            ok = value in TRAINING_MOTION_NAMES
+        else:  # a designed motion; its module (numpy) loads only for such a value, never for typed text
+            from .fourier import FourierMotion
+
+            ok = isinstance(value, FourierMotion)
     elif field == "model":
         try:
             model_extras(value)

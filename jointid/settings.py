@@ -31,6 +31,7 @@ from .setting_checks import (  # noqa: F401  (also this module's API)
 
 TYPE_CHECKING = False  # typing itself would cost 3 ms of every start
 if TYPE_CHECKING:
+    from .fourier import FourierMotion
     from .model import JointModel
     from .truth import TrueJoint
 
@@ -39,7 +40,8 @@ if TYPE_CHECKING:
 class Settings:
     """One synthetic identification experiment: motion, noise bound (N m), samples, seed and fitted model."""
 
-    motion: str = SETTING_DEFAULTS["motion"]
+    motion: str | FourierMotion = SETTING_DEFAULTS["motion"]
+    """A training motion's name, or a designed FourierMotion (from `jointid design` or a motion file)."""
     noise: float = SETTING_DEFAULTS["noise"]
     samples: int = SETTING_DEFAULTS["samples"]
     seed: int = SETTING_DEFAULTS["seed"]
@@ -57,6 +59,18 @@ class Settings:
     def __post_init__(self):
         for field in FIELDS:
             check_setting(field, getattr(self, field))
+
+    @property
+    def training_motion(self):
+        """The motion object (a Motion or a FourierMotion) the experiment trains on."""
+        from .motions import TRAINING_MOTIONS  # numpy: only when data are generated
+
+        return TRAINING_MOTIONS[self.motion] if isinstance(self.motion, str) else self.motion
+
+    @property
+    def motion_name(self) -> str:
+        """The training motion's name: 'rich', 'slow', 'holds' or 'design'."""
+        return self.training_motion.name
 
     @property
     def joint_model(self) -> JointModel:

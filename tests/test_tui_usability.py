@@ -161,7 +161,7 @@ def test_with_a_log_at_80_columns_the_footer_keeps_close_log_and_export(logs):
 
     text, status_rows = run(scenario)
     # Reset, the sweep and the matrix do not apply to a log: off, so left out of a tight footer.
-    for entry in ("Motion", "Help", "Quit", "e l Views", "Physics", "Open log", "Close log", "Export"):
+    for entry in ("Motion", "Help", "Quit", "e l d Views", "Physics", "Open log", "Close log", "Export"):
         assert entry in text
     assert "Sweep" not in text and "Reset" not in text and "…" not in text and status_rows == 4
 

@@ -60,3 +60,37 @@ def test_residual_view_against_velocity_compact(snap_compare):
         await pilot.pause()
 
     assert snap_compare(make_app(SLOW), terminal_size=COMPACT, run_before=run_before)
+
+
+RICH_020 = CANONICAL_STATES["rich_0.20"]
+"""Rich motion at noise 0.20: the design view's comparison is at the lesson's noise."""
+
+
+def design_view(run: bool, criterion_key: str = ""):
+    """A run_before that opens the design view and, if asked, runs a design (8 starts, seed 0) and waits for it."""
+
+    async def run_before(pilot) -> None:
+        await open_view("d")(pilot)
+        if run:
+            await pilot.press("g")
+            await pilot.app.workers.wait_for_complete()
+            await pilot.pause()
+            await pilot.pause()
+
+    return run_before
+
+
+def test_design_view_before_a_run_wide(snap_compare):
+    assert snap_compare(make_app(RICH_020), terminal_size=WIDE, run_before=design_view(run=False))
+
+
+def test_design_view_after_a_run_wide(snap_compare):
+    assert snap_compare(make_app(RICH_020), terminal_size=WIDE, run_before=design_view(run=True))
+
+
+def test_design_view_before_a_run_compact(snap_compare):
+    assert snap_compare(make_app(RICH_020), terminal_size=COMPACT, run_before=design_view(run=False))
+
+
+def test_design_view_after_a_run_compact(snap_compare):
+    assert snap_compare(make_app(RICH_020), terminal_size=COMPACT, run_before=design_view(run=True))

@@ -6,7 +6,6 @@ from dataclasses import replace
 
 from textual.command import DiscoveryHit, Hit, Hits, Provider
 
-from jointid.motions import TRAINING_MOTIONS
 from jointid.settings import DEFAULT_SETTINGS, Settings
 
 TOUR = (
@@ -41,7 +40,7 @@ PHYSICS_STOPS = (
 
 def tour_title(index: int, settings: Settings) -> str:
     """Palette text for one tour stop, e.g. 'Tour 2: Rich motion, noise 0.20'."""
-    label = TRAINING_MOTIONS[settings.motion].label
+    label = settings.training_motion.label
     return f"Tour {index + 1}: {label}, noise {settings.noise:.2f}"
 
 

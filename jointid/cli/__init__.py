@@ -11,6 +11,7 @@ import sys
 
 from . import (
     compare_command,
+    design_command,
     explorer_command,
     fit_command,
     matrix_command,
@@ -23,7 +24,8 @@ from .floating_point import strict_arithmetic
 from .log_fit import add_log_arguments
 from .version import VersionAction
 
-SUBCOMMANDS = (fit_command, compare_command, torque_command, sweep_command, matrix_command, simulate_command)
+SUBCOMMANDS = (fit_command, compare_command, torque_command, sweep_command, matrix_command, simulate_command,
+               design_command)
 """Modules that define the subcommands, in help order."""
 
 

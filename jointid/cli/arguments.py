@@ -7,9 +7,8 @@ import math
 import re
 import sys
 
-from ..choices import TRAINING_MOTION_NAMES, describe_models
+from ..choices import SETTING_DEFAULTS, TRAINING_MOTION_NAMES, describe_models
 from ..number_text import parse_float, parse_int
-from ..choices import SETTING_DEFAULTS
 from ..setting_checks import FIELDS, SettingsError, parse_setting
 
 TYPE_CHECKING = False  # typing itself would cost 3 ms of every start
@@ -158,8 +157,9 @@ def add_settings_arguments(parser: argparse.ArgumentParser) -> None:
         "true_angle_offset": ("Q0", "the encoder's zero is off: the logged angle is q_true - Q0, -0.5 to 0.5 rad; "
                                     "default 0"),
     }
+    motions = parser.add_mutually_exclusive_group()  # --motion and --motion-file: one training motion
     for field, (metavar, help_text) in flags.items():
-        parser.add_argument(
+        (motions if field == "motion" else parser).add_argument(
             f"--{field.replace('_', '-')}",
             dest=field,
             type=setting_type(field),
@@ -167,10 +167,30 @@ def add_settings_arguments(parser: argparse.ArgumentParser) -> None:
             metavar=metavar,
             help=help_text,
         )
+    add_motion_file_argument(motions)
+
+
+def add_motion_file_argument(parser) -> None:
+    """Add --motion-file FILE: train on a motion file that `jointid design --out` wrote."""
+    parser.add_argument("--motion-file", metavar="FILE", default=None,
+                        help="train on this motion file (JSON, from jointid design --out) instead of --motion")
+
+
+def motion_from_file(path: str):
+    """The FourierMotion a --motion-file names; UserError (one line naming the file and the problem) if it is bad."""
+    from ..fourier import MotionFileError, load_motion
+
+    try:
+        return load_motion(path)
+    except MotionFileError as error:
+        raise UserError(str(error)) from None
 
 
 def settings_from(args: argparse.Namespace) -> Settings:
     """The Settings named by the parsed synthetic-setting arguments (and --model, where the command has it)."""
     from ..settings import Settings  # dataclasses: only once a command runs
 
-    return Settings(**{field: getattr(args, field, SETTING_DEFAULTS[field]) for field in FIELDS})
+    values = {field: getattr(args, field, SETTING_DEFAULTS[field]) for field in FIELDS}
+    if getattr(args, "motion_file", None) is not None:
+        values["motion"] = motion_from_file(args.motion_file)
+    return Settings(**values)

@@ -12,7 +12,7 @@ from __future__ import annotations
 from ..setting_checks import SettingsError
 from .arguments import UserError, settings_from
 from .floating_point import strict_arithmetic
-from .log_fit import derivative_options, fit_loaded_logs, with_default_settings
+from .log_fit import derivative_options, filter_options, fit_loaded_logs, with_default_settings
 from .version import ENTRY_POINT_GROUP
 
 ENTRY_POINT_NAME = "explorer"
@@ -35,16 +35,17 @@ def run(args) -> int:
     with strict_arithmetic():
         loaded = fit_loaded_logs(args) if args.csv is not None else None
     derivatives = derivative_options(args)  # also for logs opened later with Ctrl+O
+    filtering = filter_options(args)
     settings = settings_from(with_default_settings(args) if loaded is None else _defaults(args))
     explore = load_explorer()
     try:
-        return explore(settings, loaded, derivatives)
+        return explore(settings, loaded, derivatives, filtering)
     except SettingsError as error:  # outside the explorer's ranges: `jointid fit` takes more
         raise UserError(str(error)) from None
 
 
 def _defaults(args):
     """The synthetic defaults behind a log (load_logs has refused any setting flag already)."""
-    for name in ("window", "order", "heldout", "degrees"):
+    for name in ("window", "order", "heldout", "degrees", "cutoff", "decimate"):
         setattr(args, name, None)
     return with_default_settings(args)

@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import argparse
 
-from ..choices import DEFAULT_ORDER, DEFAULT_WINDOW, SETTING_DEFAULTS
-from .arguments import UserError, whole_number
+from ..choices import DEFAULT_ORDER, SETTING_DEFAULTS
+from .arguments import UserError, finite_float, whole_number
 from .output import print_json
 
 TYPE_CHECKING = False  # typing itself would cost 3 ms of every start
@@ -23,7 +23,7 @@ if TYPE_CHECKING:
 SETTING_FLAGS = ("motion", "noise", "samples", "seed", "true_coulomb", "true_bias", "true_angle_offset")
 """Synthetic-experiment options that a log fit rejects."""
 
-LOG_ONLY_FLAGS = ("heldout", "degrees", "window", "order")
+LOG_ONLY_FLAGS = ("heldout", "degrees", "window", "order", "cutoff", "decimate")
 """Options that mean something only with --csv."""
 
 SYNTHETIC_ONLY_FLAGS = ("simulate", "horizon")
@@ -43,9 +43,14 @@ def add_log_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--degrees", action="store_true", help="the logs give q, qd, qdd in degrees")
     group.add_argument("--window", type=whole_number(3), default=None, metavar="W",
                        help="Savitzky-Golay window (odd number of samples) when qd or qdd is missing; "
-                       f"default {DEFAULT_WINDOW}")
+                       "default: chosen from the motion's bandwidth and q's noise (the note says which)")
     group.add_argument("--order", type=whole_number(2), default=None, metavar="P",
                        help=f"Savitzky-Golay polynomial order; default {DEFAULT_ORDER}")
+    group.add_argument("--cutoff", type=cutoff_number, default=None, metavar="HZ",
+                       help="low-pass the torque and every regressor column alike at HZ (zero phase) before the "
+                       "fit; 0 turns it off; default: 12 times the motion's bandwidth")
+    group.add_argument("--decimate", type=whole_number(1), default=None, metavar="N",
+                       help="keep every Nth sample after the low-pass; default: down to twice the cutoff")
     parser.set_defaults(**dict.fromkeys(SETTING_FLAGS))
 
 
@@ -60,11 +65,27 @@ def with_default_settings(args: argparse.Namespace) -> argparse.Namespace:
     return args
 
 
-def derivative_options(args: argparse.Namespace) -> tuple[int, int]:
-    """The Savitzky-Golay window and order from --window and --order; UserError if they do not fit together."""
+def cutoff_number(text: str) -> float:
+    """An argparse type for --cutoff: a finite number of hertz, 0 (off) or more."""
+    value = finite_float(text)
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be a number of hertz, 0 (off) or more; got {text!r}")
+    return value
+
+
+def filter_options(args: argparse.Namespace):
+    """The parallel low-pass asked for by --cutoff and --decimate (None: automatic): a FilterRequest."""
+    from ..parallel_filter import FilterRequest
+
+    return FilterRequest(getattr(args, "cutoff", None), getattr(args, "decimate", None))
+
+
+def derivative_options(args: argparse.Namespace) -> tuple[int | None, int]:
+    """The Savitzky-Golay window (None: automatic) and order from --window and --order; UserError if they do
+    not fit together."""
     from ..derivatives import FilterSettingError, check_filter  # numpy: only once a command runs
 
-    window = DEFAULT_WINDOW if args.window is None else args.window
+    window = args.window
     order = DEFAULT_ORDER if args.order is None else args.order
     try:
         check_filter(window, order)
@@ -76,6 +97,8 @@ def derivative_options(args: argparse.Namespace) -> tuple[int, int]:
 def load_logs(args: argparse.Namespace) -> tuple[JointLog, JointLog | None]:
     """The --csv and --heldout logs, after checking the options; UserError (one line) on any problem."""
     given = [f"--{name.replace('_', '-')}" for name in SETTING_FLAGS if getattr(args, name) is not None]
+    if getattr(args, "motion_file", None) is not None:
+        given.append("--motion-file")
     if given:
         raise UserError(f"synthetic settings ({', '.join(given)}) cannot apply to a --csv log; drop them")
     simulated = [f"--{name}" for name in SYNTHETIC_ONLY_FLAGS if getattr(args, name, None) not in (None, False)]
@@ -106,7 +129,7 @@ def fit_loaded_logs(args: argparse.Namespace) -> LoadedLogs:
 
     try:
         return fit_logs(training, heldout, model=model_named(args.model),
-                        constrained=getattr(args, "constrained", False))
+                        constrained=getattr(args, "constrained", False), filtering=filter_options(args))
     except LogError as error:  # numbers beyond double precision
         raise UserError(str(error)) from None
 
@@ -123,6 +146,10 @@ def run_log_fit(args: argparse.Namespace) -> int:
     print(readouts_text(logs.result))
     print()
     print(uncertainty_text(logs.result))
+    if logs.sensitivity is not None:
+        from ..present.sensitivity import sensitivity_text
+
+        print(sensitivity_text(logs.sensitivity))
     if logs.notes():
         print()
         print("\n".join(f"Note: {note}" for note in logs.notes()))

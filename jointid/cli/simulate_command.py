@@ -12,10 +12,17 @@ from __future__ import annotations
 import argparse
 import math
 
-from ..choices import ALL_MOTION_NAMES, DURATION
-from ..choices import SETTING_DEFAULTS
+from ..choices import ALL_MOTION_NAMES, DURATION, SETTING_DEFAULTS
 from ..setting_checks import SettingsError, check_setting
-from .arguments import UserError, positive_number, setting_type, whole_number
+from .arguments import (
+    UserError,
+    add_motion_file_argument,
+    bounded_number,
+    motion_from_file,
+    positive_number,
+    setting_type,
+    whole_number,
+)
 
 NAME = "simulate"
 
@@ -29,6 +36,9 @@ ENCODER_COUNT_LIMIT = 2**32
 """Most counts per turn (a 32-bit encoder): more is no encoder, and 10**400 is no float."""
 RATE_LIMIT = 1e9
 """Highest sample rate (Hz): with DURATION_LIMIT it keeps duration*rate a finite, exactly rounded count."""
+
+JITTER_LIMIT = 0.4
+"""Largest --jitter (sample steps): below half a step, samples can never swap order."""
 
 
 def bounded_positive(high: float):
@@ -70,9 +80,12 @@ def add_parser(subparsers) -> None:
         "fix the third, and three that disagree are refused. The file is written atomically and never over an "
         "existing one without --force.",
     )
-    parser.add_argument("--motion", type=motion_name, default=SETTING_DEFAULTS["motion"],
-                        metavar="{" + ",".join(ALL_MOTION_NAMES) + "}",
-                        help=f"motion to sample, the validation motion test included; default {SETTING_DEFAULTS['motion']}")
+    motions = parser.add_mutually_exclusive_group()
+    motions.add_argument("--motion", type=motion_name, default=SETTING_DEFAULTS["motion"],
+                         metavar="{" + ",".join(ALL_MOTION_NAMES) + "}",
+                         help="motion to sample, the validation motion test included; "
+                         f"default {SETTING_DEFAULTS['motion']}")
+    add_motion_file_argument(motions)
     parser.add_argument("--noise", type=setting_type("noise"), default=SETTING_DEFAULTS["noise"], metavar="X",
                         help="bound of the uniform torque noise, 0 to 100 N m; default 0")
     parser.add_argument("--seed", type=setting_type("seed"), default=SETTING_DEFAULTS["seed"], metavar="S",
@@ -85,6 +98,9 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--duration", type=bounded_positive(DURATION_LIMIT), default=None, metavar="S",
                         help=f"time span from the first to the last sample (s), at most {DURATION_LIMIT:g}; "
                         f"default {DURATION:g}")
+    parser.add_argument("--jitter", type=bounded_number(0.0, JITTER_LIMIT), default=0.0, metavar="J",
+                        help="take each sample (but the first and last) up to J sample steps off its tick, like a "
+                        f"real logger, and write the true instants (0 to {JITTER_LIMIT:g}; seeded by --seed); default 0")
     parser.add_argument("--encoder-counts", type=encoder_counts, default=None, metavar="C",
                         help="write only t, q and tau, with q quantised to 2*pi/C rad like an encoder "
                         f"(C up to {ENCODER_COUNT_LIMIT:,})")
@@ -138,7 +154,12 @@ def run(args: argparse.Namespace) -> int:
 
     samples, duration = timing(args.samples, args.rate, args.duration)
     t = np.linspace(0.0, duration, samples)
-    states = ALL_MOTIONS[args.motion].states(t)
+    if args.jitter:
+        shift = np.random.default_rng(args.seed).uniform(-args.jitter, args.jitter, samples)
+        shift[[0, -1]] = 0.0
+        t = t + shift * (duration / (samples - 1))
+    motion = ALL_MOTIONS[args.motion] if args.motion_file is None else motion_from_file(args.motion_file)
+    states = motion.states(t)
     joint = TrueJoint(coulomb=args.true_coulomb, bias=args.true_bias, angle_offset=args.true_angle_offset)
     tau = joint.measured_torque(states.q, states.qd, states.qdd) + torque_noise(args.noise, samples, args.seed)
     q = joint.logged_angle(states.q)
@@ -151,8 +172,10 @@ def run(args: argparse.Namespace) -> int:
         raise UserError("the simulated log would hold values that are not finite numbers; nothing written")
     truth = joint.description()
     quantised = "" if args.encoder_counts is None else f", q quantised to {args.encoder_counts} counts/rev"
+    if args.jitter:
+        quantised += f", sampling instants jittered by up to {args.jitter:g} steps"
     comment = (
-        f"# jointid simulate: {args.motion} motion, {samples} samples over {duration:g} s{quantised}, "
+        f"# jointid simulate: {motion.name} motion, {samples} samples over {duration:g} s{quantised}, "
         f"uniform torque noise bound {args.noise:g} N m, seed {args.seed}; true {truth}\n"
     )
     try:
@@ -163,5 +186,5 @@ def run(args: argparse.Namespace) -> int:
     except ExportError as error:
         hint = " (add --force to replace it)" if "already exists" in str(error) else ""
         raise UserError(f"{error}{hint}") from None
-    print(f"Wrote {args.out}: {samples} samples of {', '.join(names)} ({args.motion} motion, {duration:g} s).")
+    print(f"Wrote {args.out}: {samples} samples of {', '.join(names)} ({motion.name} motion, {duration:g} s).")
     return 0

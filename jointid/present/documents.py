@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
+from ..fourier import motion_document
 from ..uncertainty import finite_or_none
 
 if TYPE_CHECKING:
@@ -78,8 +79,12 @@ def estimate_object(result: FitResult) -> dict | None:
 
 
 def settings_object(settings: Settings) -> dict:
-    """The synthetic settings as a JSON object."""
-    return vars(settings).copy()
+    """The synthetic settings as a JSON object (a designed motion as its name plus its motion file's object)."""
+    document = vars(settings).copy()
+    if not isinstance(settings.motion, str):
+        document["motion"] = settings.motion_name
+        document["designed_motion"] = motion_document(settings.motion)
+    return document
 
 
 def column_estimate_object(result: FitResult) -> dict:
@@ -173,14 +178,20 @@ def fit_document(result: FitResult, *, settings: Settings | None = None, source=
     }
 
 
-def log_fit_document(result: FitResult, training, heldout=None) -> dict:
-    """fit_document for a fit of logs (csvlog.JointLog objects): source paths, derivatives and notes."""
+def log_fit_document(result: FitResult, training, heldout=None, low_pass=None, sensitivity=None,
+                     notes=None) -> dict:
+    """fit_document for a fit of logs (csvlog.JointLog objects): source paths, derivatives, timing, the
+    parallel low-pass (parallel_filter.ParallelFilter), the sensitivity check and notes."""
     return fit_document(
         result,
         source={"training": training.path, "heldout": None if heldout is None else heldout.path},
         derivatives=None if training.derivatives is None else training.derivatives.to_dict(),
         heldout_derivatives=None if heldout is None or heldout.derivatives is None else heldout.derivatives.to_dict(),
-        notes=[*training.notes, *(heldout.notes if heldout is not None else ())],
+        timing=None if training.timing is None else training.timing.to_dict(),
+        heldout_timing=None if heldout is None or heldout.timing is None else heldout.timing.to_dict(),
+        low_pass=None if low_pass is None else low_pass.to_dict(),
+        sensitivity=None if sensitivity is None else sensitivity.to_dict(),
+        notes=list(notes) if notes is not None else [*training.notes, *(heldout.notes if heldout is not None else ())],
     )
 
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from ..motions import ALL_MOTIONS, VALIDATION_SAMPLES
+from ..motions import VALIDATION_SAMPLES
 from .text import UNAVAILABLE, format_number, settings_header, text_table
 
 if TYPE_CHECKING:
@@ -120,7 +120,7 @@ def matrix_table(table: CrossExcitationTable) -> str:
     """The RMSE table as aligned text, one row per training motion."""
     header = ["fitted on", *(MATRIX_COLUMN_TITLES[m] for m in table.prediction_motions)]
     rows = [
-        [f"{ALL_MOTIONS[row.training_motion].label.lower()} (rank {row.fit.rank})",
+        [f"{row.label.lower()} (rank {row.fit.rank})",
          *(matrix_cell(cell.rmse, cell.is_training_data) for cell in row.cells)]
         for row in table.rows
     ]
@@ -129,7 +129,7 @@ def matrix_table(table: CrossExcitationTable) -> str:
 
 def matrix_notes(table: CrossExcitationTable) -> str:
     """The legend: what the mark means, where each column's states come from, unavailable rows."""
-    missing = [ALL_MOTIONS[row.training_motion].label.lower() for row in table.rows if not row.available]
+    missing = [row.label.lower() for row in table.rows if not row.available]
     lines = [
         f"{TRAINING_MARK} training data: the fit saw these states (with noisy torques); not a held-out test.",
         f"Rich and slow columns: {table.settings.samples} samples at the training instants; "

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-from ..motions import TRAINING_MOTIONS
 from ..settings import Settings
 
 UNAVAILABLE = "unavailable"
@@ -58,7 +57,7 @@ def settings_header(settings: Settings, *, motion: bool = True, seeds: str | Non
         motion: Start with the training motion (False for texts that cover every motion).
         seeds: Replaces 'seed S', e.g. '1000 seeds 7..1006' for a sweep.
     """
-    parts = [TRAINING_MOTIONS[settings.motion].label] if motion else []
+    parts = [settings.training_motion.label] if motion else []
     parts += [f"noise {format_number(settings.noise, 2)} N m", f"{settings.samples} samples",
               seeds or f"seed {settings.seed}"]
     if settings.model != Settings.model:  # the lesson's texts stay as they were

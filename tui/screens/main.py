@@ -67,6 +67,8 @@ at 80 columns as at 120, so a key press changes its text but not the screen's la
 
 MOTION_KEYS = {"1": ("rich", "Rich"), "2": ("slow", "Slow"), "3": ("holds", "Holds")}
 """Global keys that select a training motion, with the palette's short name."""
+DESIGNED = "design"
+"""The motion list's fourth motion: the one the design view made (key 4, once there is one)."""
 MOTION_GROUP = Binding.Group("Motion")
 """The motion keys share one footer entry."""
 VIEWS_GROUP = Binding.Group("Views")
@@ -138,6 +140,8 @@ class MainScreen(Screen):
                     tooltip=f"Train on {TRAINING_MOTIONS[name].label.lower()}")
             for key, (name, short) in MOTION_KEYS.items()
         ),
+        Binding("4", f"motion('{DESIGNED}')", "Designed", group=MOTION_GROUP,
+                tooltip="Train on the designed motion (after d, t)"),
         # Priority, and not claimed by number fields, so these work while one has focus.
         Binding("r", "reset", "Reset", priority=True, tooltip="Restore the four default settings"),
         Binding("question_mark", "help", "Help", key_display="?", priority=True,
@@ -152,6 +156,8 @@ class MainScreen(Screen):
         Binding("e", "residuals", "Residuals", group=VIEWS_GROUP, tooltip="Training residuals against t, q, qd, qdd"),
         Binding("l", "ladder", "Ladder", priority=True, group=VIEWS_GROUP,
                 tooltip="Fit every model of the ladder, BIC's choice, and a simulation of each"),
+        Binding("d", "design", "Design", priority=True, group=VIEWS_GROUP,
+                tooltip="Design the motion that reveals the parameters best within the joint's limits"),
         # While a log is shown the sweep and the matrix are off (dimmed in the footer, left out of
         # a tight one, so 80 columns keep Close log and Export); these keys then say why.
         Binding("s", "explain_synthetic('The seed sweep')", show=False, priority=True),
@@ -186,6 +192,10 @@ class MainScreen(Screen):
         """The fit on screen, of whichever source is shown."""
         self._known_joint = settings.true_joint
         self._title_text = ""
+        self.designed = None if isinstance(settings.motion, str) else settings.motion
+        """The designed FourierMotion, the motion list's fourth entry once there is one."""
+        self.design_view_state: tuple = (None, None, "d")
+        """The design view's last (result, limit fields, criterion), shown again when it reopens."""
 
     def compose(self) -> ComposeResult:
         """Side panel with controls and readouts, chart column, too-small message, footer."""
@@ -198,8 +208,10 @@ class MainScreen(Screen):
             with Vertical(id="side"):
                 yield ChoiceList(
                     [*((f"motion-{name}", motion.label) for name, motion in TRAINING_MOTIONS.items()),
+                     (f"motion-{DESIGNED}", "Designed motion"),  # shown once there is one
                      ("motion-log", "Log")],  # shown only while a log is
-                    on_choose=self.choose_motion, hidden=("motion-log",), id="motion",
+                    on_choose=self.choose_motion,
+                    hidden=("motion-log",) + ((f"motion-{DESIGNED}",) if self.designed is None else ()), id="motion",
                 )
                 for steps in STEP_RANGES:
                     with Horizontal(classes="field"):
@@ -268,7 +280,8 @@ class MainScreen(Screen):
                        or settings.constrained, "-extended")
         motion = self.query_one("#motion", ChoiceList)
         motion.set_option("motion-log", label=None if logs is None else f"Log: {logs.name}", shown=logs is not None)
-        motion.show_pressed("motion-log" if logs is not None else f"motion-{settings.motion}")
+        motion.set_option(f"motion-{DESIGNED}", shown=self.designed is not None)
+        motion.show_pressed("motion-log" if logs is not None else f"motion-{settings.motion_name}")
         for steps in STEP_RANGES:  # by id: a type query walks the whole screen (0.3 ms)
             stepper = self.query_one(f"#{steps.field}", Stepper)
             stepper.disabled = logs is not None
@@ -337,7 +350,8 @@ class MainScreen(Screen):
         from jointid.logfit import fit_logs
 
         self.settings = settings
-        self.set_logs(fit_logs(self.logs.training, self.logs.heldout, settings.joint_model, settings.constrained))
+        self.set_logs(fit_logs(self.logs.training, self.logs.heldout, settings.joint_model, settings.constrained,
+                               self.logs.filtering))
 
     def choose_motion(self, button_id: str) -> None:
         """The motion list's choice (choosing the log's own entry changes nothing)."""
@@ -349,8 +363,30 @@ class MainScreen(Screen):
         self.set_settings(settings)
 
     def action_motion(self, name: str) -> None:
-        """Select a training motion (leaving a log)."""
+        """Select a training motion, the designed one included (leaving a log)."""
+        if name == DESIGNED:
+            if self.designed is None:
+                self.notify("No designed motion yet: press d to design one, then t to train on it.",
+                            severity="warning")
+                return
+            self.set_settings(replace(self.settings, motion=self.designed))
+            return
         self.set_settings(replace(self.settings, motion=name))
+
+    def action_design(self) -> None:
+        """Open the design view for the current samples, noise and model."""
+        from .design import DesignScreen
+
+        result, limits, criterion = self.design_view_state
+        self.app.push_screen(DesignScreen(self.settings, self.train_on_design, result, limits, criterion))
+
+    def train_on_design(self, result, limits: dict, criterion: str) -> None:
+        """The design view's `t`: the design joins the motion list as its fourth motion and is trained on."""
+        self.design_view_state = (result, dict(limits), criterion)
+        self.designed = result.motion
+        self.action_motion(DESIGNED)
+        self.notify("Training on the designed motion (4 in the motion list). In the design view (d), w saves it "
+                    "as a motion file.", title="Designed motion")
 
     def action_reset(self) -> None:
         """Restore the four controls' defaults; the model, the constraint and the physics stay (p sets them)."""
@@ -386,7 +422,8 @@ class MainScreen(Screen):
                                               joint=settings.true_joint))
         else:
             self.app.push_screen(LadderScreen(f"log {self.logs.name}", self.logs.training.data,
-                                              None if self.logs.heldout is None else self.logs.heldout.data))
+                                              None if self.logs.heldout is None else self.logs.heldout.data,
+                                              low_pass=self.logs.filter))
 
     def action_help(self) -> None:
         """Open the help screen."""
@@ -427,9 +464,11 @@ class MainScreen(Screen):
     # --- logs ---------------------------------------------------------------------------
 
     def check_action(self, action: str, parameters: tuple) -> bool | None:
-        """Close log exists only while a log is shown; the sweep, the matrix and Reset are off (None) while one is."""
+        """Close log exists only while a log is shown, 4 once a motion is designed; the sweep, the matrix and Reset are off (None) while one is."""
         if action == "close_log":
             return self.logs is not None
+        if action == "motion" and parameters == (DESIGNED,):  # 4 appears once there is a designed motion
+            return self.designed is not None
         if action in ("sweep", "matrix", "reset"):  # reset: the four controls do not apply to a log
             return True if self.logs is None else None
         if action == "explain_synthetic":
@@ -461,7 +500,8 @@ class MainScreen(Screen):
 
         folder = os.path.dirname(os.path.abspath(self.logs.training.path)) if self.logs else None
         self.app.push_screen(OpenLogScreen(folder, heldout_allowed=self.logs is not None,
-                                           derivatives=self.app.derivatives), self.start_loading)
+                                           derivatives=self.app.derivatives, filtering=self.app.filtering),
+                             self.start_loading)
 
     def start_loading(self, request: LoadRequest | None) -> None:
         """Load a chosen file in a worker behind a progress dialog."""
@@ -513,7 +553,7 @@ class MainScreen(Screen):
 
         s = self.settings
         model = "" if s.model == DEFAULT_SETTINGS.model else f"-{s.model}"
-        return (f"jointid-{s.motion}-{s.noise:.2f}-{s.samples}-{s.seed}{model}",
+        return (f"jointid-{s.motion_name}-{s.noise:.2f}-{s.samples}-{s.seed}{model}",
                 fit_document(self.result, settings=s))
 
     def action_export(self) -> None:

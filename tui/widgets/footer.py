@@ -65,9 +65,11 @@ def entry_content(entry: KeyEntry, gap: str) -> Content:
     return content if entry.enabled else content.stylize("dim")
 
 
-ARRANGEMENTS = (("  ", " ", "full"), (" ", " ", "full"), (" ", "", "full"), (" ", "", "key"), (" ", "", None))
+ARRANGEMENTS = (("  ", " ", "full"), (" ", " ", "full"), (" ", " ", "key"), (" ", "", "full"), (" ", "", "key"),
+                (" ", "", None))
 """(between entries, between key and description, the palette shown in full, as its key or not
-at all), roomiest first; the last fits every main-screen key in 80 columns."""
+at all), roomiest first; the last fits every main-screen key in 80 columns. The palette gives up its
+word before the keys give up their spaces: at 120 columns every view's key keeps its name."""
 
 
 def footer_line(entries: tuple[KeyEntry, ...], palette: KeyEntry | None, width: int) -> Content:

@@ -12,6 +12,7 @@ from textual.content import Content
 from textual_plotext import PlotextPlot
 
 from jointid.present.charts import TRUE_MARKER, HistogramData, ScatterData
+from jointid.present.design import LinesData
 
 from .fitting import FittingLine
 from .plot_guard import TOO_SMALL, failure_text, too_small
@@ -129,7 +130,7 @@ class SmallPlot(Vertical):
             classes: CSS classes.
         """
         super().__init__(id=id, classes=classes)
-        self.data: HistogramData | ScatterData | None = None
+        self.data: HistogramData | ScatterData | LinesData | None = None
 
     def compose(self) -> ComposeResult:
         """The heading and the plot."""
@@ -140,14 +141,14 @@ class SmallPlot(Vertical):
         """Redraw with the new colours whenever the theme changes."""
         self.app.theme_changed_signal.subscribe(self, lambda _theme: self._draw())
 
-    def show(self, data: HistogramData | ScatterData | None) -> None:
+    def show(self, data: HistogramData | ScatterData | LinesData | None) -> None:
         """Display new data (None clears the chart)."""
         self.data = data
         self.query_one(FittingLine).show(self.headings(data))
         self._draw()
 
     @staticmethod
-    def headings(data: HistogramData | ScatterData | None) -> tuple[Content, ...]:
+    def headings(data: HistogramData | ScatterData | LinesData | None) -> tuple[Content, ...]:
         """Each title in bold, longest first; a histogram's followed by the legend of its marker line."""
         if data is None:
             return (Content(""),)
@@ -170,6 +171,8 @@ class SmallPlot(Vertical):
             self._histogram(plt, data)
         elif isinstance(data, ScatterData):
             self._scatter(plt, data)
+        elif isinstance(data, LinesData):
+            self._lines(plt, data)
 
     def _histogram(self, plt, data: HistogramData) -> None:
         bars = histogram_bars(data.values, data.true_value)
@@ -208,3 +211,12 @@ class SmallPlot(Vertical):
         plt.scatter(data.x, data.y, marker="●", color=theme_rgb(self.app, "primary"))
         plt.xlabel(data.x_label)
         plt.ylabel(data.y_label)
+
+    def _lines(self, plt, data: LinesData) -> None:
+        colours = (theme_rgb(self.app, "primary"), theme_rgb(self.app, "accent"))
+        bound = max(max(float(np.abs(values).max()) for _, values in data.lines), 1e-3) * 1.1
+        plt.xlim(float(data.x[0]), float(data.x[-1]))
+        plt.ylim(-bound, bound)
+        for (label, values), colour in zip(data.lines, colours):
+            plt.plot(data.x, values, label=label, color=colour, marker="braille")
+        plt.xlabel(data.x_label)
