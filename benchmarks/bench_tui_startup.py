@@ -1,15 +1,17 @@
-"""Start-up to first complete frame: the explorer against a minimal one-PlotextPlot Textual app.
+"""Start-up to first complete frame: the explorer against the minimal one-PlotextPlot app importing numpy.
 
-Run: .venv/bin/python benchmarks/bench_tui_startup.py
+Run: .venv/bin/python benchmarks/bench_tui_startup.py [ROUNDS]
 
 Each app starts as a fresh Python process, headless at 120x40, draws its first
 complete frame (for the explorer: the fit, readouts and both charts) and exits
-straight after that frame. The wall time from launching the process to its
-exit is measured, alternating the two apps, several rounds; the medians and
-their ratio are printed, for wall time and for the process's CPU time (user +
-system, all threads; numpy's BLAS threads make the explorer's CPU time exceed its
-wall time). A third app, the minimal one importing numpy first, shows the part of
-the ratio that numpy's import alone takes. Goal: ratio <= 1.3.
+straight after that frame. The baseline is the least a numeric terminal chart
+app can be: a Textual app with one stock `PlotextPlot` that imports numpy
+first (the explorer's fit cannot do without numpy). Every round launches the
+explorer, that baseline and the same minimal app without numpy, in an order
+rotated from round to round; each round's ratio explorer / baseline of wall
+time (and of CPU time, user + system of all threads) is printed as min /
+median / max over the rounds. Goal: median wall ratio <= 1.05. The minimal
+app without numpy over the baseline is printed too: numpy's share.
 """
 
 from __future__ import annotations
@@ -81,22 +83,36 @@ def launch(code: str) -> tuple[float, float]:
     return time.perf_counter() - start, child_cpu() - cpu
 
 
-def main() -> None:
-    launch(MINIMAL), launch(EXPLORER), launch(NUMPY_FLOOR)  # warm the file cache and compiled modules
-    explorer, minimal, floor = [], [], []
-    for _ in range(ROUNDS):
-        minimal.append(launch(MINIMAL))
-        explorer.append(launch(EXPLORER))
-        floor.append(launch(NUMPY_FLOOR))
+GOAL = 1.05
+
+
+def main() -> int:
+    """Launch the three apps round by round and print the ratios; exit 1 if the goal is missed."""
+    rounds = int(sys.argv[1]) if len(sys.argv) > 1 else ROUNDS
+    apps = {"explorer": EXPLORER, "baseline": NUMPY_FLOOR, "minimal": MINIMAL}
+    for code in apps.values():  # warm the file cache and compiled modules
+        launch(code)
+    times: dict[str, list[tuple[float, float]]] = {name: [] for name in apps}
+    names = list(apps)
+    for index in range(rounds):
+        for name in names[index % 3:] + names[:index % 3]:
+            times[name].append(launch(apps[name]))
+    print(f"first complete frame at 120x40, fresh processes, {rounds} interleaved rounds; baseline: the minimal "
+          f"one-PlotextPlot app importing numpy (median {statistics.median(w for w, _ in times['baseline']) * 1000:.0f}"
+          f" ms wall, for scale only)")
+    print(f"{'ratio':<50}min / median / max")
+    verdict = True
     for index, kind in enumerate(("wall", "CPU")):
-        m_explorer, m_minimal, m_floor = (statistics.median(run[index] for run in runs)
-                                          for runs in (explorer, minimal, floor))
-        best = min(run[index] for run in explorer) / min(run[index] for run in minimal)
-        print(f"{kind:4}: minimal PlotextPlot app median {m_minimal * 1000:.0f} ms, jointid explorer "
-              f"median {m_explorer * 1000:.0f} ms over {ROUNDS} runs; ratio {m_explorer / m_minimal:.2f} "
-              f"(best to best {best:.2f}; goal <= 1.30); the minimal app importing numpy: "
-              f"{m_floor / m_minimal:.2f}")
+        for name, label in (("explorer", "explorer / baseline"), ("minimal", "minimal app without numpy / baseline")):
+            ratios = [a[index] / b[index] for a, b in zip(times[name], times["baseline"])]
+            middle = statistics.median(ratios)
+            note = ""
+            if name == "explorer" and kind == "wall":
+                verdict = middle <= GOAL
+                note = f"  goal <= {GOAL:.2f}: {'met' if verdict else 'MISSED'}"
+            print(f"  {label + ', ' + kind:<48}{min(ratios):.2f} / {middle:.2f} / {max(ratios):.2f}{note}")
+    return 0 if verdict else 1
 
 
 if __name__ == "__main__":
-    main()
+    raise SystemExit(main())

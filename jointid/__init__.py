@@ -12,23 +12,34 @@ add terms (`jointid.model`, e.g. ``Settings(model="bias")``). Typical use::
 For your own data, build a `JointData` and call `fit_joint` (with `model=` for another model).
 """
 
-from .dataset import JointData
-from .experiment import run_experiment, training_data, validation_data
-from .fit import FitResult, fit_joint
-from .model import (
-    G,
-    PARAMETER_NAMES,
-    PLAIN,
-    TRUE_PARAMETERS,
-    JointModel,
-    Term,
-    model_named,
-    predict_torque,
-    regressor,
-    torque_breakdown,
-)
-from .settings import Settings, SettingsError
-from .solver import LeastSquaresSolution, solve_least_squares
+from __future__ import annotations
+
+import importlib
+
+_HOMES = {
+    "JointData": "dataset",
+    "run_experiment": "experiment",
+    "training_data": "experiment",
+    "validation_data": "experiment",
+    "FitResult": "fit",
+    "fit_joint": "fit",
+    "G": "model",
+    "PARAMETER_NAMES": "model",
+    "PLAIN": "model",
+    "TRUE_PARAMETERS": "model",
+    "JointModel": "model",
+    "Term": "model",
+    "model_named": "model",
+    "predict_torque": "model",
+    "regressor": "model",
+    "torque_breakdown": "model",
+    "Settings": "settings",
+    "SettingsError": "settings",
+    "LeastSquaresSolution": "solver",
+    "solve_least_squares": "solver",
+}
+"""Each public name's module. They load on first use (PEP 562), so `import jointid` and the command
+line's help need no numpy."""
 
 __all__ = [
     "G",
@@ -52,3 +63,18 @@ __all__ = [
     "training_data",
     "validation_data",
 ]
+
+
+def __getattr__(name: str):
+    """Import a public name's module on first use and keep the name here."""
+    home = _HOMES.get(name)
+    if home is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f".{home}", __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    """The module's own names and every public name, loaded or not."""
+    return sorted({*globals(), *__all__})

@@ -16,11 +16,10 @@ from math import factorial
 
 import numpy as np
 
+from .choices import DEFAULT_ORDER, DEFAULT_WINDOW, MAX_ORDER, MAX_WINDOW  # noqa: F401  (also this module's API)
+
 METHOD = "savitzky-golay"
 """Name of the differentiation method, as results and JSON record it."""
-
-DEFAULT_WINDOW = None
-"""Default window: None, chosen from the log by `choose_window` (its span in time from the motion's bandwidth)."""
 
 BANDWIDTH_POWER = 0.999
 """The motion's bandwidth is the frequency below which this share of the (detrended) angle's power lies."""
@@ -39,17 +38,6 @@ FALLBACK_SPAN = 0.2
 
 MAX_SPAN_SHARE = 0.25
 """An automatic window spans at most this share of the log, so trimming leaves most of it to fit."""
-
-DEFAULT_ORDER = 6
-"""Default polynomial order: unbiased for quartics, so curvature inside the window costs little."""
-
-MAX_WINDOW = 4001
-"""Widest window (samples): 0.2 s at 20 kHz. The filter costs N*window operations (about 2 s for a
-million rows at this width), and 0.2 s already smooths the lesson's motions; wider only costs time."""
-
-MAX_ORDER = 10
-"""Highest polynomial order: beyond it the polynomial follows the noise, and its fit costs window*order^2
-(order 6999 over 7001 samples ran for minutes)."""
 
 
 @dataclass(frozen=True, eq=False)

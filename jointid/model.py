@@ -25,6 +25,15 @@ from functools import cached_property
 
 import numpy as np
 
+from .choices import (  # noqa: F401  (also this module's API)
+    EXTRA_TERM_NAMES,
+    LADDER,
+    TRUE_VALUES,
+    ModelError,
+    describe_models,
+    model_extras,
+)
+
 G = 9.81
 """Gravitational acceleration (m/s^2)."""
 
@@ -207,14 +216,8 @@ class JointModel:
 PLAIN = JointModel("plain", (INERTIA, MASS_MOMENT, DAMPING))
 """The lesson's model tau = I*qdd + h*g*cos(q) + B*qd."""
 
-EXTRA_TERMS = {"coulomb": COULOMB, "bias": BIAS, "angle-offset": GRAVITY_SINE}
+EXTRA_TERMS = dict(zip(EXTRA_TERM_NAMES, (COULOMB, BIAS, GRAVITY_SINE)))
 """Terms that can be added to `plain`, by the name used in model names, in column order."""
-
-LADDER = ("plain", "coulomb", "bias", "angle-offset", "coulomb+bias", "coulomb+angle-offset")
-"""The models `jointid compare` fits, simplest first."""
-
-TRUE_VALUES = {"I": 0.8, "h": 0.4, "B": 0.15}
-"""The lesson's joint's parameters by symbol."""
 
 TRUE_PARAMETERS = np.array([TRUE_VALUES[name] for name in PLAIN.names])
 """The lesson's joint's parameters [I, h, B] in the plain model's order."""
@@ -223,24 +226,9 @@ TRUE_PARAMETERS = np.array([TRUE_VALUES[name] for name in PLAIN.names])
 PARAMETER_NAMES = PLAIN.names
 
 
-class ModelError(ValueError):
-    """An unknown model name; the message is one line for a user."""
-
-
-def describe_models() -> str:
-    """The accepted model names, as a phrase for help and error messages."""
-    extras = ", ".join(EXTRA_TERMS)
-    return f"plain, or plain plus any of {extras} joined with + (e.g. coulomb+bias)"
-
-
 def model_named(name: str) -> JointModel:
     """The model a name like 'plain', 'bias' or 'coulomb+angle-offset' stands for; ModelError if unknown."""
-    parts = [part.strip().lower() for part in str(name).split("+")]
-    extras = [part for part in parts if part != "plain"]
-    unknown = [part for part in extras if part not in EXTRA_TERMS]
-    if not name or unknown or len(set(extras)) != len(extras) or "" in parts:
-        raise ModelError(f"unknown model {name!r}: use {describe_models()}")
-    ordered = [key for key in EXTRA_TERMS if key in extras]  # one column order whatever the spelling
+    ordered = model_extras(name)
     terms = PLAIN.terms + tuple(EXTRA_TERMS[key] for key in ordered)
     if "angle-offset" not in ordered:
         return JointModel(str(name), terms)

@@ -11,11 +11,7 @@ from math import pi
 
 import numpy as np
 
-DURATION = 8.0
-"""Every motion is sampled over 0 <= t <= DURATION seconds."""
-
-VALIDATION_SAMPLES = 16
-"""Number of held-out validation states on the `test` motion."""
+from .choices import DURATION, VALIDATION_MOTION_NAME, VALIDATION_SAMPLES  # noqa: F401  (also this module's API)
 
 
 @dataclass(frozen=True)
@@ -65,11 +61,11 @@ TRAINING_MOTIONS = {
 """The training motions the lab offers, by name."""
 
 VALIDATION_MOTION = Motion(
-    "test", "Validation motion", (SineTerm(0.6, 0.9), SineTerm(0.3, 2.1, pi / 2))
+    VALIDATION_MOTION_NAME, "Validation motion", (SineTerm(0.6, 0.9), SineTerm(0.3, 2.1, pi / 2))
 )
 """q_test(t) = 0.6 sin(0.9 t) + 0.3 cos(2.1 t), never used for fitting."""
 
-ALL_MOTIONS = {**TRAINING_MOTIONS, "test": VALIDATION_MOTION}
+ALL_MOTIONS = {**TRAINING_MOTIONS, VALIDATION_MOTION.name: VALIDATION_MOTION}
 """Every motion by name, the validation motion included."""
 
 

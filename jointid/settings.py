@@ -1,63 +1,59 @@
-"""The settings of a synthetic experiment, their ranges and their parsing.
+"""The settings of a synthetic experiment: one frozen object of every setting, checked on creation.
 
 Motion, noise, samples and seed describe the lesson's experiment; `model`
 names the fitted model; the `true_*` settings add physics the plain model
-cannot see to the synthetic joint (all zero by default).
+cannot see to the synthetic joint (all zero by default). No numpy here: the
+command line parses settings before it loads the numeric modules (and uses
+`jointid.setting_checks`, which this module re-exports, to build its parser).
 """
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
-from .fourier import FourierMotion
-from .model import ModelError, describe_models, model_named
-from .motions import TRAINING_MOTIONS
-from .number_text import parse_float, parse_int
-from .truth import ANGLE_OFFSET_LIMITS, BIAS_LIMITS, COULOMB_LIMITS, TrueJoint
+from .choices import (  # noqa: F401  (NOISE_LIMITS etc. are also this module's API)
+    ANGLE_OFFSET_LIMITS,
+    BIAS_LIMITS,
+    COULOMB_LIMITS,
+    NOISE_LIMITS,
+    SAMPLES_LIMITS,
+    SEED_LIMITS,
+    SETTING_DEFAULTS,
+)
+from .setting_checks import (  # noqa: F401  (also this module's API)
+    FIELDS,
+    REAL_SETTINGS,
+    SettingsError,
+    check_setting,
+    describe_range,
+    parse_setting,
+)
 
-NOISE_LIMITS = (0.0, 100.0)
-"""Allowed torque noise bound (N m)."""
-SAMPLES_LIMITS = (2, 10_000_000)
-"""Allowed number of training samples."""
-SEED_LIMITS = (0, 2**32 - 1)
-"""Allowed noise seed."""
-
-REAL_SETTINGS = {
-    "noise": (NOISE_LIMITS, "N m"),
-    "true_coulomb": (COULOMB_LIMITS, "N m"),
-    "true_bias": (BIAS_LIMITS, "N m"),
-    "true_angle_offset": (ANGLE_OFFSET_LIMITS, "rad"),
-}
-"""The settings that are real numbers: their (low, high) limits and unit."""
-
-
-class SettingsError(ValueError):
-    """A setting outside its allowed range or not of its type; the message is one line for a user."""
-
-    def __init__(self, field: str, message: str):
-        super().__init__(message)
-        self.field = field
+TYPE_CHECKING = False  # typing itself would cost 3 ms of every start
+if TYPE_CHECKING:
+    from .fourier import FourierMotion
+    from .model import JointModel
+    from .truth import TrueJoint
 
 
 @dataclass(frozen=True)
 class Settings:
     """One synthetic identification experiment: motion, noise bound (N m), samples, seed and fitted model."""
 
-    motion: str | FourierMotion = "rich"
+    motion: str | FourierMotion = SETTING_DEFAULTS["motion"]
     """A training motion's name, or a designed FourierMotion (from `jointid design` or a motion file)."""
-    noise: float = 0.0
-    samples: int = 24
-    seed: int = 7
-    model: str = "plain"
+    noise: float = SETTING_DEFAULTS["noise"]
+    samples: int = SETTING_DEFAULTS["samples"]
+    seed: int = SETTING_DEFAULTS["seed"]
+    model: str = SETTING_DEFAULTS["model"]
     """The fitted model's name ('plain', 'bias', 'coulomb+bias', ...; see jointid.model)."""
-    true_coulomb: float = 0.0
+    true_coulomb: float = SETTING_DEFAULTS["true_coulomb"]
     """Coulomb friction FC (N m) of the synthetic joint: it adds FC*sign(qd)."""
-    true_bias: float = 0.0
+    true_bias: float = SETTING_DEFAULTS["true_bias"]
     """Torque sensor bias TAU0 (N m): every reading is TAU0 too much."""
-    true_angle_offset: float = 0.0
+    true_angle_offset: float = SETTING_DEFAULTS["true_angle_offset"]
     """Encoder offset Q0 (rad): the logged angle is q_true - Q0."""
-    constrained: bool = False
+    constrained: bool = SETTING_DEFAULTS["constrained"]
     """Fit subject to the model's sign rules (never the default: the lesson shows the unconstrained failure)."""
 
     def __post_init__(self):
@@ -65,14 +61,11 @@ class Settings:
             check_setting(field, getattr(self, field))
 
     @property
-    def joint_model(self):
-        """The JointModel that `model` names."""
-        return model_named(self.model)
-
-    @property
     def training_motion(self):
         """The motion object (a Motion or a FourierMotion) the experiment trains on."""
-        return self.motion if isinstance(self.motion, FourierMotion) else TRAINING_MOTIONS[self.motion]
+        from .motions import TRAINING_MOTIONS  # numpy: only when data are generated
+
+        return TRAINING_MOTIONS[self.motion] if isinstance(self.motion, str) else self.motion
 
     @property
     def motion_name(self) -> str:
@@ -80,76 +73,18 @@ class Settings:
         return self.training_motion.name
 
     @property
+    def joint_model(self) -> JointModel:
+        """The JointModel that `model` names."""
+        from .model import model_named  # numpy: only when a fit needs the model
+
+        return model_named(self.model)
+
+    @property
     def true_joint(self) -> TrueJoint:
         """The synthetic joint with these settings' missing physics."""
+        from .truth import TrueJoint  # numpy: only when data are generated
+
         return TrueJoint(coulomb=self.true_coulomb, bias=self.true_bias, angle_offset=self.true_angle_offset)
-
-
-FIELDS = ("motion", "noise", "samples", "seed", "model", "true_coulomb", "true_bias", "true_angle_offset",
-          "constrained")
-"""Every setting, in display order."""
-
-
-def describe_range(field: str, *, finite: bool = False) -> str:
-    """The allowed values of a setting, as a phrase for error messages and help ('a finite number' if `finite`)."""
-    if field == "motion":
-        return "one of " + ", ".join(TRAINING_MOTIONS)
-    if field == "constrained":
-        return "true or false"
-    if field == "model":
-        return describe_models()
-    if field in REAL_SETTINGS:
-        (low, high), unit = REAL_SETTINGS[field]
-        return f"a {'finite ' if finite else ''}number from {low:g} to {high:g} ({unit})"
-    low, high = SAMPLES_LIMITS if field == "samples" else SEED_LIMITS
-    return f"a whole number from {low} to {high}"
-
-
-def check_setting(field: str, value) -> None:
-    """Raise SettingsError unless value is allowed for the named setting."""
-    if field == "motion":
-        ok = isinstance(value, FourierMotion) or (isinstance(value, str) and value in TRAINING_MOTIONS)
-    elif field == "model":
-        try:
-            model_named(value)
-        except ModelError as error:
-            raise SettingsError(field, str(error)) from None
-        ok = True
-    elif field in REAL_SETTINGS:
-        (low, high), _ = REAL_SETTINGS[field]
-        ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
-        ok = ok and low <= value <= high
-    elif field == "constrained":
-        ok = isinstance(value, bool)
-    elif field in ("samples", "seed"):
-        low, high = SAMPLES_LIMITS if field == "samples" else SEED_LIMITS
-        ok = isinstance(value, int) and not isinstance(value, bool) and low <= value <= high
-    else:
-        raise SettingsError(field, f"unknown setting {field!r}")
-    if not ok:
-        raise SettingsError(field, f"{field} must be {describe_range(field)}; got {value!r}")
-
-
-def parse_setting(field: str, text: str):
-    """Convert typed text (ASCII digits only) to a valid value of the named setting, or raise SettingsError."""
-    text = text.strip()
-    value = None
-    try:
-        if field in ("motion", "model"):
-            value = text.lower()
-        elif field in REAL_SETTINGS:
-            value = parse_float(text)
-        else:
-            value = parse_int(text)
-        check_setting(field, value)
-    except ValueError as error:
-        if field == "model":  # the model's own message quotes the name and lists the choices
-            raise SettingsError(field, str(error)) from None
-        # '-inf' and 'nan' are numbers, but not finite ones
-        allowed = describe_range(field, finite=isinstance(value, float) and not math.isfinite(value))
-        # SettingsError too: quote what the user typed, not the parsed value
-        raise SettingsError(field, f"{field} must be {allowed}; got {text!r}") from None
-    return value
 
 
 DEFAULT_SETTINGS = Settings()

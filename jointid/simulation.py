@@ -21,15 +21,12 @@ from functools import cached_property
 
 import numpy as np
 
+from .choices import DEFAULT_HORIZON, HORIZON_LIMITS  # noqa: F401  (also this module's API)
 from .fit import FitResult
 from .model import G, JointModel
 from .motions import DURATION, VALIDATION_MOTION, Motion
 from .truth import TrueJoint
 
-DEFAULT_HORIZON = 1.0
-"""Seconds between restarts from the true state."""
-HORIZON_LIMITS = (0.05, DURATION)
-"""Allowed horizon (s): from a few integration steps to the whole motion."""
 DIVERGED_ANGLE = 1.0
 """A window whose angle error exceeds this (rad) has diverged: it is counted, not averaged in."""
 COULOMB_SMOOTHING = 0.01

@@ -15,14 +15,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .model import TRUE_VALUES, G
+from .choices import ANGLE_OFFSET_LIMITS, BIAS_LIMITS, COULOMB_LIMITS, TRUE_VALUES  # noqa: F401  (also this module's API)
+from .model import G
 
-COULOMB_LIMITS = (0.0, 10.0)
-"""Allowed true Coulomb friction (N m)."""
-BIAS_LIMITS = (-10.0, 10.0)
-"""Allowed true torque sensor bias (N m)."""
-ANGLE_OFFSET_LIMITS = (-0.5, 0.5)
-"""Allowed true encoder offset (rad)."""
 
 
 @dataclass(frozen=True)

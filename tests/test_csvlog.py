@@ -309,7 +309,7 @@ def test_clean_chunks_take_pandas_and_the_rest_take_loadtxt(tmp_path, monkeypatc
     taken = []
     original = csvlog._ChunkReader._fast
     monkeypatch.setattr(csvlog._ChunkReader, "_fast", lambda self, data: taken.append(original(self, data)) or taken[-1])
-    read_table(write(tmp_path, FULL))
+    read_table(write(tmp_path, FULL), chunk_bytes=1 << 20)  # chunked, not the one-call reading
     assert taken and taken[-1] is not None
     taken.clear()
     read_table(write(tmp_path, "t,q,qd,qdd,tau,mode\n0,1,2,3,4,run\n1,1,2,3,4,run\n", "text.csv"))
@@ -390,3 +390,79 @@ def test_the_sweep_views_seed_count_reads_ascii_digits_only():
     for text in ("٣", "２"):
         with pytest.raises(SettingsError):
             SEED_COUNT_RANGE.parse(text)
+
+
+# Without progress or cancel, pandas reads the whole file in one call from its path; anything doubtful
+# goes the chunked way, which must then give the same doubles or the same message.
+
+def chunked_calls(monkeypatch) -> list:
+    """A list that grows by one for each chunk the chunked reading takes."""
+    calls = []
+    original = csvlog._ChunkReader._next_chunk
+    monkeypatch.setattr(csvlog._ChunkReader, "_next_chunk", lambda self: calls.append(1) or original(self))
+    return calls
+
+
+def outcome_of(path, **options):
+    """The columns' bits, or the error's text."""
+    try:
+        table = read_table(path, **options)
+    except LogError as error:
+        return str(error)
+    return {name: values.view(np.uint64).tolist() for name, values in table.columns.items()}
+
+
+def test_a_clean_log_is_read_in_one_call_and_gives_the_chunked_doubles(tmp_path, monkeypatch):
+    cells = tricky_corpus(seed=9, rows=400)
+    lines = ["# made by a test", "", "q,qd,qdd,tau"] + [",".join(row) for row in cells] + ["", ""]
+    path = write(tmp_path, "\r\n".join(lines))
+    calls = chunked_calls(monkeypatch)
+    whole = outcome_of(path)
+    assert calls == []
+    chunked = outcome_of(path, chunk_bytes=1000)
+    assert calls and whole == chunked
+    expected = np.vectorize(float, otypes=[float])(cells)
+    assert whole["tau"] == expected[:, 3].view(np.uint64).tolist()
+
+
+DOUBTFUL_FILES = {
+    "an extra cell in the first row": "t,q,qd,qdd,tau\n0,1,2,3,4,5\n1,1,2,3,4\n2,1,2,3,4\n",
+    "an extra cell later": "t,q,qd,qdd,tau\n0,1,2,3,4\n1,1,2,3,4,5\n2,1,2,3,4\n",
+    "a trailing comma": "t,q,qd,qdd,tau\n0,1,2,3,4\n1,1,2,3,4,\n2,1,2,3,4\n",
+    "a short row": "t,q,qd,qdd,tau\n0,1,2,3,4\n1,1,2,3\n2,1,2,3,4\n",
+    "a comment line": "t,q,qd,qdd,tau\n0,1,2,3,4\n# pause\n1,1,2,3,4\n2,1,2,3,4\n",
+    "an indented comment": "t,q,qd,qdd,tau\n0,1,2,3,4\n  #,1,2,3,4\n1,1,2,3,4\n2,1,2,3,4\n",
+    "a commented-out row": "t,q,qd,qdd,tau\n0,1,2,3,4\n#1,1,2,3,4\n2,1,2,3,4\n3,1,2,3,4\n",
+    "a NUL byte": "t,q,qd,qdd,tau\n0,1,2,3,4\n1,1\x00,2,3,4\n2,1,2,3,4\n",
+    "true": "t,q,qd,qdd,tau\n0,1,2,3,4\n1,true,2,3,4\n2,1,2,3,4\n",
+    "a tab inside a number": "t,q,qd,qdd,tau\n0,1,2,3,4\n1,+8e\t1,2,3,4\n2,1,2,3,4\n",
+    "a lone carriage return": "t,q,qd,qdd,tau\n0,1,2,3,4\r1,1,2,3,4\n2,1,2,3,4\n",
+    "a blank line after the header": "t,q,qd,qdd,tau\n\n0,1,2,3,4\n1,1,2,3,4\n2,1,2,3,4\n",
+    "nan": "t,q,qd,qdd,tau\n0,1,2,3,4\n1,1,nan,3,4\n2,1,2,3,4\n",
+    "inf": "t,q,qd,qdd,tau\n0,1,2,3,4\n1,1,-inf,3,4\n2,1,2,3,4\n",
+    "text in an ignored column": "t,q,qd,qdd,tau,mode\n0,1,2,3,4,go\n1,1,2,3,4,go\n2,1,2,3,4,go\n",
+    "a lone carriage return at the end": "t,q,qd,qdd,tau\n0,1,2,3,4\n1,1,2,3,4\n2,1,2,3,4\r",
+    "a line over a MiB": "t,q,qd,qdd,tau\n0,1,2,3,4\n1,1,2,3," + "0" * (1 << 20) + "4\n2,1,2,3,4\n",
+}
+
+
+@pytest.mark.parametrize("text", DOUBTFUL_FILES.values(), ids=DOUBTFUL_FILES.keys())
+def test_a_doubtful_log_goes_the_chunked_way_with_the_same_result(tmp_path, monkeypatch, text):
+    path = tmp_path / "log.csv"
+    path.write_bytes(text.encode())
+    calls = chunked_calls(monkeypatch)
+    whole = outcome_of(path)
+    assert calls, "the chunked reading was not asked"
+    with monkeypatch.context() as patch:
+        patch.setattr(csvlog, "_pandas_read_csv", lambda: None)
+        assert outcome_of(path) == whole
+
+
+def test_without_proc_the_file_is_read_in_chunks(tmp_path, monkeypatch):
+    # pandas gets /proc/self/fd/N, the file already checked to be regular, never the path again.
+    path = write(tmp_path, FULL)
+    calls = chunked_calls(monkeypatch)
+    real_exists = csvlog.os.path.exists
+    monkeypatch.setattr(csvlog.os.path, "exists", lambda name: not str(name).startswith("/proc/") and real_exists(name))
+    assert outcome_of(path) == outcome_of(path, chunk_bytes=64)
+    assert calls

@@ -2,6 +2,8 @@
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 
 from jointid.experiment import run_experiment
 from jointid.settings import Settings
@@ -115,3 +117,16 @@ def test_single_seed_has_no_standard_deviation():
 def test_bad_seed_counts_are_refused(count):
     with pytest.raises(ValueError, match="seed count"):
         run_sweep(SLOW, count)
+
+
+@given(st.lists(st.floats(allow_nan=True, allow_infinity=False, width=64), min_size=1, max_size=60),
+       st.lists(st.floats(0, 100), min_size=1, max_size=5))
+def test_percentiles_are_numpys(values, levels):
+    # The sweep's summary must not move by a bit from np.percentile's default (linear) method.
+    from jointid.sweep import percentiles
+
+    values = np.array(values)
+    with np.errstate(invalid="ignore", over="ignore"):
+        expected = np.percentile(values, levels)
+        got = percentiles(values, levels)
+    np.testing.assert_array_equal(got, expected)

@@ -1,4 +1,4 @@
-"""Argument types and the parser class shared by every subcommand."""
+"""Argument types and the parser class shared by every subcommand (no numpy: help must start fast)."""
 
 from __future__ import annotations
 
@@ -7,10 +7,13 @@ import math
 import re
 import sys
 
-from ..model import describe_models
-from ..motions import TRAINING_MOTIONS
+from ..choices import SETTING_DEFAULTS, TRAINING_MOTION_NAMES, describe_models
 from ..number_text import parse_float, parse_int
-from ..settings import DEFAULT_SETTINGS, FIELDS, Settings, SettingsError, parse_setting
+from ..setting_checks import FIELDS, SettingsError, parse_setting
+
+TYPE_CHECKING = False  # typing itself would cost 3 ms of every start
+if TYPE_CHECKING:
+    from ..settings import Settings
 
 
 class UserError(Exception):
@@ -126,8 +129,8 @@ def whole_number(low: int, high: int | None = None):
 
 def add_model_argument(parser: argparse.ArgumentParser) -> None:
     """Add --model and --constrained, how to fit (for synthetic experiments and logs alike)."""
-    parser.add_argument("--model", type=setting_type("model"), default=DEFAULT_SETTINGS.model, metavar="NAME",
-                        help=f"fitted model: {describe_models()}; default {DEFAULT_SETTINGS.model}")
+    parser.add_argument("--model", type=setting_type("model"), default=SETTING_DEFAULTS["model"], metavar="NAME",
+                        help=f"fitted model: {describe_models()}; default {SETTING_DEFAULTS['model']}")
     parser.add_argument("--constrained", action="store_true",
                         help="fit subject to the sign rules (I at least 1e-6 kg m², h, B, Fc at least 0), "
                         "beside the unconstrained fit; off by default")
@@ -135,19 +138,19 @@ def add_model_argument(parser: argparse.ArgumentParser) -> None:
 
 def add_settings_arguments(parser: argparse.ArgumentParser) -> None:
     """Add --motion, --noise, --samples, --seed and the synthetic joint's --true-* physics, with the lesson's defaults."""
-    defaults = DEFAULT_SETTINGS
+    defaults = SETTING_DEFAULTS
     flags = {
         "motion": (
-            "{" + ",".join(TRAINING_MOTIONS) + "}",
+            "{" + ",".join(TRAINING_MOTION_NAMES) + "}",
             "training motion: rich (two sines), slow (one small slow sine) or holds "
-            f"(q = qd = qdd = 0); default {defaults.motion}",
+            f"(q = qd = qdd = 0); default {defaults['motion']}",
         ),
         "noise": (
             "X",
-            f"bound of the uniform training-torque noise, 0 to 100 N m; default {defaults.noise:.2f}",
+            f"bound of the uniform training-torque noise, 0 to 100 N m; default {defaults['noise']:.2f}",
         ),
-        "samples": ("N", f"training samples over 0..8 s, 2 to 10000000; default {defaults.samples}"),
-        "seed": ("S", f"noise seed, 0 to 4294967295; default {defaults.seed}"),
+        "samples": ("N", f"training samples over 0..8 s, 2 to 10000000; default {defaults['samples']}"),
+        "seed": ("S", f"noise seed, 0 to 4294967295; default {defaults['seed']}"),
         "true_coulomb": ("FC", "the synthetic joint's Coulomb friction: it adds FC*sign(qd), 0 to 10 N m; "
                                "default 0"),
         "true_bias": ("TAU0", "the torque sensor reads TAU0 too much on every sample, -10 to 10 N m; default 0"),
@@ -160,7 +163,7 @@ def add_settings_arguments(parser: argparse.ArgumentParser) -> None:
             f"--{field.replace('_', '-')}",
             dest=field,
             type=setting_type(field),
-            default=getattr(defaults, field),
+            default=defaults[field],
             metavar=metavar,
             help=help_text,
         )
@@ -185,7 +188,9 @@ def motion_from_file(path: str):
 
 def settings_from(args: argparse.Namespace) -> Settings:
     """The Settings named by the parsed synthetic-setting arguments (and --model, where the command has it)."""
-    values = {field: getattr(args, field, getattr(DEFAULT_SETTINGS, field)) for field in FIELDS}
+    from ..settings import Settings  # dataclasses: only once a command runs
+
+    values = {field: getattr(args, field, SETTING_DEFAULTS[field]) for field in FIELDS}
     if getattr(args, "motion_file", None) is not None:
         values["motion"] = motion_from_file(args.motion_file)
     return Settings(**values)

@@ -4,11 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..ladder import compare_experiment, compare_models
-from ..model import LADDER
-from ..present.comparison import comparison_text
-from ..present.documents import comparison_document
-from ..present.text import settings_header
+from ..choices import LADDER
 from .arguments import UserError, add_settings_arguments, settings_from
 from .log_fit import add_log_arguments, filter_options, load_logs, with_default_settings
 from .output import print_json
@@ -33,6 +29,11 @@ def add_parser(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Compare the ladder on the experiment (or the --csv log) and print text or JSON; exit status 0."""
+    from ..ladder import compare_experiment, compare_models  # numpy and the numeric modules load only to run
+    from ..present.comparison import comparison_text
+    from ..present.documents import comparison_document
+    from ..present.text import settings_header
+
     if args.csv is not None:
         from ..csvlog import LogError
         from ..logfit import low_pass_for

@@ -9,9 +9,7 @@ SettingsError for a value outside them.
 
 from __future__ import annotations
 
-from importlib.metadata import entry_points
-
-from ..settings import SettingsError
+from ..setting_checks import SettingsError
 from .arguments import UserError, settings_from
 from .floating_point import strict_arithmetic
 from .log_fit import derivative_options, filter_options, fit_loaded_logs, with_default_settings
@@ -23,6 +21,8 @@ ENTRY_POINT_NAME = "explorer"
 
 def load_explorer():
     """The registered explorer entry function; UserError when no UI is installed."""
+    from importlib.metadata import entry_points  # here: about 20 ms that no subcommand needs
+
     found = entry_points(group=ENTRY_POINT_GROUP, name=ENTRY_POINT_NAME)
     if not found:
         raise UserError("the terminal explorer is not installed; reinstall jointid with `pip install -e .`")

@@ -4,12 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..experiment import run_experiment
-from ..present.documents import fit_document, simulation_object
-from ..present.readouts import readouts_text, uncertainty_text
-from ..present.status import simulation_text
-from ..present.text import settings_header
-from ..simulation import DEFAULT_HORIZON, HORIZON_LIMITS, simulation_check
+from ..choices import DEFAULT_HORIZON, HORIZON_LIMITS
 from .arguments import add_model_argument, add_settings_arguments, bounded_number, settings_from
 from .log_fit import add_log_arguments, run_log_fit, with_default_settings
 from .output import print_json
@@ -43,15 +38,27 @@ def run(args: argparse.Namespace) -> int:
     """Run the experiment (or fit the --csv log) and print text or JSON; exit status 0."""
     if args.csv is not None:
         return run_log_fit(args)
+    from ..experiment import run_experiment  # numpy and the numeric modules load only to run
+
     settings = settings_from(with_default_settings(args))
     result = run_experiment(settings)
     simulate = args.simulate or args.horizon is not None
     horizon = DEFAULT_HORIZON if args.horizon is None else args.horizon
-    check = simulation_check(result, settings.true_joint, horizon) if simulate else None
-    if args.json:
+    check = None
+    if simulate:
+        from ..simulation import simulation_check
+
+        check = simulation_check(result, settings.true_joint, horizon)
+    if args.json:  # each output loads only its own presentation modules
+        from ..present.documents import fit_document, simulation_object
+
         extra = simulation_object(check) if simulate else {}
         print_json(fit_document(result, settings=settings, **extra))
     else:
+        from ..present.readouts import readouts_text, uncertainty_text
+        from ..present.status import simulation_text
+        from ..present.text import settings_header
+
         print(settings_header(settings))
         print(readouts_text(result))
         print()

@@ -13,14 +13,14 @@ from __future__ import annotations
 from collections.abc import Iterator
 from contextlib import contextmanager
 
-import numpy as np
-
 from .arguments import UserError
 
 
 @contextmanager
 def strict_arithmetic() -> Iterator[None]:
     """Run the block with numpy's overflow, invalid-operation and division warnings raised as one-line UserErrors."""
+    import numpy as np  # here, not at the top: the parser and --help must not load numpy
+
     with np.errstate(over="raise", invalid="raise", divide="raise"):
         try:
             yield

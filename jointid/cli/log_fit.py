@@ -11,14 +11,14 @@ from __future__ import annotations
 
 import argparse
 
-from ..csvlog import JointLog, LogError, load_log
-from ..derivatives import DEFAULT_ORDER, FilterSettingError, check_filter
-from ..logfit import LoadedLogs, fit_logs
-from ..model import model_named
-from ..present.readouts import readouts_text, uncertainty_text
-from ..settings import DEFAULT_SETTINGS
+from ..choices import DEFAULT_ORDER, SETTING_DEFAULTS
 from .arguments import UserError, finite_float, whole_number
 from .output import print_json
+
+TYPE_CHECKING = False  # typing itself would cost 3 ms of every start
+if TYPE_CHECKING:
+    from ..csvlog import JointLog
+    from ..logfit import LoadedLogs
 
 SETTING_FLAGS = ("motion", "noise", "samples", "seed", "true_coulomb", "true_bias", "true_angle_offset")
 """Synthetic-experiment options that a log fit rejects."""
@@ -61,7 +61,7 @@ def with_default_settings(args: argparse.Namespace) -> argparse.Namespace:
         raise UserError(f"{', '.join(stray)}: only for fitting a log; add --csv TRAIN.csv")
     for name in SETTING_FLAGS:
         if getattr(args, name) is None:
-            setattr(args, name, getattr(DEFAULT_SETTINGS, name))
+            setattr(args, name, SETTING_DEFAULTS[name])
     return args
 
 
@@ -83,6 +83,8 @@ def filter_options(args: argparse.Namespace):
 def derivative_options(args: argparse.Namespace) -> tuple[int | None, int]:
     """The Savitzky-Golay window (None: automatic) and order from --window and --order; UserError if they do
     not fit together."""
+    from ..derivatives import FilterSettingError, check_filter  # numpy: only once a command runs
+
     window = args.window
     order = DEFAULT_ORDER if args.order is None else args.order
     try:
@@ -104,6 +106,8 @@ def load_logs(args: argparse.Namespace) -> tuple[JointLog, JointLog | None]:
         raise UserError(f"{', '.join(simulated)}: needs the synthetic joint's true torque, which a log does not "
                         "have; drop it")
     window, order = derivative_options(args)
+    from ..csvlog import LogError, load_log
+
     try:
         training = load_log(args.csv, degrees=args.degrees, window=window, order=order)
         heldout = None if args.heldout is None else load_log(
@@ -118,6 +122,11 @@ def fit_loaded_logs(args: argparse.Namespace) -> LoadedLogs:
     """The --csv (and --heldout) logs loaded and fitted with --model (and --constrained); UserError (one line)
     on any problem."""
     training, heldout = load_logs(args)
+    # Imported after the load: code loaded before it would add to the load's peak resident set.
+    from ..csvlog import LogError
+    from ..logfit import fit_logs
+    from ..model import model_named
+
     try:
         return fit_logs(training, heldout, model=model_named(args.model),
                         constrained=getattr(args, "constrained", False), filtering=filter_options(args))
@@ -128,6 +137,8 @@ def fit_loaded_logs(args: argparse.Namespace) -> LoadedLogs:
 def run_log_fit(args: argparse.Namespace) -> int:
     """Load the training (and held-out) log, fit, and print text or JSON; exit status 0."""
     logs = fit_loaded_logs(args)
+    from ..present.readouts import readouts_text, uncertainty_text
+
     if args.json:
         print_json(logs.document())
         return 0

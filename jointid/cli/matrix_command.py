@@ -4,9 +4,6 @@ from __future__ import annotations
 
 import argparse
 
-from ..cross_excitation import cross_excitation
-from ..present.documents import matrix_document
-from ..present.tables import matrix_text
 from .arguments import add_model_argument, add_settings_arguments, settings_from
 from .output import print_json
 
@@ -30,6 +27,10 @@ def add_parser(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Build the table and print text or JSON; exit status 0."""
+    from ..cross_excitation import cross_excitation  # numpy and the numeric modules load only to run
+    from ..present.documents import matrix_document
+    from ..present.tables import matrix_text
+
     table = cross_excitation(settings_from(args))
     if args.json:
         print_json(matrix_document(table))

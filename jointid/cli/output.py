@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
-from ..present.documents import NonFiniteValue, json_text
 from .arguments import UserError
 
 
 def print_json(document) -> None:
     """Print a document as strict JSON; UserError (one line) if any value in it is not finite."""
+    from ..present.documents import NonFiniteValue, json_text  # numpy-backed: only when printing
+
     try:
         text = json_text(document)
     except NonFiniteValue as error:

@@ -12,13 +12,8 @@ from __future__ import annotations
 import argparse
 import math
 
-import numpy as np
-
-from ..export import ExportError, atomic_output
-from ..truth import TrueJoint
-from ..motions import ALL_MOTIONS, DURATION
-from ..noise import torque_noise
-from ..settings import DEFAULT_SETTINGS, SettingsError, check_setting
+from ..choices import ALL_MOTION_NAMES, DURATION, SETTING_DEFAULTS
+from ..setting_checks import SettingsError, check_setting
 from .arguments import (
     UserError,
     add_motion_file_argument,
@@ -69,8 +64,8 @@ def encoder_counts(text: str) -> int:
 def motion_name(text: str) -> str:
     """An argparse type for any motion, the validation motion `test` included."""
     name = text.strip().lower()
-    if name not in ALL_MOTIONS:
-        raise argparse.ArgumentTypeError(f"must be one of {', '.join(ALL_MOTIONS)}; got {text!r}")
+    if name not in ALL_MOTION_NAMES:
+        raise argparse.ArgumentTypeError(f"must be one of {', '.join(ALL_MOTION_NAMES)}; got {text!r}")
     return name
 
 
@@ -86,16 +81,17 @@ def add_parser(subparsers) -> None:
         "existing one without --force.",
     )
     motions = parser.add_mutually_exclusive_group()
-    motions.add_argument("--motion", type=motion_name, default=DEFAULT_SETTINGS.motion,
-                        metavar="{" + ",".join(ALL_MOTIONS) + "}",
-                        help=f"motion to sample, the validation motion test included; default {DEFAULT_SETTINGS.motion}")
+    motions.add_argument("--motion", type=motion_name, default=SETTING_DEFAULTS["motion"],
+                         metavar="{" + ",".join(ALL_MOTION_NAMES) + "}",
+                         help="motion to sample, the validation motion test included; "
+                         f"default {SETTING_DEFAULTS['motion']}")
     add_motion_file_argument(motions)
-    parser.add_argument("--noise", type=setting_type("noise"), default=DEFAULT_SETTINGS.noise, metavar="X",
+    parser.add_argument("--noise", type=setting_type("noise"), default=SETTING_DEFAULTS["noise"], metavar="X",
                         help="bound of the uniform torque noise, 0 to 100 N m; default 0")
-    parser.add_argument("--seed", type=setting_type("seed"), default=DEFAULT_SETTINGS.seed, metavar="S",
-                        help=f"noise seed, 0 to 4294967295; default {DEFAULT_SETTINGS.seed}")
+    parser.add_argument("--seed", type=setting_type("seed"), default=SETTING_DEFAULTS["seed"], metavar="S",
+                        help=f"noise seed, 0 to 4294967295; default {SETTING_DEFAULTS['seed']}")
     parser.add_argument("--samples", type=setting_type("samples"), default=None, metavar="N",
-                        help=f"number of samples, 2 to 10000000; default {DEFAULT_SETTINGS.samples} "
+                        help=f"number of samples, 2 to 10000000; default {SETTING_DEFAULTS['samples']} "
                         "(or duration*rate + 1 with --rate)")
     parser.add_argument("--rate", type=bounded_positive(RATE_LIMIT), default=None, metavar="HZ",
                         help=f"sample rate (Hz), at most {RATE_LIMIT:g}; samples = duration*rate + 1")
@@ -144,11 +140,18 @@ def timing(samples: int | None, rate: float | None, duration: float | None) -> t
             check_setting("samples", samples)
         except SettingsError as error:
             raise UserError(f"--rate {rate:g} Hz over {duration:g} s gives {error}") from None
-    return (DEFAULT_SETTINGS.samples if samples is None else samples), (DURATION if duration is None else duration)
+    return (SETTING_DEFAULTS["samples"] if samples is None else samples), (DURATION if duration is None else duration)
 
 
 def run(args: argparse.Namespace) -> int:
     """Write the log; print one line saying what was written; exit status 0."""
+    import numpy as np  # numpy and the numeric modules load only to run
+
+    from ..export import ExportError, atomic_output
+    from ..motions import ALL_MOTIONS
+    from ..noise import torque_noise
+    from ..truth import TrueJoint
+
     samples, duration = timing(args.samples, args.rate, args.duration)
     t = np.linspace(0.0, duration, samples)
     if args.jitter:

@@ -5,9 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..present.documents import sweep_document
-from ..present.tables import sweep_text
-from ..sweep import DEFAULT_SEED_COUNT, SEED_COUNT_LIMITS, WORK_BUDGET, run_sweep, sweep_work
+from ..choices import DEFAULT_SEED_COUNT, SEED_COUNT_LIMITS, WORK_BUDGET
 from .arguments import UserError, add_model_argument, add_settings_arguments, settings_from, whole_number
 from .output import print_json
 
@@ -45,6 +43,10 @@ def add_parser(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run the sweep and print text or JSON; exit status 0."""
+    from ..present.documents import sweep_document  # numpy and the numeric modules load only to run
+    from ..present.tables import sweep_text
+    from ..sweep import run_sweep, sweep_work
+
     settings = settings_from(args)
     work = sweep_work(settings, args.seeds)
     if work > WORK_BUDGET and not args.force:

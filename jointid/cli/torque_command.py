@@ -5,10 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 
-import numpy as np
-
-from ..present.text import format_number
-from ..model import TRUE_PARAMETERS, torque_breakdown
+from ..choices import TRUE_VALUES
 from .arguments import UserError, finite_float
 from .output import print_json
 
@@ -39,7 +36,7 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--qdd", type=finite_float, required=True, metavar="QDD",
                         help="joint acceleration (rad/s²)")
     parser.add_argument("--deg", action="store_true", help="read --q in degrees")
-    inertia, mass_moment, damping = TRUE_PARAMETERS
+    inertia, mass_moment, damping = (TRUE_VALUES[name] for name in ("I", "h", "B"))
     parser.add_argument("--I", dest="I", type=finite_float, default=inertia, metavar="I",
                         help=f"inertia about the joint (kg m²); default {inertia}")
     parser.add_argument("--h", dest="h", type=finite_float, default=mass_moment, metavar="H",
@@ -51,6 +48,11 @@ def add_parser(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Compute and print the breakdown; exit status 0."""
+    import numpy as np  # numpy and the numeric modules load only to run
+
+    from ..model import torque_breakdown
+    from ..present.text import format_number
+
     q = math.radians(args.q) if args.deg else args.q
     with np.errstate(over="ignore", invalid="ignore"):  # checked below, with a message naming the value
         parts = torque_breakdown(q, args.qd, args.qdd, (args.I, args.h, args.B))

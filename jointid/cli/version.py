@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-from importlib import metadata
 
 ENTRY_POINT_GROUP = "jointid.faces"
 """Where the terminal UI registers its entry functions (see pyproject.toml)."""
@@ -15,6 +14,8 @@ STACK = ("numpy", "textual", "textual-plotext", "plotext")
 
 
 def _version(distribution: str) -> str:
+    from importlib import metadata  # here: it costs about 20 ms of every start, and only --version reads it
+
     try:
         return metadata.version(distribution)
     except metadata.PackageNotFoundError:
@@ -30,6 +31,8 @@ def version_text() -> str:
         `jointid <version>`, one line per package of the stack, and the
         explorer's third-party adapters as it would set them up at start.
     """
+    from importlib import metadata
+
     lines = [f"jointid {_version('jointid')}"]
     lines += [f"{name} {_version(name)}" for name in STACK]
     # The UI registers its adapter report under the faces entry point (as it does the explorer), so

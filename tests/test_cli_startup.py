@@ -1,0 +1,71 @@
+"""Start-up: help never loads numpy, and `import jointid` loads its public names only on first use."""
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+import jointid
+from jointid.cli import SUBCOMMANDS
+
+HEAVY = ("numpy", "scipy", "pandas", "importlib.metadata")
+"""Modules that printing help has no use for: numpy alone is most of a cold start."""
+
+
+def heavy_modules_after(code: str) -> tuple[str, list[str]]:
+    """(stdout, the HEAVY modules loaded) after running `code` in a fresh interpreter."""
+    probe = (
+        "import contextlib, io, json, sys\n"
+        "out = io.StringIO()\n"
+        "with contextlib.redirect_stdout(out):\n"
+        "    try:\n"
+        f"        {code}\n"
+        "    except SystemExit as exit:\n"
+        "        assert exit.code in (0, None), exit.code\n"
+        f"print(json.dumps([out.getvalue(), sorted(m for m in sys.modules if m in {HEAVY!r})]))\n"
+    )
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    return tuple(json.loads(done.stdout))
+
+
+@pytest.mark.parametrize("command", [[]] + [[module.NAME] for module in SUBCOMMANDS],
+                         ids=lambda command: " ".join(command) or "jointid")
+def test_help_loads_no_numpy(command):
+    text, loaded = heavy_modules_after(f"from jointid.cli import main; main({command + ['--help']!r})")
+    assert text.startswith("usage: jointid") and loaded == []
+
+
+def test_the_help_test_sees_numpy_when_a_command_runs():
+    # The check above must be able to fail: running a fit does load numpy.
+    text, loaded = heavy_modules_after("from jointid.cli import main; main(['fit', '--json'])")
+    assert json.loads(text)["rank"] == 3 and "numpy" in loaded
+
+
+def test_import_jointid_loads_no_numpy_until_a_name_is_used():
+    _, loaded = heavy_modules_after("import jointid")
+    assert loaded == []
+    _, loaded = heavy_modules_after("import jointid; jointid.fit_joint")
+    assert "numpy" in loaded
+
+
+def test_every_public_name_resolves_to_the_object_its_module_defines():
+    from jointid import fit, model, settings, solver
+
+    for name in jointid.__all__:
+        assert getattr(jointid, name) is not None, name
+    assert jointid.fit_joint is fit.fit_joint and jointid.PLAIN is model.PLAIN
+    assert jointid.Settings is settings.Settings and jointid.solve_least_squares is solver.solve_least_squares
+    assert set(jointid.__all__) <= set(dir(jointid))
+    with pytest.raises(AttributeError, match="no attribute 'not_a_name'"):
+        jointid.not_a_name  # noqa: B018
+
+
+def test_the_choices_name_the_motions_the_numeric_modules_define():
+    from jointid.choices import ALL_MOTION_NAMES, EXTRA_TERM_NAMES, TRAINING_MOTION_NAMES
+    from jointid.model import EXTRA_TERMS
+    from jointid.motions import ALL_MOTIONS, TRAINING_MOTIONS
+
+    assert tuple(TRAINING_MOTIONS) == TRAINING_MOTION_NAMES
+    assert tuple(ALL_MOTIONS) == ALL_MOTION_NAMES
+    assert tuple(EXTRA_TERMS) == EXTRA_TERM_NAMES
