@@ -15,7 +15,7 @@ deserialiser on random messages.
 
 Time is header.stamp, or the bag's receive time when every stamp is zero.
 Messages out of stamp order are sorted (and a note says so); repeated stamps
-are refused. Every message is matched by joint name.
+go to the shared time checks (jointid.timing) like a CSV log's. Every message is matched by joint name.
 """
 
 from __future__ import annotations
@@ -491,7 +491,7 @@ class BagTable(LogTable):
 
     def column_label(self, name: str) -> str:
         """'velocity of joint 'j1'': the field a column came from."""
-        field_name = {"t": "time", "q": "position", "qd": "velocity", "tau": "effort"}.get(name, name)
+        field_name = {"q": "position", "qd": "velocity", "tau": "effort"}.get(name, name)
         return f"{field_name} of joint {self.joint!r}"
 
     def error(self, problem: str, index: int | None = None, name: str | None = None) -> LogError:
@@ -500,7 +500,8 @@ class BagTable(LogTable):
         if index is not None:
             time = self.columns["t"][index] if "t" in self.columns else math.nan
             place = f"message {self.line_of(index)} on {self.topic} (t = {time:.6g} s)"
-        return LogError(self.path, problem, place=place, column=None if name is None else self.column_label(name))
+        column = None if name in (None, "t") else self.column_label(name)  # the time's place is the message
+        return LogError(self.path, problem, place=place, column=column)
 
     @property
     def description(self) -> str:
@@ -577,13 +578,8 @@ def _table(path: str, topic: str, joint: str, found: _JointColumns, messages: in
         notes.append(f"{int((steps < 0).sum())} messages arrived out of stamp order; sorted by {source}.")
         header = header[order]
     numbers = times[2] if order is None else times[2][order]
-    repeated = np.flatnonzero(np.diff(header) == 0)
+    # Repeated stamps are left to the shared time checks: exact repeats dropped, others refused.
     t = (header - header[0]) * 1e-9
-    if len(repeated):
-        i = int(repeated[0])
-        raise LogError(path, f"message {int(numbers[i + 1]) + 1} {where} repeats the {source} of message "
-                       f"{int(numbers[i]) + 1} (t = {t[i]:.6g} s); duplicated stamps cannot be ordered",
-                       )
     columns = {"t": t, "q": values[0], **({"qd": values[1]} if velocity else {}), "tau": values[2]}
     if order is not None:
         columns = {name: (v if name == "t" else v[order]) for name, v in columns.items()}

@@ -16,10 +16,11 @@ line running on past MAX_LINE_BYTES is refused as soon as reading has to hold
 it whole (the header, or a data line that does not fit in one chunk), so no
 single line costs more memory than a chunk plus MAX_LINE_BYTES.
 
-Checks: every recognised cell a finite number; t, when present, strictly
-increasing. Uniform sampling (every step within 1 % of the median) is required
-only when qd or qdd must be estimated, since only the differentiator uses t:
-a log with both derivatives and jittery timestamps still fits.
+Checks: every recognised cell a finite number; t, when present, never running
+backwards and never repeating with other values (jointid.timing). Only when qd
+or qdd must be estimated does the differentiator need uniform sampling: jittered
+steps are then resampled onto a uniform grid and gaps refused (jointid.timing);
+a log with both derivatives keeps its timestamps as recorded.
 
 Speed: the file is read in chunks of CHUNK_BYTES, so memory stays near the
 size of the numbers rather than of the text, and a caller can follow progress
@@ -49,6 +50,7 @@ import numpy as np
 
 from .dataset import JointData
 from .derivatives import DEFAULT_ORDER, DEFAULT_WINDOW, METHOD, DerivativeEstimate, check_filter, differentiate
+from .timing import TimeCheck, TimeProblem, check_times
 
 COLUMNS = ("t", "q", "qd", "qdd", "tau")
 """Recognised column names, in the order the loader stores them."""
@@ -61,9 +63,6 @@ MAX_LINE_BYTES = 1 << 20
 """Longest line reading will hold whole (1 MiB, tens of thousands of columns): a file with no newline in
 its first megabyte is not a log of one sample per line, and reading on would hold all of it in memory.
 Shorter data lines are always read; longer ones inside a chunk are left to the row checks."""
-
-UNIFORM_TOLERANCE = 0.01
-"""Largest allowed relative departure of a time step from the median step."""
 
 MIN_FIT_ROWS = 3
 """A fit of three parameters needs at least three samples."""
@@ -172,6 +171,8 @@ class JointLog:
     """True when q, qd, qdd were read in degrees and converted."""
     rows: int
     """Data rows in the file, before any trimming."""
+    timing: TimeCheck | None = None
+    """What the time column showed (step, jitter, repeats dropped, resampling), or None without one."""
     read_notes: tuple[str, ...] = ()
     """Notes from reading the source (a bag's time source, a time window, an effort scale)."""
     read_text: str = ""
@@ -183,6 +184,8 @@ class JointLog:
         notes = [f"{self.path}: {note}" for note in self.read_notes]
         if self.ignored:
             notes.append(f"{self.path}: ignored columns " + ", ".join(repr(n) for n in self.ignored) + ".")
+        if self.timing is not None:
+            notes.extend(f"{self.path}: {text}" for text in self.timing.descriptions)
         if self.derivatives is not None:
             notes.append(f"{self.path}: {self.derivatives.description}")
         return tuple(notes)
@@ -580,31 +583,19 @@ def check_finite(table: LogTable) -> None:
         raise table.error(f"{kind} is not a measurement", index, name)
 
 
-def check_time(table: LogTable, uniform: bool) -> float | None:
-    """Raise LogError unless t strictly increases (and, if `uniform`, steps within 1 %).
+def check_time(table: LogTable, uniform: bool) -> tuple[dict, TimeCheck | None]:
+    """The table's columns after the time checks of jointid.timing (resampled when `uniform` is needed and
+    the steps jitter), and what they showed; LogError naming the row and time of a problem.
 
-    Returns the median step when `uniform` is asked for, else None.
+    Without a t column there is nothing to check: (columns, None).
     """
     t = table.columns.get("t")
-    if t is None or len(t) < 2:
-        return None
-    steps = np.diff(t)
-    if not (steps > 0).all():
-        i = int(np.flatnonzero(~(steps > 0))[0]) + 1
-        raise table.error(f"t = {t[i]:.9g} s does not increase (previous row has {t[i - 1]:.9g} s)", i, "t")
-    if not uniform:
-        return None
-    step = float(np.median(steps))
-    off = np.flatnonzero(np.abs(steps - step) > UNIFORM_TOLERANCE * step)
-    if len(off):
-        i = int(off[0]) + 1
-        raise table.error(
-            f"time step {steps[i - 1]:.9g} s differs from the median step {step:.9g} s by more than "
-            f"{UNIFORM_TOLERANCE:.0%}; derivative estimation needs uniform sampling",
-            i,
-            "t",
-        )
-    return step
+    if t is None:
+        return table.columns, None
+    try:
+        return check_times(t, table.columns, uniform=uniform)
+    except TimeProblem as problem:
+        raise table.error(problem.problem, problem.index, "t") from None
 
 
 def _check_estimates(table: LogTable, step: float, estimates, missing: tuple[str, ...]) -> None:
@@ -644,15 +635,15 @@ def joint_log_from_table(
     differentiated alike; LogError on any problem.
     """
     check_filter(window, order)
-    columns = table.columns
-    missing = tuple(n for n in ("qd", "qdd") if n not in columns)
-    step = check_time(table, uniform=bool(missing))
+    missing = tuple(n for n in ("qd", "qdd") if n not in table.columns)
+    columns, timing = check_time(table, uniform=bool(missing))
+    step = None if timing is None else timing.step
+    count = len(columns["q"])
     needed = MIN_FIT_ROWS + (window - 1 if missing else 0)
-    if table.count < needed:
+    if count < needed:
         why = f"a window of {window} samples trims {window - 1} and " if missing else ""
-        raise LogError(
-            table.path, f"has {table.count} data rows; {why}fitting 3 parameters needs at least {needed}"
-        )
+        rows = f"{table.count} data rows" if count == table.count else f"{count} samples after the time checks"
+        raise LogError(table.path, f"has {rows}; {why}fitting 3 parameters needs at least {needed}")
     scale = math.pi / 180 if degrees else 1.0
     q = columns["q"] * scale if degrees else columns["q"]
     estimate = None
@@ -662,7 +653,7 @@ def joint_log_from_table(
             velocity, acceleration = differentiate(q, step, window, order)
         _check_estimates(table, step, (("qd", velocity), ("qdd", acceleration)), missing)
         half = window // 2
-        keep = slice(half, table.count - half)
+        keep = slice(half, count - half)
         qd = columns["qd"][keep] * scale if "qd" in columns else velocity
         qdd = columns["qdd"][keep] * scale if "qdd" in columns else acceleration
         t, q, tau = columns["t"][keep], q[keep], columns["tau"][keep]
@@ -679,6 +670,7 @@ def joint_log_from_table(
         derivatives=estimate,
         degrees=degrees,
         rows=table.count,
+        timing=timing,
         read_notes=table.notes,
         read_text=table.description,
     )

@@ -218,8 +218,8 @@ BAD_FILES = {
     "too few cells": ("t,q,qd,qdd,tau\n0,0,0,0,1\n1,0,0,1\n", "has 4 cells but the header has 5", 3, None),
     "too many cells": ("t,q,qd,qdd,tau\n0,0,0,0,1\n1,0,0,0,1,9\n", "has 6 cells", 3, None),
     "ragged with extra columns": ("t,q,x,qd,qdd,tau\n0,0,a,0,0,1\n1,0,0,0,1\n2,0,b,0,0,1\n", "has 5 cells", 3, None),
-    "time repeats": ("t,q,qd,qdd,tau\n0,0,0,0,1\n1,0,0,0,1\n1,0,0,0,1\n", "does not increase", 4, "1 (t)"),
-    "time goes back": ("t,q,qd,qdd,tau\n0,0,0,0,1\n2,0,0,0,1\n# c\n1,0,0,0,1\n", "does not increase", 5, "1 (t)"),
+    "time repeats": ("t,q,qd,qdd,tau\n0,0,0,0,1\n1,0,0,0,1\n1,0,0,0,2\n", "repeats with other values", 4, "1 (t)"),
+    "time goes back": ("t,q,qd,qdd,tau\n0,0,0,0,1\n2,0,0,0,1\n# c\n1,0,0,0,1\n", "time runs backwards", 5, "1 (t)"),
     "two rows": ("q,qd,qdd,tau\n0,0,0,1\n1,1,1,1\n", "has 2 data rows", None, None),
     "shorter than the window": (angle_only_text(50)[0], "has 50 data rows; a window of 201", None, None),
     "trailing comment on a row": ("t,q,qd,qdd,tau\n0,0,0,0,1 # note\n", "'1 # note' is not a number", 2, "5 (tau)"),
@@ -229,14 +229,15 @@ BAD_FILES = {
 }
 
 
-def non_uniform_text():
+def gap_text():
+    """An angle-only log at 100 Hz missing the five samples before line 302 (a step of six median steps)."""
     text, _, _ = angle_only_text(400)
     lines = text.splitlines()
-    lines[301] = lines[301].replace(lines[301].split(",")[0], repr(300 * 0.01 + 0.0002), 1)
+    del lines[296:301]
     return "\n".join(lines) + "\n"
 
 
-BAD_FILES["uneven time step"] = (non_uniform_text(), "differs from the median step", 302, "1 (t)")
+BAD_FILES["gap in time"] = (gap_text(), "gap in time: 0.06 s between t = 2.94 s and 3 s", 297, "1 (t)")
 
 
 @pytest.mark.parametrize("name", sorted(BAD_FILES))

@@ -173,12 +173,14 @@ def fit_document(result: FitResult, *, settings: Settings | None = None, source=
 
 
 def log_fit_document(result: FitResult, training, heldout=None) -> dict:
-    """fit_document for a fit of logs (csvlog.JointLog objects): source paths, derivatives and notes."""
+    """fit_document for a fit of logs (csvlog.JointLog objects): source paths, derivatives, timing and notes."""
     return fit_document(
         result,
         source={"training": training.path, "heldout": None if heldout is None else heldout.path},
         derivatives=None if training.derivatives is None else training.derivatives.to_dict(),
         heldout_derivatives=None if heldout is None or heldout.derivatives is None else heldout.derivatives.to_dict(),
+        timing=None if training.timing is None else training.timing.to_dict(),
+        heldout_timing=None if heldout is None or heldout.timing is None else heldout.timing.to_dict(),
         notes=[*training.notes, *(heldout.notes if heldout is not None else ())],
     )
 
