@@ -20,6 +20,7 @@ go to the shared time checks (jointid.timing) like a CSV log's. Every message is
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import struct
@@ -484,6 +485,12 @@ class BagTable(LogTable):
     """0-based number in the topic of each sample's message."""
     time_zero: int = 0
     """The first sample's time (ns), so errors can give a message's time from the start."""
+
+    def sliced(self, rows: slice, note: str) -> "BagTable":
+        """The table cut to a contiguous range of samples, with a note saying how."""
+        columns = {name: values[rows] for name, values in self.columns.items()}
+        return dataclasses.replace(self, columns=columns, message_numbers=self.message_numbers[rows],
+                                   notes=(*self.notes, note))
 
     def line_of(self, index: int) -> int:
         """The message's 1-based number in its topic."""

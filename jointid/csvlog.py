@@ -37,6 +37,7 @@ values are float() of the text.
 from __future__ import annotations
 
 import csv
+import dataclasses
 import io
 import math
 import os
@@ -137,6 +138,11 @@ class LogTable:
     def description(self) -> str:
         """'1000 rows': what was read, for the line above the readouts."""
         return f"{self.count} rows"
+
+    def sliced(self, rows: slice, note: str) -> "LogTable":
+        """The table cut to a contiguous range of data rows, with a note saying how."""
+        columns = {name: values[rows] for name, values in self.columns.items()}
+        return dataclasses.replace(self, columns=columns, first=self.first + rows.start, notes=(*self.notes, note))
 
     def line_of(self, index: int) -> int:
         """1-based line number in the file of data row `index` (0-based); rereads the file, for messages only."""

@@ -13,28 +13,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .csvlog import JointLog, LogError, load_log
-from .derivatives import DEFAULT_ORDER, DEFAULT_WINDOW
+from .csvlog import JointLog, LogError
 from .fit import FitResult, fit_joint
+from .logsource import HELDOUT, TRAINING, LoadRequest, load_joint_log  # noqa: F401 (TRAINING: re-exported)
 from .model import PLAIN, JointModel
 from .present.documents import log_fit_document
 from .solver import NonFiniteError
-
-TRAINING, HELDOUT = "training", "heldout"
-"""The two roles a log can be loaded in."""
-
-
-@dataclass(frozen=True)
-class LoadRequest:
-    """Which file to load, in which role, whether its angles are in degrees, and how to differentiate it."""
-
-    path: str
-    role: str = TRAINING
-    degrees: bool = False
-    window: int = DEFAULT_WINDOW
-    """Savitzky-Golay window, when the log lacks qd or qdd (`--window`)."""
-    order: int = DEFAULT_ORDER
-    """Savitzky-Golay order (`--order`)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -105,9 +89,8 @@ def load_request(
     progress: Callable[[int, int], None] | None = None,
     cancel: Callable[[], bool] | None = None,
 ) -> LoadedLogs:
-    """Load one file into its role beside the current other log and refit; LogError/LoadCancelled as load_log."""
-    log = load_log(request.path, degrees=request.degrees, window=request.window, order=request.order,
-                   progress=progress, cancel=cancel)
+    """Load one log into its role beside the current other log and refit; LogError/LoadCancelled as load_log."""
+    log = load_joint_log(request, progress=progress, cancel=cancel)
     if request.role == HELDOUT:
         if current is None:
             raise ValueError("a held-out log needs a training log")

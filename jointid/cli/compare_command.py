@@ -10,7 +10,7 @@ from ..present.comparison import comparison_text
 from ..present.documents import comparison_document
 from ..present.text import settings_header
 from .arguments import add_settings_arguments, settings_from
-from .log_fit import add_log_arguments, load_logs, with_default_settings
+from .log_fit import add_log_arguments, has_log, load_logs, with_default_settings
 from .output import print_json
 
 NAME = "compare"
@@ -33,7 +33,7 @@ def add_parser(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Compare the ladder on the experiment (or the --csv log) and print text or JSON; exit status 0."""
-    if args.csv is not None:
+    if has_log(args):
         training, heldout = load_logs(args)
         comparison = compare_models(training.data, None if heldout is None else heldout.data)
         heading = f"Training log {training.source_text()}"

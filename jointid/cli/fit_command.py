@@ -11,7 +11,7 @@ from ..present.status import simulation_text
 from ..present.text import settings_header
 from ..simulation import DEFAULT_HORIZON, HORIZON_LIMITS, simulation_check
 from .arguments import add_model_argument, add_settings_arguments, bounded_number, settings_from
-from .log_fit import add_log_arguments, run_log_fit, with_default_settings
+from .log_fit import add_log_arguments, has_log, run_log_fit, with_default_settings
 from .output import print_json
 
 NAME = "fit"
@@ -41,7 +41,7 @@ def add_parser(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run the experiment (or fit the --csv log) and print text or JSON; exit status 0."""
-    if args.csv is not None:
+    if has_log(args):
         return run_log_fit(args)
     settings = settings_from(with_default_settings(args))
     result = run_experiment(settings)
