@@ -10,6 +10,7 @@ from __future__ import annotations
 import sys
 
 from . import (
+    bag_info_command,
     compare_command,
     explorer_command,
     fit_command,
@@ -23,7 +24,8 @@ from .floating_point import strict_arithmetic
 from .log_fit import add_log_arguments
 from .version import VersionAction
 
-SUBCOMMANDS = (fit_command, compare_command, torque_command, sweep_command, matrix_command, simulate_command)
+SUBCOMMANDS = (fit_command, compare_command, torque_command, sweep_command, matrix_command, simulate_command,
+               bag_info_command)
 """Modules that define the subcommands, in help order."""
 
 
@@ -36,7 +38,7 @@ def build_parser() -> OneLineParser:
         description=(
             "Identify a rotating joint's inertia I, gravity mass moment h and viscous damping B "
             "from motion and torque: tau = I*qdd + h*g*cos(q) + B*qd. "
-            "With no subcommand, open the terminal explorer at the given settings, or on a --csv log."
+            "With no subcommand, open the terminal explorer at the given settings, or on a --csv or --bag log."
         ),
     )
     parser.add_argument("--version", action=VersionAction,
