@@ -503,12 +503,12 @@ class BagTable(LogTable):
 
     def error(self, problem: str, index: int | None = None, name: str | None = None) -> LogError:
         """A LogError at the sample's message (number on the topic and time from the start)."""
-        place = None
+        where = []
         if index is not None:
-            time = self.columns["t"][index] if "t" in self.columns else math.nan
-            place = f"message {self.line_of(index)} on {self.topic} (t = {time:.6g} s)"
-        column = None if name in (None, "t") else self.column_label(name)  # the time's place is the message
-        return LogError(self.path, problem, place=place, column=column)
+            where.append(f"message {self.line_of(index)} on {self.topic} (t = {self.columns['t'][index]:.6g} s)")
+        if name not in (None, "t"):  # the time's place is the message itself
+            where.append(self.column_label(name))
+        return LogError(self.path, problem, place=", ".join(where) or None)
 
     @property
     def description(self) -> str:
