@@ -515,6 +515,11 @@ class BagTable(LogTable):
         """What was read, for the line above the readouts."""
         return f"joint {self.joint!r} on {self.topic}, {self.count} messages"
 
+    @property
+    def brief(self) -> str:
+        """What was read in a few words: "'j1', 1000 messages"."""
+        return f"{self.joint!r}, {self.count} messages"
+
 
 def read_bag_table(path, joint: str, topic: str | None = None, *, progress=None, cancel=None) -> BagTable:
     """One joint's t, q, qd (when filled in every message) and tau from a bag; LogError on any problem."""

@@ -139,6 +139,11 @@ class LogTable:
         """'1000 rows': what was read, for the line above the readouts."""
         return f"{self.count} rows"
 
+    @property
+    def brief(self) -> str:
+        """What was read in a few words, for a narrow panel: '1000 rows'."""
+        return self.description
+
     def sliced(self, rows: slice, note: str) -> "LogTable":
         """The table cut to a contiguous range of data rows, with a note saying how."""
         columns = {name: values[rows] for name, values in self.columns.items()}
@@ -183,6 +188,8 @@ class JointLog:
     """Notes from reading the source (a bag's time source, a time window, an effort scale)."""
     read_text: str = ""
     """What was read, e.g. '1000 rows' or "joint 'j1' on /joint_states, 1000 messages"."""
+    read_brief: str = ""
+    """The same in a few words, e.g. '1000 rows' or "'j1', 1000 messages"."""
 
     @property
     def notes(self) -> tuple[str, ...]:
@@ -679,4 +686,5 @@ def joint_log_from_table(
         timing=timing,
         read_notes=table.notes,
         read_text=table.description,
+        read_brief=table.brief,
     )

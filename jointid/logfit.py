@@ -32,12 +32,12 @@ class LoadedLogs:
     @property
     def name(self) -> str:
         """The training file's name, e.g. for the explorer's motion list."""
-        return os.path.basename(self.training.path)
+        return os.path.basename(os.path.normpath(self.training.path))
 
     @property
     def heldout_name(self) -> str | None:
         """The held-out file's name, or None."""
-        return None if self.heldout is None else os.path.basename(self.heldout.path)
+        return None if self.heldout is None else os.path.basename(os.path.normpath(self.heldout.path))
 
     @property
     def logs(self) -> tuple[JointLog, ...]:

@@ -18,6 +18,9 @@ from .timewindow import TimeWindow
 TRAINING, HELDOUT = "training", "heldout"
 """The two roles a log can be loaded in."""
 
+ROLE_WORDS = {TRAINING: "training", HELDOUT: "held-out"}
+"""How notes name each role."""
+
 
 @dataclass(frozen=True)
 class LoadRequest:
@@ -75,11 +78,11 @@ def cut_time_window(table, window: TimeWindow, role: str = TRAINING):
     since = t - t[0]
     inside = np.flatnonzero((since >= window.start) & (since <= window.end))
     if len(inside) == 0:
-        raise LogError(table.path, f"no samples in the {role} window {window.text} s; the log spans 0 to "
+        raise LogError(table.path, f"no samples in the {ROLE_WORDS[role]} window {window.text} s; the log spans 0 to "
                        f"{float(np.max(since)):.6g} s from its start")
     rows = slice(int(inside[0]), int(inside[-1]) + 1)
     kept = rows.stop - rows.start
-    note = (f"{role} window {window.text} s from the log's start: {kept} of {table.count} samples "
+    note = (f"{ROLE_WORDS[role]} window {window.text} s from the log's start: {kept} of {table.count} samples "
             f"(t = {float(since[rows.start]):.6g} to {float(since[rows.stop - 1]):.6g} s).")
     return table.sliced(rows, note)
 

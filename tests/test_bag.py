@@ -113,7 +113,7 @@ def test_train_and_heldout_windows_of_one_bag(bags, capsys):
                             rel_tol=1e-9)
     heldout = both["heldout_rmse"]
     assert abs(heldout - NOISE_RMS) <= 0.10 * NOISE_RMS, heldout
-    assert any("heldout window 12:20 s" in note for note in both["notes"])
+    assert any("held-out window 12:20 s" in note for note in both["notes"])
 
 
 def test_effort_scale_converts_and_is_noted(bags, capsys):

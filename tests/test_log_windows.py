@@ -43,7 +43,7 @@ def test_windows_of_one_csv_log_equal_separate_logs(tmp_path, capsys):
     assert windowed["samples"] == len(early)
     assert any("training window 0:6 s from the log's start: 1501 of 4001" in n
                for n in windowed["notes"])
-    assert any("heldout window 10: s from the log's start: 1501 of 4001" in n for n in windowed["notes"])
+    assert any("held-out window 10: s from the log's start: 1501 of 4001" in n for n in windowed["notes"])
 
 
 def test_errors_inside_a_window_name_the_files_line(tmp_path, capsys):
