@@ -19,7 +19,6 @@ and then each one's peak traced memory (tracemalloc, in separate runs: tracing s
 from __future__ import annotations
 
 import gc
-import os
 import statistics
 import sys
 import time

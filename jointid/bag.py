@@ -21,7 +21,6 @@ go to the shared time checks (jointid.timing) like a CSV log's. Every message is
 from __future__ import annotations
 
 import dataclasses
-import math
 import os
 import struct
 from dataclasses import dataclass, field
@@ -483,8 +482,6 @@ class BagTable(LogTable):
     joint: str = ""
     message_numbers: np.ndarray | None = None
     """0-based number in the topic of each sample's message."""
-    time_zero: int = 0
-    """The first sample's time (ns), so errors can give a message's time from the start."""
 
     def sliced(self, rows: slice, note: str) -> "BagTable":
         """The table cut to a contiguous range of samples, with a note saying how."""
@@ -600,7 +597,6 @@ def _table(path: str, topic: str, joint: str, found: _JointColumns, messages: in
     table = BagTable(
         path=path, columns=columns, positions={name: i + 1 for i, name in enumerate(columns)}, ignored=(),
         segments=(), notes=tuple(notes), topic=topic, joint=joint, message_numbers=numbers,
-        time_zero=int(header[0]),
     )
     check_finite(table)
     return table
