@@ -50,7 +50,15 @@ from typing import Callable
 import numpy as np
 
 from .dataset import JointData
-from .derivatives import DEFAULT_ORDER, DEFAULT_WINDOW, METHOD, DerivativeEstimate, check_filter, differentiate
+from .derivatives import (
+    DEFAULT_ORDER,
+    DEFAULT_WINDOW,
+    METHOD,
+    DerivativeEstimate,
+    check_filter,
+    choose_window,
+    differentiate,
+)
 from .timing import TimeCheck, TimeProblem, check_times
 
 COLUMNS = ("t", "q", "qd", "qdd", "tau")
@@ -167,6 +175,16 @@ class LogTable:
 
 
 @dataclass(frozen=True, eq=False)
+class LogSource:
+    """A table and its columns after the time checks (resampled if jittered): what differentiation starts from."""
+
+    table: LogTable
+    columns: dict
+    """Name -> (N,) array, on a uniform grid when derivatives are estimated."""
+    timing: TimeCheck | None
+
+
+@dataclass(frozen=True, eq=False)
 class JointLog:
     """A log ready to fit: joint data (SI units, trimmed) plus how it was obtained."""
 
@@ -190,6 +208,15 @@ class JointLog:
     """What was read, e.g. '1000 rows' or "joint 'j1' on /joint_states, 1000 messages"."""
     read_brief: str = ""
     """The same in a few words, e.g. '1000 rows' or "'j1', 1000 messages"."""
+    source: LogSource | None = None
+    """The checked columns before differentiation, so the log can be derived again with another window."""
+
+    def with_window(self, window: int | None, order: int | None = None) -> JointLog:
+        """The same log with its missing derivatives estimated by another window (and order); self if none."""
+        if self.source is None or self.derivatives is None:
+            return self
+        order = self.derivatives.order if order is None else order
+        return _derive(self.source, degrees=self.degrees, window=window, order=order)
 
     @property
     def notes(self) -> tuple[str, ...]:
@@ -201,6 +228,19 @@ class JointLog:
             notes.extend(f"{self.path}: {text}" for text in self.timing.descriptions)
         if self.derivatives is not None:
             notes.append(f"{self.path}: {self.derivatives.description}")
+        return tuple(notes)
+
+    @property
+    def short_notes(self) -> tuple[str, ...]:
+        """The notes in a few words each, naming the file without its folder, for a narrow status line."""
+        name = os.path.basename(os.path.normpath(self.path))
+        notes = [f"{name}: {note}" for note in self.read_notes]
+        if self.ignored:
+            notes.append(f"{name}: ignored " + ", ".join(repr(n) for n in self.ignored))
+        if self.timing is not None:
+            notes.extend(f"{name}: {text}" for text in self.timing.short_descriptions)
+        if self.derivatives is not None:
+            notes.append(f"{name}: {self.derivatives.short_description}")
         return tuple(notes)
 
     def source_text(self) -> str:
@@ -627,7 +667,7 @@ def load_log(
     path,
     *,
     degrees: bool = False,
-    window: int = DEFAULT_WINDOW,
+    window: int | None = DEFAULT_WINDOW,
     order: int = DEFAULT_ORDER,
     progress: ProgressCallback | None = None,
     cancel: CancelCheck | None = None,
@@ -640,27 +680,40 @@ def load_log(
 
 
 def joint_log_from_table(
-    table: LogTable, *, degrees: bool = False, window: int = DEFAULT_WINDOW, order: int = DEFAULT_ORDER
+    table: LogTable, *, degrees: bool = False, window: int | None = DEFAULT_WINDOW, order: int = DEFAULT_ORDER
 ) -> JointLog:
     """Check a table's time column, estimate any missing qd/qdd, convert units: the log ready to fit.
 
     Every log source ends here (a CSV file today), so all logs are checked and
-    differentiated alike; LogError on any problem.
+    differentiated alike; LogError on any problem. A window of None is chosen
+    from the motion (`derivatives.choose_window`).
     """
     check_filter(window, order)
     missing = tuple(n for n in ("qd", "qdd") if n not in table.columns)
     columns, timing = check_time(table, uniform=bool(missing))
+    return _derive(LogSource(table, columns, timing), degrees=degrees, window=window, order=order)
+
+
+def _derive(source: LogSource, *, degrees: bool, window: int | None, order: int) -> JointLog:
+    """The JointLog of checked columns: missing derivatives estimated with `window` (None: automatic), units SI."""
+    table, columns, timing = source.table, source.columns, source.timing
+    missing = tuple(n for n in ("qd", "qdd") if n not in columns)
     step = None if timing is None else timing.step
     count = len(columns["q"])
+    scale = math.pi / 180 if degrees else 1.0
+    q = columns["q"] * scale if degrees else columns["q"]
+    choice = None
+    if missing and window is None:
+        choice = choose_window(q, 1.0 if step is None else step, order)  # no step: too few rows, refused below
+        window = choice.window
     needed = MIN_FIT_ROWS + (window - 1 if missing else 0)
     if count < needed:
         why = f"a window of {window} samples trims {window - 1} and " if missing else ""
         rows = f"{table.count} data rows" if count == table.count else f"{count} samples after the time checks"
         raise LogError(table.path, f"has {rows}; {why}fitting 3 parameters needs at least {needed}")
-    scale = math.pi / 180 if degrees else 1.0
-    q = columns["q"] * scale if degrees else columns["q"]
     estimate = None
     if missing:
+        check_filter(window, order)
         # A step like 1e-302 s makes the filter's 1/dt^2 overflow: checked just below, by name.
         with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
             velocity, acceleration = differentiate(q, step, window, order)
@@ -670,7 +723,7 @@ def joint_log_from_table(
         qd = columns["qd"][keep] * scale if "qd" in columns else velocity
         qdd = columns["qdd"][keep] * scale if "qdd" in columns else acceleration
         t, q, tau = columns["t"][keep], q[keep], columns["tau"][keep]
-        estimate = DerivativeEstimate(METHOD, window, order, step, window - 1, missing)
+        estimate = DerivativeEstimate(METHOD, window, order, step, window - 1, missing, choice)
     else:
         qd, qdd = columns["qd"], columns["qdd"]
         if degrees:
@@ -687,4 +740,5 @@ def joint_log_from_table(
         read_notes=table.notes,
         read_text=table.description,
         read_brief=table.brief,
+        source=source,
     )

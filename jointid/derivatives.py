@@ -11,6 +11,7 @@ not extrapolated, so every kept estimate comes from the same filter.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 from math import factorial
 
 import numpy as np
@@ -18,10 +19,28 @@ import numpy as np
 METHOD = "savitzky-golay"
 """Name of the differentiation method, as results and JSON record it."""
 
-DEFAULT_WINDOW = 201
-"""Default window (samples): 0.2 s at 1 kHz, see tests/test_derivatives.py for the evidence."""
+DEFAULT_WINDOW = None
+"""Default window: None, chosen from the log by `choose_window` (its span in time from the motion's bandwidth)."""
 
-DEFAULT_ORDER = 4
+BANDWIDTH_POWER = 0.999
+"""The motion's bandwidth is the frequency below which this share of the (detrended) angle's power lies."""
+
+PASSBAND_ERROR = 0.005
+"""Longest useful span: the one whose filter passes the bandwidth's acceleration within this share (0.45
+periods of it for order 4, 0.9 for order 6), and slower components better."""
+
+NOISE_SHARE = 0.05
+"""Shortest useful span: the one whose acceleration noise (from q's noise) is this share of the
+acceleration's RMS, so errors in qdd bias the inertia by about its square (0.25 %)."""
+
+
+FALLBACK_SPAN = 0.2
+"""Window span (s) when the angle has no motion to measure a bandwidth on (a hold): 201 samples at 1 kHz."""
+
+MAX_SPAN_SHARE = 0.25
+"""An automatic window spans at most this share of the log, so trimming leaves most of it to fit."""
+
+DEFAULT_ORDER = 6
 """Default polynomial order: unbiased for quartics, so curvature inside the window costs little."""
 
 MAX_WINDOW = 4001
@@ -50,6 +69,9 @@ class DerivativeEstimate:
     estimated: tuple[str, ...]
     """Columns that were estimated, a subset of ("qd", "qdd")."""
 
+    choice: WindowChoice | None = None
+    """Why this window: the automatic choice from the motion's bandwidth, or None when it was given."""
+
     def to_dict(self) -> dict:
         """Plain JSON-ready values."""
         return {
@@ -59,17 +81,165 @@ class DerivativeEstimate:
             "step": self.step,
             "trimmed_samples": self.trimmed,
             "estimated": list(self.estimated),
+            "window_chosen": "given" if self.choice is None else "automatic",
+            "bandwidth_hz": None if self.choice is None else self.choice.bandwidth,
         }
+
+    @property
+    def short_description(self) -> str:
+        """A few words for a narrow status line."""
+        how = "given" if self.choice is None else "automatic"
+        return (f"{' and '.join(self.estimated)} by Savitzky-Golay, window {self.window} "
+                f"({(self.window - 1) * self.step:.3g} s, {how}), order {self.order}")
 
     @property
     def description(self) -> str:
         """One sentence for a person, e.g. in a note under the readouts."""
         names = " and ".join(self.estimated)
+        why = "window given" if self.choice is None else self.choice.reason
         return (
             f"{names} estimated from q by Savitzky-Golay differentiation "
-            f"(window {self.window} samples spanning {(self.window - 1) * self.step:.6g} s, order {self.order}); "
-            f"{self.trimmed} edge samples trimmed."
+            f"(window {self.window} samples spanning {(self.window - 1) * self.step:.6g} s, order {self.order}; "
+            f"{why}); {self.trimmed} edge samples trimmed."
         )
+
+
+@dataclass(frozen=True, eq=False)
+class WindowChoice:
+    """An automatic window: what it was chosen from and the sentence that says why."""
+
+    window: int
+    """Samples (odd)."""
+    bandwidth: float | None
+    """The angle's bandwidth (Hz), or None when it had no motion to measure."""
+    reason: str
+    """Why, for the note."""
+
+
+@dataclass(frozen=True)
+class MotionSpectrum:
+    """What the angle's spectrum shows: bandwidth, the acceleration's RMS within it, and q's noise."""
+
+    bandwidth: float
+    """Hz below which BANDWIDTH_POWER of the detrended angle's power lies."""
+    acceleration_rms: float
+    """RMS of the acceleration the band implies (rad/s^2)."""
+    noise: float
+    """Standard deviation of q's white noise (rad), from its fourth differences: quantisation included."""
+
+
+def motion_spectrum(q: np.ndarray, step: float) -> MotionSpectrum | None:
+    """The bandwidth, band acceleration RMS and noise of angles q sampled every `step` s; None without motion.
+
+    The straight line through q is removed first (a constant speed has no
+    acceleration), and a Hann window keeps the log's ends from spreading power
+    upward; its leakage only widens the band (so shortens the window: the safe
+    side). The noise comes from fourth differences, where smooth motion
+    vanishes (as step^4 times the fourth derivative) and white noise has
+    variance 70 sigma^2.
+    """
+    q = np.asarray(q, dtype=float)
+    count = len(q)
+    if count < 8:
+        return None
+    x = np.arange(count, dtype=float)
+    scale = float(np.max(np.abs(q)))
+    if not np.isfinite(scale) or scale == 0:
+        return None
+    q = q / scale  # squares of angles like 1e200 or 1e-200 stay in range; scaled back below
+    slope, intercept = np.polyfit(x, q, 1)
+    detrended = q - (slope * x + intercept)
+    # Zero-padded to a power of two: the same spectrum, finer, and fast (a million and one samples, 101 x 9901,
+    # took 0.26 s unpadded).
+    size = 1 << int(np.ceil(np.log2(count)))
+    power = np.abs(np.fft.rfft(detrended * np.hanning(count), size)) ** 2
+    power[0] = 0.0
+    total = power.sum()
+    if not np.isfinite(total) or total <= 0:
+        return None
+    with np.errstate(over="ignore"):  # a denormal step: an infinite bandwidth, which asks for the shortest window
+        frequencies = np.fft.rfftfreq(size, step)
+    index = min(int(np.searchsorted(np.cumsum(power) / total, BANDWIDTH_POWER)), len(power) - 1)
+    band = slice(0, index + 1)
+    # In cycles per sample first, so that a step like 1e-300 s cannot overflow the fourth power.
+    cycles = np.fft.rfftfreq(size)[band]
+    share = np.sum((2 * np.pi * cycles) ** 4 * power[band]) / total
+    with np.errstate(over="ignore", under="ignore"):  # an inf acceleration just asks for the shortest window
+        acceleration_rms = float(np.sqrt(np.mean(detrended**2) * share) * scale / step / step)
+        noise = float(np.sqrt(np.mean(np.diff(q, 4) ** 2) / 70.0) * scale)
+    return MotionSpectrum(float(frequencies[index]), acceleration_rms, noise)
+
+
+def motion_bandwidth(q: np.ndarray, step: float) -> float | None:
+    """Frequency (Hz) below which BANDWIDTH_POWER of the detrended angle's power lies, or None without motion."""
+    spectrum = motion_spectrum(q, step)
+    return None if spectrum is None else spectrum.bandwidth
+
+
+@lru_cache(maxsize=None)
+def order_constants(order: int) -> tuple[float, float]:
+    """(noise gain, longest periods) of an order-`order` second-derivative Savitzky-Golay filter.
+
+    Its n-sample filter multiplies white noise by about gain / n^2.5 / step^2
+    (94 for order 4, 212 for order 6, measured at n = 61), so the acceleration
+    noise is gain sigma_q sqrt(step) / span^2.5; and it passes a sine within
+    PASSBAND_ERROR up to a span of `periods` of the sine's period.
+    """
+    samples = 61 if order < 30 else 2 * order + 1
+    noise_gain = float(np.sqrt(np.sum(savgol_coefficients(samples, order, 2) ** 2)) * samples**2.5)
+    wide = 401
+    half = wide // 2
+    offsets = np.arange(-half, half + 1) / (wide - 1)  # the span is 1
+    weights = savgol_coefficients(wide, order, 2, 1 / (wide - 1))
+    periods = 0.05
+    while periods < 5:
+        w = 2 * np.pi * (periods + 0.01)
+        if 1 - np.sum(weights * np.cos(w * offsets)) / -(w * w) > PASSBAND_ERROR:
+            break
+        periods += 0.01
+    return noise_gain, periods
+
+
+def choose_window(q: np.ndarray, step: float, order: int) -> WindowChoice:
+    """The automatic window for angles q sampled every `step` s, from the motion's bandwidth and q's noise.
+
+    Between the shortest span whose acceleration noise stays under NOISE_SHARE
+    of the acceleration and the longest that passes the bandwidth within 0.5 %
+    (LONGEST_PERIODS), the window takes their geometric mean: halving or
+    doubling it (the sensitivity check) then stays inside that range whenever
+    the range spans a factor of four. Clamped to at least order + 3 samples,
+    at most MAX_WINDOW and MAX_SPAN_SHARE of the log; odd.
+    """
+    spectrum = motion_spectrum(q, step)
+    if spectrum is None or spectrum.bandwidth <= 0 or spectrum.acceleration_rms <= 0:
+        bandwidth = None
+        span, why = FALLBACK_SPAN, f"automatic: {FALLBACK_SPAN:g} s, as q shows no motion to measure"
+    else:
+        bandwidth = spectrum.bandwidth
+        noise_gain, periods = order_constants(order)
+        longest = periods / bandwidth
+        shortest = (noise_gain * spectrum.noise * np.sqrt(step) / (NOISE_SHARE * spectrum.acceleration_rms)) ** 0.4
+        span = float(np.sqrt(shortest * longest))
+        why = (f"automatic: geometric mean of {shortest:.3g} s, where q's noise ({spectrum.noise:.2g} rad) makes "
+               f"{NOISE_SHARE:.0%} of the acceleration, and {longest:.3g} s, {periods:.2g} periods of the "
+               f"motion's bandwidth {bandwidth:.3g} Hz")
+    samples = int(round(span / step)) + 1
+    limits = []
+    most = min(MAX_WINDOW, int(MAX_SPAN_SHARE * len(q)))
+    if samples > most:
+        samples = most
+        limits.append("cut to a quarter of the log" if most < MAX_WINDOW else f"cut to {MAX_WINDOW} samples")
+    least = order + 3
+    if samples < least:
+        samples = least
+        limits.append(f"raised to order + 3 = {least} samples")
+    window = samples if samples % 2 else samples + 1
+    if window > most:
+        window -= 2
+    window = max(window, least if least % 2 else least + 1)
+    if limits:
+        why += ", " + " and ".join(limits)
+    return WindowChoice(window, bandwidth, why)
 
 
 class FilterSettingError(ValueError):
@@ -81,8 +251,17 @@ class FilterSettingError(ValueError):
         self.problem = problem
 
 
-def check_filter(window: int, order: int) -> None:
-    """Raise FilterSettingError unless `window` is odd, 3 to MAX_WINDOW, and 2 <= `order` < `window`, <= MAX_ORDER."""
+def check_filter(window: int | None, order: int) -> None:
+    """Raise FilterSettingError unless `window` is odd, 3 to MAX_WINDOW, and 2 <= `order` < `window`, <= MAX_ORDER.
+
+    A window of None (automatic) checks the order alone; the window chosen later always exceeds it.
+    """
+    if window is None:
+        if not 2 <= order <= MAX_ORDER:
+            raise FilterSettingError(
+                "order", f"must be at least 2 (for acceleration) and at most {MAX_ORDER}; got {order}"
+            )
+        return
     if window < 3 or window % 2 == 0:
         raise FilterSettingError("window", f"must be an odd number of samples, at least 3; got {window}")
     if window > MAX_WINDOW:

@@ -168,10 +168,15 @@ def fit_joint(
     constrained: bool = False,
     heldout_is_noiseless: bool = False,
     noise_bound: float | None = None,
+    regressor: np.ndarray | None = None,
 ) -> FitResult:
     """Fit `model`'s parameters to the training data by pivoted QR (subject to their sign rules when
-    `constrained`) and evaluate on the held-out data."""
-    X = model.data_regressor(training)
+    `constrained`) and evaluate on the held-out data.
+
+    `regressor` (N, p) replaces the model's regressor of the training states when
+    given: e.g. low-pass filtered in parallel with `training.tau` (jointid.parallel_filter).
+    """
+    X = model.data_regressor(training) if regressor is None else regressor
     return FitResult(
         training=training,
         heldout=heldout,

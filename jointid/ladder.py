@@ -98,26 +98,35 @@ class Comparison:
 
 
 def compare_models(training: JointData, heldout: JointData | None = None, *, noise_bound: float | None = None,
-                   models: tuple[str, ...] = LADDER) -> Comparison:
-    """Fit each named model to the training data from one factorisation, and score it on the held-out data."""
+                   models: tuple[str, ...] = LADDER, low_pass=None) -> Comparison:
+    """Fit each named model to the training data from one factorisation, and score it on the held-out data.
+
+    `low_pass` (a parallel_filter.ParallelFilter) filters every column and the
+    torque alike before the fits, as a log fit does.
+    """
     X = ALL_COLUMNS.data_regressor(training)
-    factor = triangle_of(X, training.tau)
+    tau = training.tau
+    if low_pass is not None and (low_pass.active or low_pass.decimation > 1):
+        both = low_pass.apply(np.column_stack([X, tau]))
+        X, tau = both[:, :-1], np.ascontiguousarray(both[:, -1])
+    count = len(tau)
+    factor = triangle_of(X, tau)
     heldout_X = None if heldout is None else ALL_COLUMNS.data_regressor(heldout)
     rows = []
     for name in models:
         model = model_named(name)
         columns = column_indices(model)
         small = solve_least_squares(factor[:, columns], factor[:, -1])
-        solution = replace(small, row_count=training.count)
+        solution = replace(small, row_count=count)
         heldout_rmse = None
         if heldout_X is not None and solution.estimate is not None:
             heldout_rmse = rms(fitted_torque(heldout_X[:, columns], solution.estimate) - heldout.tau)
         training_rmse = None
         if solution.estimate is not None:
-            training_rmse = float(solution.residual_norm) / math.sqrt(training.count)
+            training_rmse = float(solution.residual_norm) / math.sqrt(count)
         rows.append(LadderRow(model, solution, training_rmse, heldout_rmse,
                               parameter_uncertainty(solution, noise_bound, model)))
-    return Comparison(tuple(rows), training.count)
+    return Comparison(tuple(rows), count)
 
 
 def compare_experiment(settings: Settings) -> Comparison:

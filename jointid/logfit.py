@@ -1,7 +1,11 @@
 """Fitting joint logs: load a training log and an optional held-out log, fit one, predict the other.
 
 Both faces use this: `jointid fit --csv` and the explorer's log mode fit the
-same way, so their readouts and JSON agree.
+same way, so their readouts and JSON agree. The parallel low-pass
+(jointid.parallel_filter) is applied here, to the model's regressor columns and
+the torque alike, because it must act on the columns rather than on q; and the
+sensitivity check (jointid.sensitivity) refits here with the derivative window
+and the cutoff halved and doubled.
 """
 
 from __future__ import annotations
@@ -14,10 +18,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from .csvlog import JointLog, LogError
+from .dataset import JointData
+from .derivatives import MAX_WINDOW, motion_bandwidth
 from .fit import FitResult, fit_joint
 from .logsource import HELDOUT, TRAINING, LoadRequest, load_joint_log  # noqa: F401 (TRAINING: re-exported)
 from .model import PLAIN, JointModel
+from .parallel_filter import FilterRequest, FilterRequestError, ParallelFilter, choose_filter
 from .present.documents import log_fit_document
+from .sensitivity import FACTORS, SensitivityCheck, Variant, sensitivity_check
 from .solver import NonFiniteError
 
 
@@ -28,6 +36,12 @@ class LoadedLogs:
     training: JointLog
     heldout: JointLog | None
     result: FitResult
+    filter: ParallelFilter | None = None
+    """The low-pass and decimation the training data went through, or None when not applied."""
+    filtering: FilterRequest = FilterRequest()
+    """The request the filter was chosen from, kept for refits (another model)."""
+    sensitivity: SensitivityCheck | None = None
+    """The refits with the window and cutoff halved and doubled, or None without a unique fit."""
 
     @property
     def name(self) -> str:
@@ -46,31 +60,53 @@ class LoadedLogs:
 
     def document(self) -> dict:
         """The JSON document of `jointid fit --csv ... --json`."""
-        return log_fit_document(self.result, self.training, self.heldout)
+        return log_fit_document(self.result, self.training, self.heldout, self.filter, self.sensitivity, self.notes())
 
     def source_lines(self) -> tuple[str, ...]:
         """What was read: 'Training log PATH: N rows ...' and the same for the held-out log."""
         roles = ("Training log", "Held-out log")
-        return tuple(f"{role} {log.source_text()}" for role, log in zip(roles, self.logs))
+        return tuple(f"{role} {text}" for role, text in zip(roles, self.source_texts()))
+
+    def source_texts(self) -> tuple[str, ...]:
+        """Each log's source_text, the training log's with the samples left after decimation."""
+        texts = [log.source_text() for log in self.logs]
+        if self.filter is not None and self.filter.decimation > 1:
+            texts[0] += f" ({self.result.training.count} after decimation)"
+        return tuple(texts)
 
     def notes(self) -> tuple[str, ...]:
-        """The loaders' notes (ignored columns, estimated derivatives), training log first."""
-        return tuple(note for log in self.logs for note in log.notes)
+        """The loaders' notes (ignored columns, timing, estimated derivatives) and the filter's, training log first."""
+        notes = list(self.training.notes)
+        if self.filter is not None:
+            notes.append(f"{self.training.path}: {self.filter.description}")
+        if self.heldout is not None:
+            notes.extend(self.heldout.notes)
+        return tuple(notes)
+
+    def short_notes(self) -> tuple[str, ...]:
+        """The notes in a few words each (files without folders), for a narrow status line."""
+        notes = list(self.training.short_notes)
+        if self.filter is not None:
+            notes.append(f"{os.path.basename(self.training.path)}: {self.filter.short_description}")
+        if self.heldout is not None:
+            notes.extend(self.heldout.short_notes)
+        return tuple(notes)
 
 
 
 def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointModel = PLAIN,
-             constrained: bool = False) -> LoadedLogs:
+             constrained: bool = False, filtering: FilterRequest = FilterRequest(),
+             sensitivity: bool = True) -> LoadedLogs:
     """Fit the training log (subject to the sign rules when `constrained`) and score it on the held-out log.
 
-    LogError when the numbers leave double precision: an estimate or an RMSE
-    that overflows would otherwise be shown as if it were a result.
+    The training regressor and torque are low-passed alike as `filtering` asks
+    (automatic by default); with `sensitivity`, the fit is repeated with the
+    derivative window and the cutoff halved and doubled. LogError when the
+    numbers leave double precision (an estimate or an RMSE that overflows would
+    otherwise be shown as if it were a result) or the filter cannot apply.
     """
-    try:
-        result = fit_joint(training.data, None if heldout is None else heldout.data, model=model,
-                           constrained=constrained, heldout_is_noiseless=False)
-    except NonFiniteError as error:
-        raise LogError(training.path, f"cannot be fitted: {error}; rescale its columns (other units)") from None
+    chosen = low_pass_for(training, filtering)
+    result = _fit(training, heldout, model, constrained, chosen)
     with np.errstate(over="ignore", invalid="ignore"):  # checked here, with the file named
         scores = ((training, result.training_rmse), (heldout, result.heldout_rmse))
     for log, rmse in scores:
@@ -78,7 +114,86 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
             raise LogError(
                 log.path, "its predicted torques overflow double precision; rescale its columns (other units)"
             )
-    return LoadedLogs(training, heldout, result)
+    check = _sensitivity(training, model, constrained, chosen, result) if sensitivity else None
+    return LoadedLogs(training, heldout, result, chosen, filtering, check)
+
+
+def low_pass_for(log: JointLog, request: FilterRequest) -> ParallelFilter:
+    """The low-pass for a log: as requested, or from the motion's bandwidth; LogError when it cannot apply."""
+    timing = log.timing
+    step = None if timing is None else timing.step
+    uniform = timing is not None and timing.uniform
+    bandwidth = None
+    if uniform and request.cutoff is None:
+        choice = None if log.derivatives is None else log.derivatives.choice
+        bandwidth = choice.bandwidth if choice is not None else motion_bandwidth(log.data.q, step)
+    try:
+        return choose_filter(request, step, uniform, bandwidth, log.data.count)
+    except FilterRequestError as error:
+        raise LogError(log.path, f"cannot be low-passed: the cutoff {error}") from None
+
+
+def _fit(training: JointLog, heldout: JointLog | None, model: JointModel, constrained: bool,
+         chosen: ParallelFilter) -> FitResult:
+    """The fit of the training log's regressor and torque after the parallel low-pass and decimation."""
+    data = training.data
+    regressor = None
+    if chosen.active or chosen.decimation > 1:
+        X = model.data_regressor(data)
+        both = chosen.apply(np.column_stack([X, data.tau]))
+        rows = chosen.rows(data.count)
+        regressor = both[:, :-1]
+        data = JointData(t=None if data.t is None else data.t[rows], q=data.q[rows], qd=data.qd[rows],
+                         qdd=data.qdd[rows], tau=np.ascontiguousarray(both[:, -1]))
+    try:
+        return fit_joint(data, None if heldout is None else heldout.data, model=model,
+                         constrained=constrained, heldout_is_noiseless=False, regressor=regressor)
+    except NonFiniteError as error:
+        raise LogError(training.path, f"cannot be fitted: {error}; rescale its columns (other units)") from None
+
+
+def _sensitivity(training: JointLog, model: JointModel, constrained: bool, chosen: ParallelFilter,
+                 result: FitResult) -> SensitivityCheck | None:
+    """Refits with the derivative window, then the cutoff, halved and doubled; None without a unique fit."""
+    if result.estimate is None or result.uncertainty is None or result.uncertainty.std_error is None:
+        return None
+    estimate = training.derivatives
+    window = None if estimate is None else estimate.window
+    base = Variant("", 1.0, window, chosen.cutoff, result.estimate)
+    same = FilterRequest(chosen.cutoff if chosen.active else 0, chosen.decimation)
+    variants = []
+    if estimate is not None:
+        for factor in FACTORS:
+            other = _scaled_window(window, factor, estimate.order, training.data.count + window - 1)
+            if other is None or other == window:
+                continue
+            try:
+                log = training.with_window(other)
+                fit = _fit(log, None, model, constrained, low_pass_for(log, same))
+            except LogError:  # too short for the wider window: that variant is skipped
+                continue
+            variants.append(Variant("window", factor, other, chosen.cutoff, fit.estimate))
+    if chosen.active:
+        for factor in FACTORS:
+            # The same decimation, so the refits see the same samples and differ only by the cutoff.
+            request = FilterRequest(chosen.cutoff * factor, chosen.decimation)
+            try:
+                fit = _fit(training, None, model, constrained, low_pass_for(training, request))
+            except LogError:  # a doubled cutoff beyond the Nyquist frequency: skipped
+                continue
+            variants.append(Variant("cutoff", factor, window, request.cutoff, fit.estimate))
+    return sensitivity_check(model.names, base, result.uncertainty.std_error, variants)
+
+
+def _scaled_window(window: int, factor: float, order: int, samples: int) -> int | None:
+    """An odd window spanning `factor` times as long, longer than the order and at most MAX_WINDOW; None if none
+    fits the log."""
+    other = int(round((window - 1) * factor)) + 1
+    other += 1 - other % 2
+    least = order + 1
+    other = max(other, least + 1 - least % 2)
+    other = min(other, MAX_WINDOW)
+    return other if other + 3 <= samples else None
 
 
 def load_request(
@@ -94,5 +209,5 @@ def load_request(
     if request.role == HELDOUT:
         if current is None:
             raise ValueError("a held-out log needs a training log")
-        return fit_logs(current.training, log, model, constrained)
-    return fit_logs(log, None if current is None else current.heldout, model, constrained)
+        return fit_logs(current.training, log, model, constrained, current.filtering)
+    return fit_logs(log, None if current is None else current.heldout, model, constrained, request.filtering)

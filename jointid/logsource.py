@@ -13,6 +13,7 @@ import math
 from dataclasses import dataclass
 
 from .derivatives import DEFAULT_ORDER, DEFAULT_WINDOW
+from .parallel_filter import FilterRequest
 from .timewindow import TimeWindow
 
 TRAINING, HELDOUT = "training", "heldout"
@@ -29,10 +30,12 @@ class LoadRequest:
     path: str
     role: str = TRAINING
     degrees: bool = False
-    window: int = DEFAULT_WINDOW
-    """Savitzky-Golay window, when the log lacks qd or qdd (`--window`)."""
+    window: int | None = DEFAULT_WINDOW
+    """Savitzky-Golay window, when the log lacks qd or qdd (`--window`); None: chosen from the motion."""
     order: int = DEFAULT_ORDER
     """Savitzky-Golay order (`--order`)."""
+    filtering: FilterRequest = FilterRequest()
+    """The parallel low-pass asked for (`--cutoff`, `--decimate`)."""
     joint: str | None = None
     """The joint to read from a ROS bag (`--joint`); None for a CSV log."""
     topic: str | None = None
@@ -97,7 +100,7 @@ def scale_torque(table, scale: float, bag: bool):
     if scale == 1.0:
         if not bag:
             return table
-        note = "effort taken as joint torque in N m (--effort-scale 1)."
+        note = "effort read as torque in N m (--effort-scale 1)."
         return dataclasses.replace(table, notes=(*table.notes, note))
     note = f"torque = {scale:g} × {source}, in N m (--effort-scale {scale:g})."
     columns = {**table.columns, "tau": table.columns["tau"] * scale}

@@ -74,6 +74,17 @@ class TimeCheck:
         }
 
     @property
+    def short_descriptions(self) -> tuple[str, ...]:
+        """The same, in a few words each, for a narrow status line."""
+        out = []
+        if self.duplicates:
+            out.append(f"{self.duplicates} repeated rows dropped")
+        if self.resampled:
+            out.append(f"jitter {self.median_jitter:.1%} median, {self.max_jitter:.1%} max: resampled at "
+                       f"{1 / self.step:.6g} Hz ({INTERPOLATION})")
+        return tuple(out)
+
+    @property
     def descriptions(self) -> tuple[str, ...]:
         """Sentences for a person: repeats dropped, and how jittered time was resampled (none if neither)."""
         out = []
@@ -83,8 +94,8 @@ class TimeCheck:
         if self.resampled:
             out.append(
                 f"time steps jitter by {self.median_jitter:.1%} (median) and {self.max_jitter:.1%} (max) of the "
-                f"median step {self.step:.6g} s; {self.rows_before - self.duplicates} samples resampled by "
-                f"{INTERPOLATION} interpolation onto a uniform {1 / self.step:.6g} Hz grid ({self.rows_after} samples)."
+                f"median step {self.step:.6g} s: resampled by {INTERPOLATION} interpolation onto a uniform "
+                f"{1 / self.step:.6g} Hz grid ({self.rows_after} samples)."
             )
         return tuple(out)
 

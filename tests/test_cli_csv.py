@@ -62,10 +62,12 @@ def test_noiseless_full_log_recovers_the_truth(capsys, tmp_path):
     path = simulate(capsys, tmp_path / "train.csv", "--samples", "500")
     document = fit_json(capsys, "--csv", path)
     estimate = np.array([document["estimate"][k] for k in "IhB"])
-    np.testing.assert_allclose(estimate, TRUE_PARAMETERS, rtol=1e-6)
+    np.testing.assert_allclose(estimate, TRUE_PARAMETERS, rtol=1e-6)  # the default low-pass keeps the model exact
     assert document["settings"] is None and document["derivatives"] is None
     assert document["source"] == {"training": str(path), "heldout": None}
-    assert document["samples"] == 500 and document["rank"] == 3
+    decimation = document["low_pass"]["decimation"]
+    assert document["low_pass"]["cutoff_hz"] is not None and decimation > 1
+    assert document["samples"] == len(range(0, 500, decimation)) and document["rank"] == 3
     assert document["heldout_rmse"] is None
     assert document["expected_std_error"] is None
     assert "No held-out data" in document["message"]
@@ -76,7 +78,7 @@ def test_noisy_log_gives_the_least_squares_fit_of_its_own_numbers(capsys, tmp_pa
     t, q, qd, qdd, tau = truth_states("rich", 300)
     tau = tau + torque_noise(0.2, 300, 11)
     expected = lstsq_fit(q, qd, qdd, tau)
-    document = fit_json(capsys, "--csv", path)
+    document = fit_json(capsys, "--csv", path, "--cutoff", "0")
     np.testing.assert_allclose([document["estimate"][k] for k in "IhB"], expected, rtol=1e-9)
     residual = np.column_stack([qdd, G * np.cos(q), qd]) @ expected - tau
     assert document["training_rmse"] == pytest.approx(math.sqrt(np.mean(residual**2)), rel=1e-9)
@@ -118,11 +120,13 @@ def test_angle_only_quantised_log_lands_within_tolerance(capsys, tmp_path, count
     document = fit_json(capsys, "--csv", path)
     estimate = np.array([document["estimate"][k] for k in "IhB"])
     assert np.max(np.abs(estimate / TRUE_PARAMETERS - 1)) <= tolerance
+    window = document["derivatives"]["window"]
     assert document["derivatives"] == {
-        "method": "savitzky-golay", "window": 201, "order": 4, "step": pytest.approx(0.001),
-        "trimmed_samples": 200, "estimated": ["qd", "qdd"],
+        "method": "savitzky-golay", "window": window, "order": 6, "step": pytest.approx(0.001),
+        "trimmed_samples": window - 1, "estimated": ["qd", "qdd"], "window_chosen": "automatic",
+        "bandwidth_hz": pytest.approx(0.625, abs=0.2),
     }
-    assert document["samples"] == 8001 - 200
+    assert document["samples"] == len(range(0, 8001 - (window - 1), document["low_pass"]["decimation"]))
 
 
 def test_the_quantised_angles_are_whole_counts(capsys, tmp_path):
@@ -135,7 +139,7 @@ def test_the_quantised_angles_are_whole_counts(capsys, tmp_path):
 
 def test_window_and_order_options_reach_the_filter(capsys, tmp_path):
     path = simulate(capsys, tmp_path / "enc.csv", "--rate", "1000", "--encoder-counts", "65536")
-    document = fit_json(capsys, "--csv", path, "--window", "301", "--order", "5")
+    document = fit_json(capsys, "--csv", path, "--window", "301", "--order", "5", "--cutoff", "0")
     assert (document["derivatives"]["window"], document["derivatives"]["order"]) == (301, 5)
     assert document["samples"] == 8001 - 300
 
@@ -247,7 +251,7 @@ CORPUS = {
     "time_backwards.csv": "\n".join([HEADER, *good_rows(5), "0.01,0,0,0,1"]) + "\n",
     "uneven_time.csv": "t,q,tau\n" + "".join(f"{i * 0.01 + (0.05 if i >= 250 else 0)!r},0,1\n" for i in range(400)),
     "two_rows.csv": "\n".join([HEADER, *good_rows(2)]) + "\n",
-    "shorter_than_window.csv": "t,q,tau\n" + "".join(f"{i * 0.01!r},0,1\n" for i in range(100)),
+    "shorter_than_window.csv": "t,q,tau\n" + "".join(f"{i * 0.01!r},0,1\n" for i in range(6)),
     "binary.csv": "\x00\x01\x02,\xff\n\x00,\x00\n",
     "mid_line_comment.csv": "\n".join([HEADER, *good_rows(5), "0.05,0,0,0,1 # note"]) + "\n",
     "semicolons.csv": HEADER.replace(",", ";") + "\n0;0;0;0;1\n",

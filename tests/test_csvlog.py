@@ -221,7 +221,7 @@ BAD_FILES = {
     "time repeats": ("t,q,qd,qdd,tau\n0,0,0,0,1\n1,0,0,0,1\n1,0,0,0,2\n", "repeats with other values", 4, "1 (t)"),
     "time goes back": ("t,q,qd,qdd,tau\n0,0,0,0,1\n2,0,0,0,1\n# c\n1,0,0,0,1\n", "time runs backwards", 5, "1 (t)"),
     "two rows": ("q,qd,qdd,tau\n0,0,0,1\n1,1,1,1\n", "has 2 data rows", None, None),
-    "shorter than the window": (angle_only_text(50)[0], "has 50 data rows; a window of 201", None, None),
+    "shorter than the window": (angle_only_text(5)[0], "has 5 data rows; a window of 9", None, None),
     "trailing comment on a row": ("t,q,qd,qdd,tau\n0,0,0,0,1 # note\n", "'1 # note' is not a number", 2, "5 (tau)"),
     "quoted number": ('t,q,qd,qdd,tau\n0,"0",0,0,1\n', "'\"0\"' is not a number", 2, "2 (q)"),
     "semicolons": ("t;q;qd;qdd;tau\n0;0;0;0;1\n", "missing required column 'q'", 1, None),

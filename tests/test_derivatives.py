@@ -6,8 +6,8 @@ import pytest
 from jointid.dataset import JointData
 from jointid.derivatives import (
     DEFAULT_ORDER,
-    DEFAULT_WINDOW,
     check_filter,
+    choose_window,
     differentiate,
     savgol_coefficients,
 )
@@ -76,6 +76,8 @@ def encoder_fit(motion: Motion, counts: int, noise: float, window: int, order: i
     tau = predict_torque(states.q, states.qd, states.qdd) + torque_noise(noise, len(t), 7)
     step = 2 * np.pi / counts
     q = np.round(states.q / step) * step
+    if window is None:  # the automatic choice, from the quantised angles alone
+        window = choose_window(q, 1 / RATE, order).window
     qd, qdd = differentiate(q, 1 / RATE, window, order)
     keep = slice(window // 2, len(t) - window // 2)
     return fit_joint(JointData(t=t[keep], q=q[keep], qd=qd, qdd=qdd, tau=tau[keep])).estimate
@@ -90,8 +92,8 @@ def worst_relative_error(estimate: np.ndarray) -> float:
 @pytest.mark.parametrize("counts", [4096, 65536])
 @pytest.mark.parametrize("noise, tolerance", [(0.0, 0.02), (0.2, 0.03)])
 def test_defaults_recover_the_parameters_from_encoder_angles(motion, counts, noise, tolerance):
-    """Window 201 (0.2 s) and order 4: within 2 % without torque noise, 3 % with the lesson's 0.2 N m."""
-    estimate = encoder_fit(motion, counts, noise, DEFAULT_WINDOW, DEFAULT_ORDER)
+    """The automatic window and order 4: within 2 % without torque noise, 3 % with the lesson's 0.2 N m."""
+    estimate = encoder_fit(motion, counts, noise, None, DEFAULT_ORDER)
     assert worst_relative_error(estimate) <= tolerance
 
 
@@ -108,6 +110,9 @@ def test_a_low_order_over_a_long_window_flattens_the_faster_sines():
 
 
 def test_order_two_at_the_default_window_is_worse_than_the_default_on_the_richer_motion():
-    default = worst_relative_error(encoder_fit(RICHER, 4096, 0.0, DEFAULT_WINDOW, DEFAULT_ORDER))
-    lower = worst_relative_error(encoder_fit(RICHER, 4096, 0.0, DEFAULT_WINDOW, 2))
+    t = np.arange(int(DURATION * RATE) + 1) / RATE
+    step = 2 * np.pi / 4096
+    window = choose_window(np.round(RICHER.states(t).q / step) * step, 1 / RATE, DEFAULT_ORDER).window
+    default = worst_relative_error(encoder_fit(RICHER, 4096, 0.0, window, DEFAULT_ORDER))
+    lower = worst_relative_error(encoder_fit(RICHER, 4096, 0.0, window, 2))
     assert lower > 0.04 and default < lower / 10

@@ -29,6 +29,7 @@ from scipy.signal import savgol_filter
 from jointid.cli import main
 from jointid.csvlog import LogError
 from jointid.logfit import LoadRequest, load_request
+from jointid.parallel_filter import FilterRequest
 
 G = 9.81
 COLUMNS = ("t", "q", "qd", "qdd", "tau")
@@ -267,7 +268,7 @@ CASES: dict[str, Case] = {
                                              "overflows double precision"),
     "angle_only_step_1e-200.csv": error_case(text_of(angle_only(500, 1e-200), names=("t", "q", "tau")),
                                              "overflows double precision"),
-    "angle_only_too_short.csv": error_case(text_of(angle_only(100), names=("t", "q", "tau")), "a window of 201"),
+    "angle_only_too_short.csv": error_case(text_of(angle_only(6), names=("t", "q", "tau")), "a window of 9"),
     # Not text, not one sample per line, not a regular file.
     "gzip_bytes.csv": error_case(gzip.compress(PLAIN.encode(), mtime=0)),
     "random_bytes.csv": error_case(np.random.default_rng(5).integers(0, 256, 4096, dtype=np.uint8).tobytes()),
@@ -368,6 +369,14 @@ def test_every_corpus_file_is_one_clear_line_or_a_correct_fit(capsys, tmp_path, 
     data = case.make(path)
     status = with_deadline(lambda: run_cli(["fit", "--csv", str(path), "--json"]))
     out, err = capsys.readouterr()
+    if case.fits:  # with the defaults (automatic window, low-pass, sensitivity check): a fit, no more
+        assert (status, err) == (0, ""), err
+        strict_json(out)
+        # The numbers are checked against the reference without the low-pass and with the reference's window.
+        window = [] if case.derivatives is None else ["--window", str(case.derivatives[0]),
+                                                      "--order", str(case.derivatives[1])]
+        status = with_deadline(lambda: run_cli(["fit", "--csv", str(path), "--json", "--cutoff", "0", *window]))
+        out, err = capsys.readouterr()
     if not case.fits:
         assert (status, out) == (2, ""), err
         assert len(err.splitlines()) == 1 and err.startswith(f"jointid: {path}"), err
@@ -389,7 +398,9 @@ def test_every_corpus_file_is_one_clear_line_or_a_correct_fit(capsys, tmp_path, 
     else:
         theta, rank, qd, qdd = reference_fit(data, case.derivatives)
     assert document["rank"] == rank
-    loaded = with_deadline(lambda: load_request(LoadRequest(str(path))))
+    window, order = (None, 6) if case.derivatives is None else case.derivatives
+    loaded = with_deadline(lambda: load_request(LoadRequest(str(path), window=window, order=order,
+                                                            filtering=FilterRequest(0))))
     if rank < 3:
         assert document["estimate"] is None and loaded.result.estimate is None
     else:

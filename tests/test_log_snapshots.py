@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import pytest
 from test_cli_csv import CORPUS
+from test_real_logs import robot_log, write_log
 from test_snapshots import COMPACT, WIDE, steady
 from tui_support import make_app
 
@@ -47,3 +48,13 @@ def test_a_bad_file_is_a_notification_and_the_log_stays(snap_compare, in_log_fol
         await pilot.pause()
 
     assert snap_compare(log_app(True), terminal_size=WIDE, run_before=load_bad)
+
+
+@pytest.mark.parametrize("window, size", [(None, WIDE), (31, COMPACT)], ids=["default-120x40", "window31-80x24"])
+def test_a_jittered_robot_log_with_its_notes_and_sensitivity_check(snap_compare, tmp_path, monkeypatch, window, size):
+    """300 Hz, +-10 % jitter, 12-bit angles: the notes say how it was resampled, differentiated and filtered;
+    a 31-sample window gets "your derivative settings decide this estimate"."""
+    monkeypatch.chdir(tmp_path)
+    write_log(tmp_path / "robot.csv", robot_log(300, duration=8.0))
+    app = make_app(logs=fit_logs(load_log("robot.csv", window=window)))
+    assert snap_compare(app, terminal_size=size, run_before=steady)

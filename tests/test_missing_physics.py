@@ -195,7 +195,9 @@ def test_simulate_writes_missing_physics_that_compare_finds_in_the_log(tmp_path,
     assert main(["simulate", "--noise", "0.05", "--rate", "100", "--true-coulomb", "0.3", "--out", str(path)]) == 0
     assert "Coulomb friction 0.3 N m" in path.read_text().splitlines()[0]
     capsys.readouterr()
-    assert main(["compare", "--csv", str(path), "--json"]) == 0
+    assert main(["compare", "--csv", str(path), "--json"]) == 0  # with the default low-pass
+    assert json.loads(capsys.readouterr().out)["preferred"] == "coulomb"
+    assert main(["compare", "--csv", str(path), "--json", "--cutoff", "0"]) == 0  # the numbers as logged
     document = json.loads(capsys.readouterr().out)
     assert document["preferred"] == "coulomb" and "unavailable" not in document["message"]
     t = np.linspace(0.0, 8.0, 801)

@@ -147,3 +147,18 @@ def test_the_json_says_how_time_was_handled(tmp_path, capsys):
     assert timing["median_step"] == pytest.approx(np.median(np.diff(t)), rel=1e-12)
     assert timing["rows_before"] == len(t) and document["heldout_timing"] is None
     assert any("resampled" in note for note in document["notes"])
+
+
+def test_simulate_jitter_writes_the_true_instants_off_their_ticks(tmp_path, capsys):
+    path = tmp_path / "robot.csv"
+    argv = ["simulate", "--rate", "100", "--duration", "4", "--jitter", "0.2", "--encoder-counts", "4096",
+            "--out", str(path)]
+    assert main(argv) == 0
+    values = np.loadtxt(path, delimiter=",", skiprows=2)
+    t, q = values[:, 0], values[:, 1]
+    ticks = np.arange(401) / 100
+    off = (t - ticks) * 100
+    assert np.all(np.abs(off) <= 0.2) and np.max(np.abs(off)) > 0.15 and off[0] == off[-1] == 0
+    exact = 0.7 * np.sin(1.3 * t) + 0.25 * np.sin(2.7 * t)  # the angle at the written instant, not the tick
+    assert np.max(np.abs(q - exact)) <= np.pi / 4096 + 1e-12
+    assert "sampling instants jittered by up to 0.2 steps" in path.read_text().splitlines()[0]

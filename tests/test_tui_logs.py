@@ -15,8 +15,8 @@ from jointid import csvlog
 from jointid.cli import main
 from jointid.csvlog import LogError, load_log
 from jointid.derivatives import DEFAULT_ORDER, DEFAULT_WINDOW
-from jointid.fit import fit_joint
 from jointid.logfit import HELDOUT, LoadRequest
+from jointid.parallel_filter import FilterRequest
 from jointid.present import charts
 from jointid.present.charts import ordinal
 from jointid.present.readouts import readouts
@@ -55,9 +55,9 @@ def tmp_path_of(path):
     return path.parent
 
 
-async def load(pilot, path, role="training", degrees=False):
+async def load(pilot, path, role="training", degrees=False, filtering=FilterRequest(), window=None):
     """Load a file as the Ctrl+O dialog would, and wait until the worker's outcome is shown."""
-    pilot.app.screen.start_loading(LoadRequest(str(path), role, degrees))
+    pilot.app.screen.start_loading(LoadRequest(str(path), role, degrees, window=window, filtering=filtering))
     await pilot.app.workers.wait_for_complete()
     await pilot.pause()
 
@@ -75,9 +75,9 @@ async def test_a_loaded_log_shows_the_cores_fit_of_the_same_file(logs, capsys):
     async with app.run_test(size=SIZE) as pilot:
         await load(pilot, train)
         screen = main_screen(app)
-        expected = fit_joint(load_log(train).data)
+        expected = logfit.fit_logs(load_log(train)).result
         assert screen.query_one(ReadoutPanel).items == readouts(expected)
-        assert screen.result.training.count == 600
+        assert screen.result.training.count == len(range(0, 600, 5))  # the default low-pass keeps every 5th
         assert "No held-out data" in str(screen.query_one("#status").render())
         assert not screen.query_one("#heldout-chart").display  # no held-out log: its chart gives way
 
@@ -87,10 +87,10 @@ async def test_the_heldout_log_is_predicted_against_its_measured_torques(logs, c
     train, test = logs
     app = make_app()
     async with app.run_test(size=SIZE) as pilot:
-        await load(pilot, train)
+        await load(pilot, train, filtering=FilterRequest(0))  # all 600 samples, to see the chart thin them
         await load(pilot, test, HELDOUT)
         screen = main_screen(app)
-        expected = fit_joint(load_log(train).data, load_log(test).data, heldout_is_noiseless=False)
+        expected = logfit.fit_logs(load_log(train), load_log(test), filtering=FilterRequest(0)).result
         assert screen.query_one(ReadoutPanel).items == readouts(expected)
         assert screen.result.heldout_rmse == pytest.approx(expected.heldout_rmse, rel=0, abs=0)
         assert "against measured torques" in str(screen.query_one("#status").render())
@@ -119,7 +119,7 @@ async def test_synthetic_controls_are_off_with_the_reason_and_come_back(logs):
         steppers = list(screen.query(Stepper))
         assert all(s.disabled and s.value == FROM_LOG for s in steppers)
         note = str(screen.query_one("#log-note").render())
-        assert note.startswith("From log: train.csv, 600 samples fitted") and "1/2/3 or c" in note
+        assert note.startswith("From log: train.csv, 120 samples fitted") and "1/2/3 or c" in note
         choices = screen.query_one(ChoiceList)
         assert choices.pressed == "motion-log" and "motion-log" in choices.shown
         assert choices.render().plain.splitlines()[-1].endswith(" Log: train.csv ")
@@ -382,3 +382,18 @@ async def test_closing_a_log_pushes_the_synthetic_fit_once(logs, monkeypatch):
         await pilot.press("m")  # a view opened on the current settings pushes nothing
         await pilot.pause()
         assert len(pushes) == 1
+
+
+@synchronous
+async def test_a_jittered_log_shows_its_notes_and_the_sensitivity_warning(tmp_path):
+    from test_real_logs import robot_log, write_log
+
+    path = write_log(tmp_path / "robot.csv", robot_log(300, duration=8.0))
+    for size, window in ((SIZE, None), ((80, 24), 31)):
+        app = make_app()
+        async with app.run_test(size=size) as pilot:
+            await load(pilot, path, window=window)
+            status = str(main_screen(app).query_one("#status").render())
+            assert "resampled" in status and "Savitzky-Golay" in status and "low-passed" in status
+            warned = "Your derivative settings decide this estimate" in status
+            assert warned == (window is not None), status

@@ -13,6 +13,7 @@ from textual.binding import Binding
 from textual.screen import Screen
 
 from jointid.derivatives import DEFAULT_ORDER, DEFAULT_WINDOW
+from jointid.parallel_filter import FilterRequest
 from jointid.settings import DEFAULT_SETTINGS, Settings
 
 from .commands import TourCommands
@@ -45,19 +46,22 @@ class JointIdApp(App):
     COMMANDS = App.COMMANDS | {TourCommands}
 
     def __init__(self, settings: Settings = DEFAULT_SETTINGS, logs: LoadedLogs | None = None,
-                 derivatives: tuple[int, int] = (DEFAULT_WINDOW, DEFAULT_ORDER)) -> None:
+                 derivatives: tuple[int | None, int] = (DEFAULT_WINDOW, DEFAULT_ORDER),
+                 filtering: FilterRequest = FilterRequest()) -> None:
         """Create the app.
 
         Args:
             settings: Settings to open at.
             logs: A loaded log to open on (`jointid --csv`).
             derivatives: Savitzky-Golay window and order for logs without qd or qdd,
-                those opened later too (`jointid --window --order`).
+                those opened later too (`jointid --window --order`); a window of None is automatic.
+            filtering: The parallel low-pass for logs opened later (`jointid --cutoff --decimate`).
         """
         super().__init__()
         self.initial_settings = settings
         self.initial_logs = logs
         self.derivatives = derivatives
+        self.filtering = filtering
 
     def get_default_screen(self) -> Screen:
         """The main screen at the initial settings."""

@@ -5,6 +5,7 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 from jointid.derivatives import DEFAULT_ORDER, DEFAULT_WINDOW
+from jointid.parallel_filter import FilterRequest
 from jointid.settings import Settings
 
 from . import third_party
@@ -15,18 +16,20 @@ if TYPE_CHECKING:
 
 
 def explore(settings: Settings, logs: LoadedLogs | None = None,
-            derivatives: tuple[int, int] = (DEFAULT_WINDOW, DEFAULT_ORDER)) -> int:
+            derivatives: tuple[int | None, int] = (DEFAULT_WINDOW, DEFAULT_ORDER),
+            filtering: FilterRequest = FilterRequest()) -> int:
     """Run the explorer until the user quits and return the exit status.
 
     Args:
         settings: Settings to open at; SettingsError if outside the explorer's ranges.
         logs: A loaded log to open on (`jointid --csv`).
-        derivatives: Savitzky-Golay window and order for logs opened later with Ctrl+O.
+        derivatives: Savitzky-Golay window (None: automatic) and order for logs opened later with Ctrl+O.
+        filtering: The parallel low-pass for those logs (`--cutoff`, `--decimate`).
     """
     check_explorer_settings(settings)
     from .app import JointIdApp  # after the check: a refused value costs no Textual import
 
-    app = JointIdApp(settings, logs, derivatives=derivatives)
+    app = JointIdApp(settings, logs, derivatives=derivatives, filtering=filtering)
     app.restore_gc = False  # the process ends with the app: see JointIdApp.restore_gc
     app.run()  # Textual restores the terminal before it returns, and prints a crash's traceback
     return exit_status(app)

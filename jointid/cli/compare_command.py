@@ -9,8 +9,8 @@ from ..model import LADDER
 from ..present.comparison import comparison_text
 from ..present.documents import comparison_document
 from ..present.text import settings_header
-from .arguments import add_settings_arguments, settings_from
-from .log_fit import add_log_arguments, has_log, load_logs, with_default_settings
+from .arguments import UserError, add_settings_arguments, settings_from
+from .log_fit import add_log_arguments, filter_options, has_log, load_logs, with_default_settings
 from .output import print_json
 
 NAME = "compare"
@@ -34,9 +34,16 @@ def add_parser(subparsers) -> None:
 def run(args: argparse.Namespace) -> int:
     """Compare the ladder on the experiment (or the --csv log) and print text or JSON; exit status 0."""
     if has_log(args):
+        from ..csvlog import LogError
+        from ..logfit import low_pass_for
+
         training, heldout = load_logs(args)
-        comparison = compare_models(training.data, None if heldout is None else heldout.data)
-        heading = f"Training log {training.source_text()}"
+        try:
+            low_pass = low_pass_for(training, filter_options(args))
+        except LogError as error:
+            raise UserError(str(error)) from None
+        comparison = compare_models(training.data, None if heldout is None else heldout.data, low_pass=low_pass)
+        heading = f"Training log {training.source_text()}; {low_pass.short_description}"
         settings, source = None, {"training": training.path, "heldout": None if heldout is None else heldout.path}
     else:
         settings = settings_from(with_default_settings(args))

@@ -14,7 +14,7 @@ from importlib.metadata import entry_points
 from ..settings import SettingsError
 from .arguments import UserError, settings_from
 from .floating_point import strict_arithmetic
-from .log_fit import LOG_ONLY_FLAGS, derivative_options, fit_loaded_logs, has_log, with_default_settings
+from .log_fit import LOG_ONLY_FLAGS, derivative_options, filter_options, fit_loaded_logs, has_log, with_default_settings
 from .version import ENTRY_POINT_GROUP
 
 ENTRY_POINT_NAME = "explorer"
@@ -35,10 +35,11 @@ def run(args) -> int:
     with strict_arithmetic():
         loaded = fit_loaded_logs(args) if has_log(args) else None
     derivatives = derivative_options(args)  # also for logs opened later with Ctrl+O
+    filtering = filter_options(args)
     settings = settings_from(with_default_settings(args) if loaded is None else _defaults(args))
     explore = load_explorer()
     try:
-        return explore(settings, loaded, derivatives)
+        return explore(settings, loaded, derivatives, filtering)
     except SettingsError as error:  # outside the explorer's ranges: `jointid fit` takes more
         raise UserError(str(error)) from None
 

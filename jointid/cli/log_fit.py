@@ -12,9 +12,8 @@ from __future__ import annotations
 import argparse
 
 from ..csvlog import JointLog, LogError
-from ..derivatives import DEFAULT_ORDER, DEFAULT_WINDOW, FilterSettingError, check_filter
+from ..derivatives import DEFAULT_ORDER, FilterSettingError, check_filter
 from ..logfit import LoadedLogs, fit_logs
-from ..logsource import HELDOUT, TRAINING, LoadRequest, load_joint_log
 from ..timewindow import parse_time_window
 from ..model import model_named
 from ..present.readouts import readouts_text, uncertainty_text
@@ -25,8 +24,8 @@ from .output import print_json
 SETTING_FLAGS = ("motion", "noise", "samples", "seed", "true_coulomb", "true_bias", "true_angle_offset")
 """Synthetic-experiment options that a log fit rejects."""
 
-LOG_ONLY_FLAGS = ("heldout", "degrees", "window", "order", "joint", "topic", "train_window", "heldout_window",
-                  "effort_scale")
+LOG_ONLY_FLAGS = ("heldout", "degrees", "window", "order", "cutoff", "decimate", "joint", "topic", "train_window",
+                  "heldout_window", "effort_scale")
 """Options that mean something only with --csv or --bag."""
 
 BAG_ONLY_FLAGS = ("joint", "topic")
@@ -64,9 +63,14 @@ def add_log_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--degrees", action="store_true", help="the logs give q, qd, qdd in degrees")
     group.add_argument("--window", type=whole_number(3), default=None, metavar="W",
                        help="Savitzky-Golay window (odd number of samples) when qd or qdd is missing; "
-                       f"default {DEFAULT_WINDOW}")
+                       "default: chosen from the motion's bandwidth and q's noise (the note says which)")
     group.add_argument("--order", type=whole_number(2), default=None, metavar="P",
                        help=f"Savitzky-Golay polynomial order; default {DEFAULT_ORDER}")
+    group.add_argument("--cutoff", type=cutoff_number, default=None, metavar="HZ",
+                       help="low-pass the torque and every regressor column alike at HZ (zero phase) before the "
+                       "fit; 0 turns it off; default: 12 times the motion's bandwidth")
+    group.add_argument("--decimate", type=whole_number(1), default=None, metavar="N",
+                       help="keep every Nth sample after the low-pass; default: down to twice the cutoff")
     parser.set_defaults(**dict.fromkeys(SETTING_FLAGS))
 
 
@@ -102,9 +106,25 @@ def with_default_settings(args: argparse.Namespace) -> argparse.Namespace:
     return args
 
 
-def derivative_options(args: argparse.Namespace) -> tuple[int, int]:
-    """The Savitzky-Golay window and order from --window and --order; UserError if they do not fit together."""
-    window = DEFAULT_WINDOW if args.window is None else args.window
+def cutoff_number(text: str) -> float:
+    """An argparse type for --cutoff: a finite number of hertz, 0 (off) or more."""
+    value = finite_float(text)
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be a number of hertz, 0 (off) or more; got {text!r}")
+    return value
+
+
+def filter_options(args: argparse.Namespace):
+    """The parallel low-pass asked for by --cutoff and --decimate (None: automatic): a FilterRequest."""
+    from ..parallel_filter import FilterRequest
+
+    return FilterRequest(getattr(args, "cutoff", None), getattr(args, "decimate", None))
+
+
+def derivative_options(args: argparse.Namespace) -> tuple[int | None, int]:
+    """The Savitzky-Golay window (None: automatic) and order from --window and --order; UserError if they do
+    not fit together."""
+    window = args.window
     order = DEFAULT_ORDER if args.order is None else args.order
     try:
         check_filter(window, order)
@@ -118,8 +138,9 @@ def _flag(name: str) -> str:
     return "--" + name.replace("_", "-")
 
 
-def log_requests(args: argparse.Namespace) -> tuple[LoadRequest, LoadRequest | None]:
-    """The training and held-out load requests of --csv/--bag and the log options; UserError on a bad mix."""
+def log_requests(args: argparse.Namespace):
+    """The training and held-out logsource.LoadRequest (or None) of --csv/--bag and the log options; UserError
+    on a bad mix."""
     given = [_flag(name) for name in SETTING_FLAGS if getattr(args, name) is not None]
     if given:
         raise UserError(f"synthetic settings ({', '.join(given)}) cannot apply to a log; drop them")
@@ -133,9 +154,11 @@ def log_requests(args: argparse.Namespace) -> tuple[LoadRequest, LoadRequest | N
             raise UserError(f"{', '.join(stray)}: only for a ROS bag; use --bag BAG")
     elif args.joint is None:
         raise UserError("--bag needs --joint NAME (`jointid bag-info BAG` lists the joints)")
+    from ..logsource import HELDOUT, TRAINING, LoadRequest
+
     window, order = derivative_options(args)
     common = dict(degrees=args.degrees, window=window, order=order, joint=args.joint, topic=args.topic,
-                  effort_scale=1.0 if args.effort_scale is None else args.effort_scale)
+                  effort_scale=1.0 if args.effort_scale is None else args.effort_scale, filtering=filter_options(args))
     path = args.bag if args.bag is not None else args.csv
     training = LoadRequest(path, TRAINING, time_window=args.train_window, **common)
     if args.heldout is None and args.heldout_window is None:
@@ -158,6 +181,8 @@ def _looks_like_bag(path: str) -> bool:
 
 def load_logs(args: argparse.Namespace) -> tuple[JointLog, JointLog | None]:
     """The training and held-out logs, after checking the options; UserError (one line) on any problem."""
+    from ..logsource import load_joint_log
+
     training_request, heldout_request = log_requests(args)
     try:
         training = load_joint_log(training_request)
@@ -173,7 +198,7 @@ def fit_loaded_logs(args: argparse.Namespace) -> LoadedLogs:
     training, heldout = load_logs(args)
     try:
         return fit_logs(training, heldout, model=model_named(args.model),
-                        constrained=getattr(args, "constrained", False))
+                        constrained=getattr(args, "constrained", False), filtering=filter_options(args))
     except LogError as error:  # numbers beyond double precision
         raise UserError(str(error)) from None
 
@@ -188,6 +213,10 @@ def run_log_fit(args: argparse.Namespace) -> int:
     print(readouts_text(logs.result))
     print()
     print(uncertainty_text(logs.result))
+    if logs.sensitivity is not None:
+        from ..present.sensitivity import sensitivity_text
+
+        print(sensitivity_text(logs.sensitivity))
     if logs.notes():
         print()
         print("\n".join(f"Note: {note}" for note in logs.notes()))

@@ -19,7 +19,7 @@ from ..truth import TrueJoint
 from ..motions import ALL_MOTIONS, DURATION
 from ..noise import torque_noise
 from ..settings import DEFAULT_SETTINGS, SettingsError, check_setting
-from .arguments import UserError, positive_number, setting_type, whole_number
+from .arguments import UserError, bounded_number, positive_number, setting_type, whole_number
 
 NAME = "simulate"
 
@@ -33,6 +33,9 @@ ENCODER_COUNT_LIMIT = 2**32
 """Most counts per turn (a 32-bit encoder): more is no encoder, and 10**400 is no float."""
 RATE_LIMIT = 1e9
 """Highest sample rate (Hz): with DURATION_LIMIT it keeps duration*rate a finite, exactly rounded count."""
+
+JITTER_LIMIT = 0.4
+"""Largest --jitter (sample steps): below half a step, samples can never swap order."""
 
 
 def bounded_positive(high: float):
@@ -89,6 +92,9 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--duration", type=bounded_positive(DURATION_LIMIT), default=None, metavar="S",
                         help=f"time span from the first to the last sample (s), at most {DURATION_LIMIT:g}; "
                         f"default {DURATION:g}")
+    parser.add_argument("--jitter", type=bounded_number(0.0, JITTER_LIMIT), default=0.0, metavar="J",
+                        help="take each sample (but the first and last) up to J sample steps off its tick, like a "
+                        f"real logger, and write the true instants (0 to {JITTER_LIMIT:g}; seeded by --seed); default 0")
     parser.add_argument("--encoder-counts", type=encoder_counts, default=None, metavar="C",
                         help="write only t, q and tau, with q quantised to 2*pi/C rad like an encoder "
                         f"(C up to {ENCODER_COUNT_LIMIT:,})")
@@ -135,6 +141,10 @@ def run(args: argparse.Namespace) -> int:
     """Write the log; print one line saying what was written; exit status 0."""
     samples, duration = timing(args.samples, args.rate, args.duration)
     t = np.linspace(0.0, duration, samples)
+    if args.jitter:
+        shift = np.random.default_rng(args.seed).uniform(-args.jitter, args.jitter, samples)
+        shift[[0, -1]] = 0.0
+        t = t + shift * (duration / (samples - 1))
     states = ALL_MOTIONS[args.motion].states(t)
     joint = TrueJoint(coulomb=args.true_coulomb, bias=args.true_bias, angle_offset=args.true_angle_offset)
     tau = joint.measured_torque(states.q, states.qd, states.qdd) + torque_noise(args.noise, samples, args.seed)
@@ -148,6 +158,8 @@ def run(args: argparse.Namespace) -> int:
         raise UserError("the simulated log would hold values that are not finite numbers; nothing written")
     truth = joint.description()
     quantised = "" if args.encoder_counts is None else f", q quantised to {args.encoder_counts} counts/rev"
+    if args.jitter:
+        quantised += f", sampling instants jittered by up to {args.jitter:g} steps"
     comment = (
         f"# jointid simulate: {args.motion} motion, {samples} samples over {duration:g} s{quantised}, "
         f"uniform torque noise bound {args.noise:g} N m, seed {args.seed}; true {truth}\n"

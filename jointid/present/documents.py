@@ -172,8 +172,10 @@ def fit_document(result: FitResult, *, settings: Settings | None = None, source=
     }
 
 
-def log_fit_document(result: FitResult, training, heldout=None) -> dict:
-    """fit_document for a fit of logs (csvlog.JointLog objects): source paths, derivatives, timing and notes."""
+def log_fit_document(result: FitResult, training, heldout=None, low_pass=None, sensitivity=None,
+                     notes=None) -> dict:
+    """fit_document for a fit of logs (csvlog.JointLog objects): source paths, derivatives, timing, the
+    parallel low-pass (parallel_filter.ParallelFilter), the sensitivity check and notes."""
     return fit_document(
         result,
         source={"training": training.path, "heldout": None if heldout is None else heldout.path},
@@ -181,7 +183,9 @@ def log_fit_document(result: FitResult, training, heldout=None) -> dict:
         heldout_derivatives=None if heldout is None or heldout.derivatives is None else heldout.derivatives.to_dict(),
         timing=None if training.timing is None else training.timing.to_dict(),
         heldout_timing=None if heldout is None or heldout.timing is None else heldout.timing.to_dict(),
-        notes=[*training.notes, *(heldout.notes if heldout is not None else ())],
+        low_pass=None if low_pass is None else low_pass.to_dict(),
+        sensitivity=None if sensitivity is None else sensitivity.to_dict(),
+        notes=list(notes) if notes is not None else [*training.notes, *(heldout.notes if heldout is not None else ())],
     )
 
 

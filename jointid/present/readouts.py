@@ -201,3 +201,4 @@ def uncertainty_text(result: FitResult) -> str:
     else:
         lines.append(f"{label} {condition_text(condition)}: {DEPENDENT_COLUMNS}.")
     return "\n".join(lines)
+

@@ -11,6 +11,7 @@ import os
 from typing import TYPE_CHECKING
 
 from ..uncertainty import NOT_DETERMINED, WEAK, WELL_DETERMINED
+from .sensitivity import sensitivity_summary, sensitivity_warning
 from .text import capitalise, format_number, join_words
 
 if TYPE_CHECKING:
@@ -176,17 +177,23 @@ def as_sentence(text: str) -> str:
 
 
 def log_status(logs, compact: bool = False) -> str:
-    """A log fit's status sentence, then what was read and the loaders' notes (logfit.LoadedLogs).
+    """A log fit's status sentence, the sensitivity warning, then what was read and the notes (logfit.LoadedLogs).
+
+    The warning "your derivative settings decide this estimate" comes straight
+    after the status sentence, so it is seen even when the notes are cut.
 
     Compact (80x24): what was read goes to `log_sources` beside the readouts, and the
     notes name files without their folders, so the sentence keeps to about four lines
     (full paths made it seven).
     """
+    check = logs.sensitivity
+    warning = () if check is None or not check.flagged else (sensitivity_warning(check),)
     if compact:
-        notes = (_without_folders(note, logs) for note in logs.notes())
-        return " ".join((logs.result.message, *map(as_sentence, notes)))
-    sources = (log.source_text() for log in logs.logs)
-    return " ".join((logs.result.message, *map(as_sentence, (*sources, *logs.notes()))))
+        warning = () if not warning else (sensitivity_warning(check, compact=True),)
+        return " ".join((logs.result.message, *warning, *map(as_sentence, logs.short_notes())))
+    sources = logs.source_texts()
+    summary = () if check is None else (sensitivity_summary(check),)
+    return " ".join((logs.result.message, *warning, *summary, *map(as_sentence, (*sources, *logs.notes()))))
 
 
 def simulation_text(check, label_width: int = 28) -> str:
@@ -213,12 +220,3 @@ def log_sources(logs) -> tuple[str, ...]:
         f"{'degrees' if log.degrees else 'radians'}"
         for role, log in zip(roles, logs.logs)
     )
-
-
-def _without_folders(note: str, logs) -> str:
-    """A loader's note with each log's path (which it starts with) shortened to the file name."""
-    for log in logs.logs:
-        path = str(log.path)
-        if note.startswith(path):
-            return os.path.basename(path) + note[len(path):]
-    return note

@@ -41,7 +41,7 @@ class LadderScreen(Screen):
     ]
 
     def __init__(self, title: str, training: JointData, heldout: JointData | None, *,
-                 noise_bound: float | None = None, joint: TrueJoint | None = None) -> None:
+                 noise_bound: float | None = None, joint: TrueJoint | None = None, low_pass=None) -> None:
         """Create the view.
 
         Args:
@@ -50,10 +50,11 @@ class LadderScreen(Screen):
             heldout: The data every model predicts, or None.
             noise_bound: The known noise bound (synthetic data), for expected standard errors.
             joint: The synthetic joint to simulate against; None for a log (no true torque).
+            low_pass: The log fit's parallel low-pass (parallel_filter.ParallelFilter), applied alike here.
         """
         super().__init__()
         self.title_text = title
-        self.comparison: Comparison = compare_models(training, heldout, noise_bound=noise_bound)
+        self.comparison: Comparison = compare_models(training, heldout, noise_bound=noise_bound, low_pass=low_pass)
         self.joint = joint
         self.simulations: dict = {}
 

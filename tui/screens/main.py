@@ -337,7 +337,8 @@ class MainScreen(Screen):
         from jointid.logfit import fit_logs
 
         self.settings = settings
-        self.set_logs(fit_logs(self.logs.training, self.logs.heldout, settings.joint_model, settings.constrained))
+        self.set_logs(fit_logs(self.logs.training, self.logs.heldout, settings.joint_model, settings.constrained,
+                               self.logs.filtering))
 
     def choose_motion(self, button_id: str) -> None:
         """The motion list's choice (choosing the log's own entry changes nothing)."""
@@ -386,7 +387,8 @@ class MainScreen(Screen):
                                               joint=settings.true_joint))
         else:
             self.app.push_screen(LadderScreen(f"log {self.logs.name}", self.logs.training.data,
-                                              None if self.logs.heldout is None else self.logs.heldout.data))
+                                              None if self.logs.heldout is None else self.logs.heldout.data,
+                                              low_pass=self.logs.filter))
 
     def action_help(self) -> None:
         """Open the help screen."""
@@ -461,7 +463,8 @@ class MainScreen(Screen):
 
         folder = os.path.dirname(os.path.abspath(self.logs.training.path)) if self.logs else None
         self.app.push_screen(OpenLogScreen(folder, heldout_allowed=self.logs is not None,
-                                           derivatives=self.app.derivatives), self.start_loading)
+                                           derivatives=self.app.derivatives, filtering=self.app.filtering),
+                             self.start_loading)
 
     def start_loading(self, request: LoadRequest | None) -> None:
         """Load a chosen file in a worker behind a progress dialog."""

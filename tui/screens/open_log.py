@@ -16,6 +16,7 @@ from textual.screen import ModalScreen
 from textual.widgets import DirectoryTree, Input, Label, RadioSet, Static
 
 from jointid.derivatives import DEFAULT_ORDER, DEFAULT_WINDOW
+from jointid.parallel_filter import FilterRequest
 
 from jointid.logfit import HELDOUT, TRAINING, LoadRequest
 
@@ -68,19 +69,22 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
     BINDINGS = [Binding("escape", "cancel", "Cancel", tooltip="Close without loading")]
 
     def __init__(self, folder: str | os.PathLike | None = None, *, heldout_allowed: bool = False,
-                 derivatives: tuple[int, int] = (DEFAULT_WINDOW, DEFAULT_ORDER)) -> None:
+                 derivatives: tuple[int | None, int] = (DEFAULT_WINDOW, DEFAULT_ORDER),
+                 filtering: FilterRequest = FilterRequest()) -> None:
         """Create the dialog.
 
         Args:
             folder: Folder the tree starts in (default: the current directory).
             heldout_allowed: True when a training log is loaded, so a held-out log can be chosen.
             derivatives: Savitzky-Golay window and order for a log without qd or qdd
-                (the explorer's --window and --order).
+                (the explorer's --window and --order; a window of None is automatic).
+            filtering: The parallel low-pass (the explorer's --cutoff and --decimate).
         """
         super().__init__()
         self.folder = Path(folder or os.getcwd())
         self.heldout_allowed = heldout_allowed
         self.derivatives = derivatives
+        self.filtering = filtering
 
     def compose(self) -> ComposeResult:
         """Path field, role and degrees options, hint, folder tree, and the dialog's keys."""
@@ -117,7 +121,7 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
         window, order = self.derivatives
         degrees = self.query_one("#open-degrees", ClearCheckbox).value
         return LoadRequest(os.path.expanduser(path.strip()), role, degrees, window=window, order=order,
-                           joint=joint, topic=topic)
+                           joint=joint, topic=topic, filtering=self.filtering)
 
     def choose(self, path: str) -> None:
         """Load a CSV log now; for a bag, pick its joint first (the dialog stays open behind the picker)."""

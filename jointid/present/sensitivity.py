@@ -1,0 +1,46 @@
+"""The sensitivity check in words: which settings were varied, how far each parameter moved, and the warning."""
+
+from __future__ import annotations
+
+from ..sensitivity import THRESHOLD
+
+
+SETTINGS_DECIDE = "Your derivative settings decide this estimate"
+"""The warning both faces print when the sensitivity check flags a parameter."""
+
+
+def sensitivity_summary(check) -> str:
+    """One sentence: which settings were varied and each parameter's largest move (sensitivity.SensitivityCheck)."""
+    tried = [name for name in ("window", "cutoff") if any(v.setting == name for v in check.variants)]
+    if not tried:
+        return "Sensitivity check: nothing to vary (no derivative was estimated and nothing was low-passed)."
+    base = check.base
+    settings = {"window": f"window {base.window} samples", "cutoff": f"cutoff {base.cutoff:.3g} Hz"
+                if base.cutoff is not None else ""}
+    varied = " and ".join(settings[name] for name in tried)
+    moves = ", ".join(f"{name} {f'{check.worst(j)[1]:.2f}'}" for j, name in enumerate(check.names))
+    return f"Sensitivity check ({varied}, each halved and doubled): largest moves {moves} standard errors."
+
+
+def sensitivity_warning(check, compact: bool = False) -> str | None:
+    """'Your derivative settings decide this estimate: ...' naming each flagged parameter, or None.
+
+    Compact: each parameter with its largest move only, for a narrow status line.
+    """
+    if not check.flagged:
+        return None
+    parts = []
+    for j, name in enumerate(check.names):
+        if check.flags[j]:
+            variant, move = check.worst(j)
+            if compact:
+                parts.append(f"{name} moves {move:.1f} standard errors")
+            else:
+                parts.append(f"{name} moves {move:.2f} standard errors with the {variant.label}")
+    return f"{SETTINGS_DECIDE}: " + "; ".join(parts) + "."
+
+
+def sensitivity_text(check) -> str:
+    """The sensitivity check's summary line, then its warning when a parameter is flagged."""
+    warning = sensitivity_warning(check)
+    return sensitivity_summary(check) + ("" if warning is None else "\n" + warning)
