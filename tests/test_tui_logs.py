@@ -11,7 +11,7 @@ from test_cli_csv import CORPUS, HEADER, good_rows
 from textual.widgets import Input
 from tui_support import displayed_readouts, make_app
 
-from jointid import csvlog
+from jointid import csvlog, logfit
 from jointid.cli import main
 from jointid.csvlog import LogError, load_log
 from jointid.derivatives import DEFAULT_ORDER, DEFAULT_WINDOW
