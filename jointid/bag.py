@@ -586,7 +586,8 @@ def _table(path: str, topic: str, joint: str, found: _JointColumns, messages: in
         order = np.argsort(header, kind="stable")
         notes.append(f"{int((steps < 0).sum())} messages arrived out of stamp order; sorted by {source}.")
         header = header[order]
-    numbers = times[2] if order is None else times[2][order]
+    # A copy, so the collector's stamp and receive-time arrays are freed once the table is built.
+    numbers = (times[2] if order is None else times[2][order]).astype(np.int32 if messages < 2**31 else np.int64)
     # Repeated stamps are left to the shared time checks: exact repeats dropped, others refused.
     t = (header - header[0]) * 1e-9
     columns = {"t": t, "q": values[0], **({"qd": values[1]} if velocity else {}), "tau": values[2]}
