@@ -45,6 +45,7 @@ values are float() of the text.
 from __future__ import annotations
 
 import csv
+import dataclasses
 import io
 import math
 import os
@@ -106,7 +107,8 @@ CancelCheck = Callable[[], bool]
 class LogError(ValueError):
     """A problem with a log file; str() is one line naming the file, row and column."""
 
-    def __init__(self, path, problem: str, row: int | None = None, column: str | None = None):
+    def __init__(self, path, problem: str, row: int | None = None, column: str | None = None, *,
+                 place: str | None = None):
         self.path = os.fspath(path)
         self.problem = problem
         self.row = row
@@ -114,6 +116,8 @@ class LogError(ValueError):
         where = [self.path]
         if row is not None:
             where.append(f"row {row}")
+        if place is not None:  # where a row number does not apply, e.g. "message 12 on /joint_states"
+            where.append(place)
         if column is not None:
             where.append(f"column {column}")
         super().__init__(f"{', '.join(where)}: {problem}")
@@ -137,14 +141,34 @@ class LogTable:
     """Header names of the columns that were not used, in file order."""
     segments: tuple[tuple[int, int], ...]
     """(index of the first data row, byte offset in the file) of each parsed chunk."""
+    notes: tuple[str, ...] = ()
+    """Sentences about how the table was read or cut, for the fit's notes."""
+    first: int = 0
+    """Data rows cut from the start (a time window), so messages still name the file's lines."""
 
     @property
     def count(self) -> int:
         """N, the number of data rows."""
         return len(next(iter(self.columns.values())))
 
+    @property
+    def description(self) -> str:
+        """'1000 rows': what was read, for the line above the readouts."""
+        return f"{self.count} rows"
+
+    @property
+    def brief(self) -> str:
+        """What was read in a few words, for a narrow panel: '1000 rows'."""
+        return self.description
+
+    def sliced(self, rows: slice, note: str) -> "LogTable":
+        """The table cut to a contiguous range of data rows, with a note saying how."""
+        columns = {name: values[rows] for name, values in self.columns.items()}
+        return dataclasses.replace(self, columns=columns, first=self.first + rows.start, notes=(*self.notes, note))
+
     def line_of(self, index: int) -> int:
         """1-based line number in the file of data row `index` (0-based); rereads the file, for messages only."""
+        index += self.first
         k = bisect_right([s[0] for s in self.segments], index) - 1
         first, offset = self.segments[k]
         return _line_of_data_row(self.path, offset, index - first)
@@ -187,6 +211,12 @@ class JointLog:
     """Data rows in the file, before any trimming."""
     timing: TimeCheck | None = None
     """What the time column showed (step, jitter, repeats dropped, resampling), or None without one."""
+    read_notes: tuple[str, ...] = ()
+    """Notes from reading the source (a bag's time source, a time window, an effort scale)."""
+    read_text: str = ""
+    """What was read, e.g. '1000 rows' or "joint 'j1' on /joint_states, 1000 messages"."""
+    read_brief: str = ""
+    """The same in a few words, e.g. '1000 rows' or "'j1', 1000 messages"."""
     source: LogSource | None = None
     """The checked columns before differentiation, so the log can be derived again with another window."""
 
@@ -200,7 +230,7 @@ class JointLog:
     @property
     def notes(self) -> tuple[str, ...]:
         """Sentences a person should read alongside the fit."""
-        notes = []
+        notes = [f"{self.path}: {note}" for note in self.read_notes]
         if self.ignored:
             notes.append(f"{self.path}: ignored columns " + ", ".join(repr(n) for n in self.ignored) + ".")
         if self.timing is not None:
@@ -212,8 +242,8 @@ class JointLog:
     @property
     def short_notes(self) -> tuple[str, ...]:
         """The notes in a few words each, naming the file without its folder, for a narrow status line."""
-        name = os.path.basename(self.path)
-        notes = []
+        name = os.path.basename(os.path.normpath(self.path))
+        notes = [f"{name}: {note}" for note in self.read_notes]
         if self.ignored:
             notes.append(f"{name}: ignored " + ", ".join(repr(n) for n in self.ignored))
         if self.timing is not None:
@@ -225,7 +255,7 @@ class JointLog:
     def source_text(self) -> str:
         """One line describing what was read, e.g. for the line above the readouts."""
         units = "degrees converted to radians" if self.degrees else "radians"
-        return f"{self.path}: {self.rows} rows ({units}), {self.data.count} samples fitted"
+        return f"{self.path}: {self.read_text or f'{self.rows} rows'} ({units}), {self.data.count} samples fitted"
 
 
 def read_table(
@@ -340,7 +370,7 @@ class _ChunkReader:
             ignored=ignored,
             segments=tuple(segments),
         )
-        _check_finite(table)
+        check_finite(table)
         return table
 
     def _whole_file(self, file_order: list[int], header_line: int) -> tuple[list[np.ndarray], int] | None:
@@ -709,7 +739,7 @@ def _check_header(path: str, line: int, names: list[str]) -> dict[str, int]:
     return positions
 
 
-def _check_finite(table: LogTable) -> None:
+def check_finite(table: LogTable) -> None:
     """Raise LogError at the first NaN or infinite value (earliest row, then leftmost column)."""
     first = None
     for name, values in table.columns.items():
@@ -825,5 +855,8 @@ def _derive(source: LogSource, *, degrees: bool, window: int | None, order: int)
         degrees=degrees,
         rows=table.count,
         timing=timing,
+        read_notes=table.notes,
+        read_text=table.description,
+        read_brief=table.brief,
         source=source,
     )

@@ -17,33 +17,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .csvlog import JointLog, LogError, load_log
+from .csvlog import JointLog, LogError
 from .dataset import JointData
-from .derivatives import DEFAULT_ORDER, DEFAULT_WINDOW, MAX_WINDOW, motion_bandwidth
+from .derivatives import MAX_WINDOW, motion_bandwidth
 from .fit import FitResult, fit_joint
+from .logsource import HELDOUT, TRAINING, LoadRequest, load_joint_log  # noqa: F401 (TRAINING: re-exported)
 from .model import PLAIN, JointModel
 from .parallel_filter import FilterRequest, FilterRequestError, ParallelFilter, choose_filter
 from .present.documents import log_fit_document
 from .sensitivity import FACTORS, SensitivityCheck, Variant, sensitivity_check
 from .solver import NonFiniteError
-
-TRAINING, HELDOUT = "training", "heldout"
-"""The two roles a log can be loaded in."""
-
-
-@dataclass(frozen=True)
-class LoadRequest:
-    """Which file to load, in which role, whether its angles are in degrees, and how to differentiate it."""
-
-    path: str
-    role: str = TRAINING
-    degrees: bool = False
-    window: int | None = DEFAULT_WINDOW
-    """Savitzky-Golay window, when the log lacks qd or qdd (`--window`); None: chosen from the motion."""
-    order: int = DEFAULT_ORDER
-    """Savitzky-Golay order (`--order`)."""
-    filtering: FilterRequest = FilterRequest()
-    """The parallel low-pass asked for (`--cutoff`, `--decimate`)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -63,12 +46,12 @@ class LoadedLogs:
     @property
     def name(self) -> str:
         """The training file's name, e.g. for the explorer's motion list."""
-        return os.path.basename(self.training.path)
+        return os.path.basename(os.path.normpath(self.training.path))
 
     @property
     def heldout_name(self) -> str | None:
         """The held-out file's name, or None."""
-        return None if self.heldout is None else os.path.basename(self.heldout.path)
+        return None if self.heldout is None else os.path.basename(os.path.normpath(self.heldout.path))
 
     @property
     def logs(self) -> tuple[JointLog, ...]:
@@ -234,9 +217,8 @@ def load_request(
     progress: Callable[[int, int], None] | None = None,
     cancel: Callable[[], bool] | None = None,
 ) -> LoadedLogs:
-    """Load one file into its role beside the current other log and refit; LogError/LoadCancelled as load_log."""
-    log = load_log(request.path, degrees=request.degrees, window=request.window, order=request.order,
-                   progress=progress, cancel=cancel)
+    """Load one log into its role beside the current other log and refit; LogError/LoadCancelled as load_log."""
+    log = load_joint_log(request, progress=progress, cancel=cancel)
     if request.role == HELDOUT:
         if current is None:
             raise ValueError("a held-out log needs a training log")

@@ -20,6 +20,21 @@ def test_fit_imports_no_scipy():
     assert packages_loaded("jointid.cli", {"scipy"}, run="jointid.cli.main(['fit', '--noise', '0.2', '--json'])") == []
 
 
+def test_rosbags_is_imported_only_to_open_a_bag():
+    # jointid[ros] is an optional extra: neither `import jointid` nor a fit without a bag may need it.
+    imports = "jointid, jointid.cli, jointid.logfit, jointid.logsource, jointid.cli.bag_info_command"
+    assert packages_loaded(imports, {"rosbags"}) == []
+    assert packages_loaded("jointid.cli", {"rosbags"}, run="jointid.cli.main(['fit', '--noise', '0.2', '--json'])") == []
+
+
+def test_bag_info_command_module_imports_no_numpy_at_its_top_level():
+    # Its --help must stay light: numpy, jointid.bag and rosbags come only inside run().
+    top = ast.parse((ROOT / "jointid/cli/bag_info_command.py").read_text()).body
+    names = {alias.name if isinstance(node, ast.Import) else node.module
+             for node in top if isinstance(node, (ast.Import, ast.ImportFrom)) for alias in node.names}
+    assert names <= {"__future__", "argparse", "arguments"}
+
+
 def imported_modules(path: Path, package: str) -> set[str]:
     """Absolute names of every module a file imports, at any depth, except under `if TYPE_CHECKING:`."""
     tree = ast.parse(path.read_text(encoding="utf-8"))

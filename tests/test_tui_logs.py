@@ -11,7 +11,7 @@ from test_cli_csv import CORPUS, HEADER, good_rows
 from textual.widgets import Input
 from tui_support import displayed_readouts, make_app
 
-from jointid import logfit
+from jointid import csvlog, logfit
 from jointid.cli import main
 from jointid.csvlog import LogError, load_log
 from jointid.derivatives import DEFAULT_ORDER, DEFAULT_WINDOW
@@ -154,7 +154,7 @@ async def test_escape_cancels_loading_and_keeps_the_current_state(tmp_path, monk
     train = tmp_path / "long.csv"
     assert main(["simulate", "--samples", "20000", "--out", str(train)]) == 0
     # Tiny chunks make the load long enough to cancel part-way.
-    monkeypatch.setattr(logfit, "load_log", functools.partial(load_log, chunk_bytes=64))
+    monkeypatch.setattr(csvlog, "read_table", functools.partial(csvlog.read_table, chunk_bytes=64))
     app = make_app()
     async with app.run_test(size=SIZE) as pilot:
         before = displayed_readouts(app.screen)
@@ -301,7 +301,7 @@ def test_the_command_line_opens_the_explorer_on_a_log(logs, monkeypatch):
 @pytest.mark.parametrize("argv, words", [
     (["--csv", "absent.csv"], "absent.csv: cannot open"),
     (["--csv", "bad.csv"], "bad.csv, row 7, column 3 (qd): NaN is not a measurement"),
-    (["--csv", "bad.csv", "--seed", "3"], "cannot apply to a --csv log"),
+    (["--csv", "bad.csv", "--seed", "3"], "cannot apply to a log"),
     (["--heldout", "bad.csv"], "--heldout: only for fitting a log"),
 ])
 def test_a_bad_log_on_the_command_line_is_one_line_before_the_app(tmp_path, monkeypatch, capsys, argv, words):

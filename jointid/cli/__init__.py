@@ -10,6 +10,7 @@ from __future__ import annotations
 import sys
 
 from . import (
+    bag_info_command,
     compare_command,
     design_command,
     explorer_command,
@@ -25,7 +26,7 @@ from .log_fit import add_log_arguments
 from .version import VersionAction
 
 SUBCOMMANDS = (fit_command, compare_command, torque_command, sweep_command, matrix_command, simulate_command,
-               design_command)
+               design_command, bag_info_command)
 """Modules that define the subcommands, in help order."""
 
 
@@ -38,7 +39,7 @@ def build_parser(command: str | None = None) -> OneLineParser:
         description=(
             "Identify a rotating joint's inertia I, gravity mass moment h and viscous damping B "
             "from motion and torque: tau = I*qdd + h*g*cos(q) + B*qd. "
-            "With no subcommand, open the terminal explorer at the given settings, or on a --csv log."
+            "With no subcommand, open the terminal explorer at the given settings, or on a --csv or --bag log."
         ),
     )
     parser.add_argument("--version", action=VersionAction,

@@ -6,7 +6,7 @@ import argparse
 
 from ..choices import LADDER
 from .arguments import UserError, add_settings_arguments, settings_from
-from .log_fit import add_log_arguments, filter_options, load_logs, with_default_settings
+from .log_fit import add_log_arguments, filter_options, has_log, load_logs, with_default_settings
 from .output import print_json
 
 NAME = "compare"
@@ -34,7 +34,7 @@ def run(args: argparse.Namespace) -> int:
     from ..present.documents import comparison_document
     from ..present.text import settings_header
 
-    if args.csv is not None:
+    if has_log(args):
         from ..csvlog import LogError
         from ..logfit import low_pass_for
 

@@ -1,4 +1,4 @@
-"""`jointid` with no subcommand: the terminal explorer, on synthetic settings or on a --csv log.
+"""`jointid` with no subcommand: the terminal explorer, on synthetic settings or on a --csv or --bag log.
 
 The core never imports the terminal UI. The UI registers one entry function
 under the `jointid.faces` entry-point group (see pyproject.toml); this command
@@ -12,7 +12,7 @@ from __future__ import annotations
 from ..setting_checks import SettingsError
 from .arguments import UserError, settings_from
 from .floating_point import strict_arithmetic
-from .log_fit import derivative_options, filter_options, fit_loaded_logs, with_default_settings
+from .log_fit import LOG_ONLY_FLAGS, derivative_options, filter_options, fit_loaded_logs, has_log, with_default_settings
 from .version import ENTRY_POINT_GROUP
 
 ENTRY_POINT_NAME = "explorer"
@@ -31,9 +31,9 @@ def load_explorer():
 
 def run(args) -> int:
     """Open the explorer at the settings given by the flags, or on the --csv log; its exit status."""
-    # A bad log is one line on stderr and status 2 before the app starts, as for `jointid fit --csv`.
+    # A bad log is one line on stderr and status 2 before the app starts, as for `jointid fit --csv/--bag`.
     with strict_arithmetic():
-        loaded = fit_loaded_logs(args) if args.csv is not None else None
+        loaded = fit_loaded_logs(args) if has_log(args) else None
     derivatives = derivative_options(args)  # also for logs opened later with Ctrl+O
     filtering = filter_options(args)
     settings = settings_from(with_default_settings(args) if loaded is None else _defaults(args))
@@ -46,6 +46,6 @@ def run(args) -> int:
 
 def _defaults(args):
     """The synthetic defaults behind a log (load_logs has refused any setting flag already)."""
-    for name in ("window", "order", "heldout", "degrees", "cutoff", "decimate"):
+    for name in LOG_ONLY_FLAGS:
         setattr(args, name, None)
     return with_default_settings(args)

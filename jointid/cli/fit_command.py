@@ -6,7 +6,7 @@ import argparse
 
 from ..choices import DEFAULT_HORIZON, HORIZON_LIMITS
 from .arguments import add_model_argument, add_settings_arguments, bounded_number, settings_from
-from .log_fit import add_log_arguments, run_log_fit, with_default_settings
+from .log_fit import add_log_arguments, has_log, run_log_fit, with_default_settings
 from .output import print_json
 
 NAME = "fit"
@@ -36,7 +36,7 @@ def add_parser(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run the experiment (or fit the --csv log) and print text or JSON; exit status 0."""
-    if args.csv is not None:
+    if has_log(args):
         return run_log_fit(args)
     from ..experiment import run_experiment  # numpy and the numeric modules load only to run
 

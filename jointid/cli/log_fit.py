@@ -1,4 +1,4 @@
-"""`jointid fit --csv`: the options and the run for fitting CSV joint logs.
+"""`jointid fit --csv` / `--bag`: the options and the run for fitting joint logs (CSV files or ROS bags).
 
 Synthetic settings (--motion, --noise, --samples, --seed, --true-*) describe generated
 data, so they cannot apply to a log: giving them with --csv is an error (one
@@ -23,23 +23,42 @@ if TYPE_CHECKING:
 SETTING_FLAGS = ("motion", "noise", "samples", "seed", "true_coulomb", "true_bias", "true_angle_offset")
 """Synthetic-experiment options that a log fit rejects."""
 
-LOG_ONLY_FLAGS = ("heldout", "degrees", "window", "order", "cutoff", "decimate")
-"""Options that mean something only with --csv."""
+LOG_ONLY_FLAGS = ("heldout", "degrees", "window", "order", "cutoff", "decimate", "joint", "topic", "train_window",
+                  "heldout_window", "effort_scale")
+"""Options that mean something only with --csv or --bag."""
+
+BAG_ONLY_FLAGS = ("joint", "topic")
+"""Options that mean something only with --bag."""
 
 SYNTHETIC_ONLY_FLAGS = ("simulate", "horizon")
 """Options that need the synthetic joint's true torque, which a log does not have."""
 
 
 def add_log_arguments(parser: argparse.ArgumentParser) -> None:
-    """Add --csv, --heldout, --degrees, --window and --order, and make setting flags detectable."""
+    """Add --csv, --bag and the options of a log fit, and make setting flags detectable."""
     group = parser.add_argument_group(
-        "joint logs (CSV: t, q, qd, qdd, tau by header name)",
+        "joint logs (CSV: t, q, qd, qdd, tau by header name; or one joint of a ROS bag's sensor_msgs/JointState)",
         "Fit a logged joint instead of a synthetic experiment; --motion, --noise, --samples, --seed and "
-        "--true-* describe synthetic data and are refused with --csv.",
+        "--true-* describe synthetic data and are refused with a log.",
     )
-    group.add_argument("--csv", metavar="TRAIN.csv", help="fit this log instead of a synthetic experiment")
-    group.add_argument("--heldout", metavar="TEST.csv",
-                       help="predict this log's measured torques with the fit (needs --csv)")
+    source = group.add_mutually_exclusive_group()
+    source.add_argument("--csv", metavar="TRAIN.csv", help="fit this log instead of a synthetic experiment")
+    source.add_argument("--bag", metavar="BAG",
+                        help="fit one joint of this ROS bag (ROS 1 .bag, ROS 2 folder, .mcap or .db3; "
+                        "needs pip install 'jointid[ros]')")
+    group.add_argument("--joint", metavar="NAME", help="the bag's joint to fit (its name in JointState)")
+    group.add_argument("--topic", metavar="TOPIC",
+                       help="the bag's JointState topic; default: its only one, or /joint_states")
+    group.add_argument("--heldout", metavar="TEST",
+                       help="predict this log's measured torques with the fit (a CSV log, or a bag read like --bag)")
+    group.add_argument("--train-window", type=_time_window, metavar="START:END",
+                       help="fit only the samples from START to END seconds after the log's start")
+    group.add_argument("--heldout-window", type=_time_window, metavar="START:END",
+                       help="predict the samples from START to END seconds after the start of the held-out log "
+                       "(without --heldout: of the training log itself)")
+    group.add_argument("--effort-scale", type=_effort_scale, metavar="K",
+                       help="torque in N m per unit of the logged effort or tau, e.g. torque constant x gear "
+                       "ratio for a motor current; default 1")
     group.add_argument("--degrees", action="store_true", help="the logs give q, qd, qdd in degrees")
     group.add_argument("--window", type=whole_number(3), default=None, metavar="W",
                        help="Savitzky-Golay window (odd number of samples) when qd or qdd is missing; "
@@ -54,11 +73,34 @@ def add_log_arguments(parser: argparse.ArgumentParser) -> None:
     parser.set_defaults(**dict.fromkeys(SETTING_FLAGS))
 
 
+def _time_window(text: str):
+    """argparse type of --train-window and --heldout-window."""
+    from ..timewindow import parse_time_window
+
+    try:
+        return parse_time_window(text)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+
+
+def _effort_scale(text: str) -> float:
+    """argparse type of --effort-scale: a finite number other than 0."""
+    value = finite_float(text)
+    if value == 0:
+        raise argparse.ArgumentTypeError(f"must be a finite number other than 0; got {text!r}")
+    return value
+
+
+def has_log(args: argparse.Namespace) -> bool:
+    """True when the command line names a log (--csv or --bag)."""
+    return getattr(args, "csv", None) is not None or getattr(args, "bag", None) is not None
+
+
 def with_default_settings(args: argparse.Namespace) -> argparse.Namespace:
     """Reject log-only flags without --csv, and fill unset synthetic settings with their defaults."""
-    stray = [f"--{name}" for name in LOG_ONLY_FLAGS if getattr(args, name) not in (None, False)]
+    stray = [_flag(name) for name in LOG_ONLY_FLAGS if getattr(args, name) not in (None, False)]
     if stray:
-        raise UserError(f"{', '.join(stray)}: only for fitting a log; add --csv TRAIN.csv")
+        raise UserError(f"{', '.join(stray)}: only for fitting a log; add --csv TRAIN.csv or --bag BAG --joint NAME")
     for name in SETTING_FLAGS:
         if getattr(args, name) is None:
             setattr(args, name, SETTING_DEFAULTS[name])
@@ -94,32 +136,70 @@ def derivative_options(args: argparse.Namespace) -> tuple[int | None, int]:
     return window, order
 
 
-def load_logs(args: argparse.Namespace) -> tuple[JointLog, JointLog | None]:
-    """The --csv and --heldout logs, after checking the options; UserError (one line) on any problem."""
-    given = [f"--{name.replace('_', '-')}" for name in SETTING_FLAGS if getattr(args, name) is not None]
+def _flag(name: str) -> str:
+    """'train_window' -> '--train-window'."""
+    return "--" + name.replace("_", "-")
+
+
+def log_requests(args: argparse.Namespace):
+    """The training and held-out logsource.LoadRequest (or None) of --csv/--bag and the log options; UserError
+    on a bad mix."""
+    given = [_flag(name) for name in SETTING_FLAGS if getattr(args, name) is not None]
     if getattr(args, "motion_file", None) is not None:
         given.append("--motion-file")
     if given:
-        raise UserError(f"synthetic settings ({', '.join(given)}) cannot apply to a --csv log; drop them")
+        raise UserError(f"synthetic settings ({', '.join(given)}) cannot apply to a log; drop them")
     simulated = [f"--{name}" for name in SYNTHETIC_ONLY_FLAGS if getattr(args, name, None) not in (None, False)]
     if simulated:
         raise UserError(f"{', '.join(simulated)}: needs the synthetic joint's true torque, which a log does not "
                         "have; drop it")
-    window, order = derivative_options(args)
-    from ..csvlog import LogError, load_log
+    if args.bag is None:
+        stray = [_flag(name) for name in BAG_ONLY_FLAGS if getattr(args, name) is not None]
+        if stray:
+            raise UserError(f"{', '.join(stray)}: only for a ROS bag; use --bag BAG")
+    elif args.joint is None:
+        raise UserError("--bag needs --joint NAME (`jointid bag-info BAG` lists the joints)")
+    from ..logsource import HELDOUT, TRAINING, LoadRequest
 
+    window, order = derivative_options(args)
+    common = dict(degrees=args.degrees, window=window, order=order, joint=args.joint, topic=args.topic,
+                  effort_scale=1.0 if args.effort_scale is None else args.effort_scale, filtering=filter_options(args))
+    path = args.bag if args.bag is not None else args.csv
+    training = LoadRequest(path, TRAINING, time_window=args.train_window, **common)
+    if args.heldout is None and args.heldout_window is None:
+        return training, None
+    heldout_path = path if args.heldout is None else args.heldout
+    if args.heldout is not None and args.bag is not None and not _looks_like_bag(args.heldout):
+        raise UserError(f"--heldout {args.heldout}: with --bag the held-out log is a bag too (a ROS 2 folder, "
+                        ".bag, .mcap or .db3)")
+    if args.heldout is not None and args.bag is None and _looks_like_bag(args.heldout):
+        raise UserError(f"--heldout {args.heldout}: a bag; fit a bag with --bag BAG --joint NAME")
+    return training, LoadRequest(heldout_path, HELDOUT, time_window=args.heldout_window, **common)
+
+
+def _looks_like_bag(path: str) -> bool:
+    """bag.looks_like_bag, imported only when a held-out log is named."""
+    from ..bag import looks_like_bag
+
+    return looks_like_bag(path)
+
+
+def load_logs(args: argparse.Namespace) -> tuple[JointLog, JointLog | None]:
+    """The training and held-out logs, after checking the options; UserError (one line) on any problem."""
+    from ..csvlog import LogError
+    from ..logsource import load_joint_log
+
+    training_request, heldout_request = log_requests(args)
     try:
-        training = load_log(args.csv, degrees=args.degrees, window=window, order=order)
-        heldout = None if args.heldout is None else load_log(
-            args.heldout, degrees=args.degrees, window=window, order=order
-        )
+        training = load_joint_log(training_request)
+        heldout = None if heldout_request is None else load_joint_log(heldout_request)
     except LogError as error:
         raise UserError(str(error)) from None
     return training, heldout
 
 
 def fit_loaded_logs(args: argparse.Namespace) -> LoadedLogs:
-    """The --csv (and --heldout) logs loaded and fitted with --model (and --constrained); UserError (one line)
+    """The --csv/--bag (and held-out) logs loaded and fitted with --model (and --constrained); UserError (one line)
     on any problem."""
     training, heldout = load_logs(args)
     # Imported after the load: code loaded before it would add to the load's peak resident set.

@@ -216,6 +216,7 @@ def log_sources(logs) -> tuple[str, ...]:
     """What was read, one short line per log, file names only: 'test.csv: 200 rows, radians'."""
     roles = ("", "Held-out ")
     return tuple(
-        f"{role}{os.path.basename(log.path)}: {log.rows} rows, {'degrees' if log.degrees else 'radians'}"
+        f"{role}{os.path.basename(os.path.normpath(log.path))}: {log.read_brief or f'{log.rows} rows'}, "
+        f"{'degrees' if log.degrees else 'radians'}"
         for role, log in zip(roles, logs.logs)
     )

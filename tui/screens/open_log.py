@@ -1,4 +1,8 @@
-"""The Ctrl+O dialog: a path field, a folder tree, the log's role and its angle unit, all by keyboard."""
+"""The Ctrl+O dialog: a path field, a folder tree, the log's role and its angle unit, all by keyboard.
+
+A ROS bag (a ROS 2 bag folder, or a .bag, .mcap or .db3 file) opens the joint
+picker next; the request then names the joint and topic.
+"""
 
 from __future__ import annotations
 
@@ -21,7 +25,7 @@ from ..widgets.marks import ClearCheckbox, ClearRadioButton
 
 
 class OpenLogScreen(ModalScreen[LoadRequest | None]):
-    """Choose a CSV log: type a path and press Enter, or pick a file in the tree."""
+    """Choose a CSV log or a ROS bag: type a path and press Enter, or pick a file in the tree."""
 
     DEFAULT_CSS = """
     OpenLogScreen {
@@ -85,7 +89,7 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
     def compose(self) -> ComposeResult:
         """Path field, role and degrees options, hint, folder tree, and the dialog's keys."""
         with Vertical() as box:
-            box.border_title = "Open a joint log (CSV)"
+            box.border_title = "Open a joint log (CSV or ROS bag)"
             yield Label("Path (Enter opens it):")
             yield Input(value=f"{self.folder}{os.sep}", id="open-path", compact=True)
             with Horizontal(id="open-options"):
@@ -96,7 +100,8 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
                 yield ClearCheckbox("Angles in degrees", id="open-degrees", compact=True)
             yield Static(
                 "Tab moves between the path, the options and the tree; in the tree Enter opens "
-                "a folder or loads a file. Escape cancels."
+                "a folder or loads a file. A ROS bag (its folder's path, or a .bag, .mcap or .db3 file) "
+                "asks for a joint next. Escape cancels."
                 + ("" if self.heldout_allowed else " A held-out log needs a training log first."),
                 classes="dialog--hint", markup=False,
             )
@@ -109,33 +114,50 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
         field.focus()
         field.cursor_position = len(field.value)
 
-    def request(self, path: str) -> LoadRequest:
-        """The load request for a path with the chosen role and unit."""
+    def request(self, path: str, joint: str | None = None, topic: str | None = None) -> LoadRequest:
+        """The load request for a path (and a bag's joint and topic) with the chosen role and unit."""
         pressed = self.query_one("#open-role", RadioSet).pressed_button
         role = HELDOUT if pressed is not None and pressed.id == f"role-{HELDOUT}" else TRAINING
         window, order = self.derivatives
         degrees = self.query_one("#open-degrees", ClearCheckbox).value
         return LoadRequest(os.path.expanduser(path.strip()), role, degrees, window=window, order=order,
-                           filtering=self.filtering)
+                           joint=joint, topic=topic, filtering=self.filtering)
+
+    def choose(self, path: str) -> None:
+        """Load a CSV log now; for a bag, pick its joint first (the dialog stays open behind the picker)."""
+        from jointid.bag import looks_like_bag
+
+        if os.path.basename(path) == "metadata.yaml":  # chosen inside a ROS 2 bag folder: the folder is the bag
+            path = os.path.dirname(path)
+        if not looks_like_bag(path):
+            self.dismiss(self.request(path))
+            return
+        from .bag_joint import BagJointScreen
+
+        def picked(choice: tuple[str, str] | None) -> None:
+            if choice is not None:
+                self.dismiss(self.request(path, *choice))
+
+        self.app.push_screen(BagJointScreen(path), picked)
 
     def on_input_submitted(self, message: Input.Submitted) -> None:
         """Enter in the path field: a folder opens in the tree, a file is loaded; nothing or a typo stays here."""
         path = os.path.expanduser(message.value.strip())
         if not path:
-            self.notify("Type the path of a CSV log, or choose one in the folder tree.",
+            self.notify("Type the path of a CSV log or ROS bag, or choose one in the folder tree.",
                         title="No file chosen", severity="warning")
             return
-        if os.path.isdir(path):
+        if os.path.isdir(path) and not os.path.exists(os.path.join(path, "metadata.yaml")):
             self.query_one(DirectoryTree).path = path
             return
         if not os.path.lexists(path):  # say so here, where the path can still be corrected
             self.notify(f"{path}: no such file", title="No file chosen", severity="warning")
             return
-        self.dismiss(self.request(path))
+        self.choose(path)
 
     def on_directory_tree_file_selected(self, message: DirectoryTree.FileSelected) -> None:
-        """A file chosen in the tree is loaded."""
-        self.dismiss(self.request(str(message.path)))
+        """A file chosen in the tree is loaded (a bag's after its joint is picked)."""
+        self.choose(str(message.path))
 
     def action_cancel(self) -> None:
         """Close without loading."""
