@@ -129,6 +129,35 @@ def test_join_matches_plotext(data):
     assert plotext_speedups.join(data) == plotext_speedups.ORIGINALS["join"](data)
 
 
+@settings(max_examples=200, deadline=None)
+@given(data=st.lists(st.floats(-1e6, 1e6) | st.integers(-1000, 1000) | st.just(math.nan) | st.none(), max_size=40),
+       lim=st.tuples(st.floats(-1e3, 1e3), st.floats(-1e3, 1e3)).filter(lambda lim: lim[0] != lim[1]),
+       bins=st.integers(1, 600))
+def test_get_matrix_data_matches_plotext(data, lim, bins):
+    fast = outcome(plotext_speedups.get_matrix_data, data, list(lim), bins)
+    own = outcome(plotext_speedups.ORIGINALS["get_matrix_data"], data, list(lim), bins)
+    assert repr(fast) == repr(own)  # repr: nan equals nan, and 3 differs from 3.0
+
+
+@settings(max_examples=200, deadline=None)
+@given(cells=st.lists(st.tuples(st.integers(-3, 12), st.integers(-3, 8), st.sampled_from("ab─"),
+                                st.sampled_from([None, "red", (1, 2, 3)]), st.sampled_from([None, "bold"]),
+                                st.sampled_from([None, "blue"]), st.booleans()), max_size=30))
+def test_insert_element_matches_plotext(cells):
+    from plotext._matrix import matrix_class
+
+    matrices = []
+    for insert in (plotext_speedups.insert_element, plotext_speedups.ORIGINALS["insert_element"]):
+        matrix = matrix_class()
+        matrix.set_size(10, 6)
+        matrix.set_canvas_area(2, 8, 1, 5)
+        plotext_speedups.ORIGINALS["set_matrices"](matrix)
+        for col, row, marker, fullground, style, background, check_canvas in cells:
+            insert(matrix, col, row, marker, fullground, style, background, check_canvas)
+        matrices.append((matrix.marker, matrix.fullground, matrix.style, matrix.background))
+    assert matrices[0] == matrices[1]
+
+
 def test_a_chart_does_not_depend_on_the_chart_drawn_before_it():
     """draw_torque_chart skips plotext's clear_figure: every setting is set again each time."""
     holds, slow = run_experiment(Settings("holds", 0.0, 24, 7)), run_experiment(Settings("slow", 0.3, 100, 9))

@@ -29,11 +29,13 @@ PINNED = {"textual": "8.2.8", "textual-plotext": "1.0.1", "plotext": "5.3.2"}
 """The releases whose internals this module was written against (pyproject.toml pins the same)."""
 
 PLOTEXT_HELPERS = "plotext-helpers"
-"""Adapter: tui/plotext_speedups.py's drop-ins for three plotext internals (a chart builds in 44 % of the time)."""
+"""Adapter: tui/plotext_speedups.py's drop-ins for five plotext internals (a chart builds in about 42 % of the time)."""
 CHART_MATRIX = "chart-matrix"
 """Adapter: torque charts become strips straight from plotext's cell matrix, not via ANSI text."""
 NUMBER_FIELDS = "number-fields"
 """Adapter: a number field's new value repaints the field instead of relayouting the screen."""
+DIRTY_RENDERS = "dirty-renders"
+"""Adapter: a partial screen update renders only the widgets under its dirty regions."""
 
 
 @dataclass(frozen=True)
@@ -59,6 +61,8 @@ ADAPTERS = (
             "stock chart rendering (PlotextPlot.render, slower)"),
     Adapter(NUMBER_FIELDS, ("textual",), "repaint-only number fields active",
             "stock number fields (a new value relayouts the screen)"),
+    Adapter(DIRTY_RENDERS, ("textual",), "partial updates render dirty widgets only",
+            "stock partial updates (every widget in the dirty rectangle renders)"),
 )
 """Every adapter, in status order."""
 
@@ -135,6 +139,8 @@ def activate() -> list[str]:
         usable, lines = check()
         if usable[PLOTEXT_HELPERS]:
             _put_plotext_helpers(fast=True)
+        if usable[DIRTY_RENDERS]:
+            _wrap_partial_updates()
         _in_use, _status = usable, lines
     return list(_status)
 
@@ -253,6 +259,63 @@ class RepaintOnValue:
         self.set_reactive(Input.virtual_size, Size(self.content_width, 1))
         self._suggestion = ""
         self.refresh()
+
+
+def _wrap_partial_updates() -> None:
+    """Wrap Textual's partial screen update to render only the widgets under its dirty regions (once a process).
+
+    Textual renders every widget that overlaps the rectangle *around* all dirty
+    regions; a key press dirties the side panel and the charts, whose rectangle
+    is nearly the screen, so the number fields, the motion list, the footer and
+    their containers were rendered on every press (about 1.5 ms at 120x40) and
+    then thrown away: only the dirty spans are written. A widget that overlaps
+    no dirty region puts nothing in those spans, so skipping it changes no cell.
+    The wrappers run Textual's own code while the adapter is off (`uninstall()`).
+    `tests/test_third_party.py` compares every update's output with Textual's.
+    """
+    global _partial_updates_wrapped
+    if _partial_updates_wrapped:
+        return
+    from textual._compositor import Compositor
+
+    render_partial_update, get_renders = Compositor.render_partial_update, Compositor._get_renders
+
+    def partial_update_of_dirty_widgets(self):
+        self._jointid_dirty = tuple(self._dirty_regions)  # render_partial_update empties the set
+        try:
+            return render_partial_update(self)
+        finally:
+            self._jointid_dirty = None
+
+    def renders_under_dirty_regions(self, crop=None):
+        dirty = getattr(self, "_jointid_dirty", None)
+        if not dirty or crop is None or not active(DIRTY_RENDERS):
+            yield from get_renders(self, crop)
+            return
+        visible = self.visible_widgets
+        # place: (the widget's region, the clip of its container); what it paints is their intersection.
+        under = {widget: place for widget, place in visible.items()
+                 if any(region.overlaps(place[0].intersection(place[1])) for region in dirty)}
+        # Textual's loop reads `visible_widgets` (a cache of this attribute) once, before its
+        # first render: show it the widgets under a dirty region for that read, then put it back.
+        self._visible_widgets = under
+        try:
+            renders = get_renders(self, crop)
+            first = next(renders, None)
+        finally:
+            if self._visible_widgets is under:
+                self._visible_widgets = visible
+        if first is not None:
+            yield first
+            yield from renders
+
+    Compositor.render_partial_update = partial_update_of_dirty_widgets
+    Compositor._get_renders = renders_under_dirty_regions
+    _partial_updates_wrapped = True
+
+
+_partial_updates_wrapped = False
+"""Whether `_wrap_partial_updates` ran (the wrappers stay; `active(DIRTY_RENDERS)` switches them)."""
 
 
 def _require_pinned_textual(what: str) -> None:

@@ -88,10 +88,12 @@ class TorqueChart(Vertical):
         if data.same_as(self.data):
             return
         self.data = data
-        self.query_one(".chart--heading", FittingLine).show(chart_headings(data))
-        self.query_one(".chart--summary", FittingLine).show(tuple(map(Content, data.summaries)))
+        # The children by position, as compose yields them: three queries cost 0.1 ms a press.
+        heading, plot, summary = self.children
+        heading.show(chart_headings(data))
+        summary.show(tuple(map(Content, data.summaries)))
         self.draws += 1
-        self.query_one(TorquePlot).show_figure(data.key(), self._draw)
+        plot.show_figure(data.key(), self._draw)
 
     def _draw(self, plt) -> None:
         """Set up the plotext figure for the current data (the plot calls this when it builds)."""

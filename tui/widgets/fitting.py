@@ -49,7 +49,12 @@ class FittingLine(Widget):
 
     def line_count(self, width: int) -> int:
         """Lines the shown variant takes at a given width."""
-        return len(self.pick(width).wrap(width)) if width > 0 else 1
+        if width <= 0:
+            return 1
+        variant = self.pick(width)
+        if variant.cell_length <= width and "\n" not in variant.plain:
+            return 1  # fits on one line: no need to wrap it (the status sentence's wrap is 0.1 ms)
+        return len(variant.wrap(width))
 
     def height_at(self, width: int) -> int:
         """Rows taken at a given width: the text's lines, at least `min_lines`."""

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 from textual.content import Content
 from textual.widget import Widget
 
@@ -52,9 +54,17 @@ def note_lines(precision: Precision | None, key: str, width: int) -> list[Conten
     return lines
 
 
+@lru_cache(maxsize=None)
 def verdict_content(verdict: str) -> Content:
-    """A verdict in its theme colour (the words alone carry the meaning, for NO_COLOR)."""
+    """A verdict in its theme colour (the words alone carry the meaning, for NO_COLOR); parsed once per verdict."""
     return Content.from_markup(f"[{VERDICT_STYLES[verdict]}]$v[/]", v=verdict)
+
+
+@lru_cache(maxsize=64)
+def dim_content(text: str) -> Content:
+    """Text in the dim style (markup parsing costs more than the rest of a readout line: done once a text)."""
+    # dim, not $text-muted: that variable has alpha, which showed as plain text here.
+    return Content.from_markup("[dim]$t[/]", t=text)
 
 
 def closing_content(precision: Precision | None, label_width: int) -> list[Content]:
@@ -62,9 +72,7 @@ def closing_content(precision: Precision | None, label_width: int) -> list[Conte
     if precision is None:
         return []
     return [
-        Content(label.ljust(label_width) + text) if label
-        # dim, not $text-muted: that variable has alpha, which showed as plain text here.
-        else Content.from_markup("[dim]$t[/]", t=INDENT + text)
+        Content(label.ljust(label_width) + text) if label else dim_content(INDENT + text)
         for label, text in precision.closing
     ]
 
