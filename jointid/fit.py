@@ -4,17 +4,20 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cached_property
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from .dataset import JointData
-from .identifiable import IdentifiableSubset, identifiable_subset
-from .bounded import BoundedSolution, bounded_least_squares, lower_bounds
 from .model import PLAIN, JointModel
 from .norms import rms
 from .present.status import fit_warnings, status_message
 from .solver import LeastSquaresSolution, solve_least_squares
 from .uncertainty import ParameterUncertainty, parameter_uncertainty
+
+if TYPE_CHECKING:
+    from .bounded import BoundedSolution
+    from .identifiable import IdentifiableSubset
 
 
 @dataclass(frozen=True, eq=False)
@@ -53,6 +56,8 @@ class FitResult:
         """The sign-constrained solution of a constrained full-rank fit, else None."""
         if not self.constrained or self.solution.estimate is None:
             return None
+        from .bounded import bounded_least_squares, lower_bounds  # only constrained fits load it
+
         return bounded_least_squares(self.solution, lower_bounds(self.model))
 
     @property
@@ -129,6 +134,8 @@ class FitResult:
     @cached_property
     def identifiable(self) -> IdentifiableSubset:
         """The parameters the training data determine on their own, at any rank."""
+        from .identifiable import identifiable_subset  # loaded when asked (JSON, rank-deficient texts)
+
         return identifiable_subset(self.solution, self.model.column_names)
 
     @property

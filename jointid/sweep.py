@@ -24,7 +24,6 @@ from .choices import DEFAULT_SEED_COUNT, SEED_COUNT_LIMITS, WORK_BUDGET  # noqa:
 from .experiment import training_data, validation_data
 from .fit import fitted_torque
 from .model import JointModel
-from .bounded import bounded_least_squares, lower_bounds
 from .noise import MODULUS, torque_noise
 from .norms import row_rms
 from .settings import Settings
@@ -230,7 +229,11 @@ def run_sweep(
             progress(seed_count, seed_count)
         return result
     step = chunk_size or max(1, CHUNK_ELEMENTS // max(1, settings.samples))
-    lower = lower_bounds(model) if settings.constrained else None
+    lower = None
+    if settings.constrained:
+        from .bounded import bounded_least_squares, lower_bounds  # only constrained sweeps load it
+
+        lower = lower_bounds(model)
     held = np.zeros((model.size, seed_count), dtype=bool) if settings.constrained else None
     estimates = np.empty((model.size, seed_count))
     training_rmse = np.empty(seed_count)

@@ -28,7 +28,6 @@ from functools import cached_property
 
 import numpy as np
 
-from .bounded import reduced_matrix
 from .norms import power_of_two_scale
 from .solver import LeastSquaresSolution, back_substitute
 from .student_t import student_t_quantile
@@ -223,6 +222,8 @@ def parameter_uncertainty(
 
 def free_covariance_factor(solution: LeastSquaresSolution, free: np.ndarray) -> np.ndarray:
     """(p, p) (X_F^T X_F)^-1 on the free columns and zeros elsewhere (held parameters vary with nothing)."""
+    from .bounded import reduced_matrix  # only constrained fits get here
+
     matrix = reduced_matrix(solution)[:, free]
     r_free = np.linalg.qr(matrix, mode="r")
     inverse = back_substitute(r_free, np.eye(r_free.shape[1]))

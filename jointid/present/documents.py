@@ -12,7 +12,6 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
-from ..fourier import motion_document
 from ..uncertainty import finite_or_none
 
 if TYPE_CHECKING:
@@ -82,6 +81,8 @@ def settings_object(settings: Settings) -> dict:
     """The synthetic settings as a JSON object (a designed motion as its name plus its motion file's object)."""
     document = vars(settings).copy()
     if not isinstance(settings.motion, str):
+        from ..fourier import motion_document  # only a designed motion needs it
+
         document["motion"] = settings.motion_name
         document["designed_motion"] = motion_document(settings.motion)
     return document

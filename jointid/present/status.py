@@ -11,7 +11,6 @@ import os
 from typing import TYPE_CHECKING
 
 from ..uncertainty import NOT_DETERMINED, WEAK, WELL_DETERMINED
-from .sensitivity import sensitivity_summary, sensitivity_warning
 from .text import capitalise, format_number, join_words
 
 if TYPE_CHECKING:
@@ -186,6 +185,9 @@ def log_status(logs, compact: bool = False) -> str:
     notes name files without their folders, so the sentence keeps to about four lines
     (full paths made it seven).
     """
+    # Only log fits carry a sensitivity check: a synthetic fit need not import it.
+    from .sensitivity import sensitivity_summary, sensitivity_warning
+
     check = logs.sensitivity
     warning = () if check is None or not check.flagged else (sensitivity_warning(check),)
     if compact:
