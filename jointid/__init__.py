@@ -32,7 +32,7 @@ _HOMES = {
     "model_named": "model",
     "predict_torque": "model",
     "regressor": "model",
-    "torque_breakdown": "model",
+    "torque_breakdown": "breakdown",
     "Settings": "settings",
     "SettingsError": "settings",
     "LeastSquaresSolution": "solver",

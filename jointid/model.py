@@ -247,35 +247,10 @@ def predict_torque(q, qd, qdd, theta=TRUE_PARAMETERS, model: JointModel = PLAIN)
     return model.regressor(q, qd, qdd) @ np.asarray(theta, dtype=float)
 
 
-@dataclass(frozen=True, eq=False)
-class TorqueBreakdown:
-    """Inverse dynamics of the plain model at given states, split into its three contributions.
+def __getattr__(name: str):
+    """TorqueBreakdown and torque_breakdown, from jointid.breakdown: only `jointid torque` needs them at start."""
+    if name in ("TorqueBreakdown", "torque_breakdown"):
+        from . import breakdown
 
-    Every field has the shape of the broadcast states.
-    """
-
-    inertia: np.ndarray
-    """I*qdd (N m)."""
-    gravity: np.ndarray
-    """h*g*cos(q), the gravity compensation (N m)."""
-    damping: np.ndarray
-    """B*qd, the damping compensation (N m)."""
-    damper_power: np.ndarray
-    """B*qd^2, mechanical power the damper dissipates (W)."""
-
-    @property
-    def total(self) -> np.ndarray:
-        """Actuator torque I*qdd + h*g*cos(q) + B*qd (N m)."""
-        return self.inertia + self.gravity + self.damping
-
-
-def torque_breakdown(q, qd, qdd, theta=TRUE_PARAMETERS) -> TorqueBreakdown:
-    """The plain model's torque contributions at states (q, qd, qdd) for theta = [I, h, B]."""
-    inertia, mass_moment, damping = (float(v) for v in theta)
-    q, qd, qdd = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (q, qd, qdd)))
-    return TorqueBreakdown(
-        inertia=inertia * qdd,
-        gravity=mass_moment * G * np.cos(q),
-        damping=damping * qd,
-        damper_power=damping * qd**2,
-    )
+        return getattr(breakdown, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -50,7 +50,7 @@ def run(args: argparse.Namespace) -> int:
     """Compute and print the breakdown; exit status 0."""
     import numpy as np  # numpy and the numeric modules load only to run
 
-    from ..model import torque_breakdown
+    from ..breakdown import torque_breakdown
     from ..present.text import format_number
 
     q = math.radians(args.q) if args.deg else args.q
