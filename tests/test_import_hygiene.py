@@ -3,6 +3,8 @@
 import ast
 from pathlib import Path
 
+import pytest
+
 from import_check import packages_loaded
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -108,3 +110,24 @@ def test_the_cycle_finder_sees_a_lazy_import(tmp_path, monkeypatch):
     path = ROOT / "tui" / "app.py"
     monkeypatch.setattr(Path, "read_text", lambda self, encoding=None: source if self == path else "")
     assert "tui.help" in imported_modules(path, "tui")
+
+
+SYNTHETIC_COMMANDS = (["fit"], ["fit", "--json"], ["sweep"], ["matrix"])
+UNUSED_AT_START = {"shutil", "jointid.sensitivity", "jointid.present.sensitivity", "jointid.fourier",
+                   "jointid.bounded", "jointid.breakdown"}
+"""What a synthetic, unconstrained run has no use for: shutil only measures the terminal for help (3 ms),
+the others serve log fits, designed motions, the sign constraint and `jointid torque`."""
+
+
+@pytest.mark.parametrize("command", SYNTHETIC_COMMANDS, ids=" ".join)
+def test_a_synthetic_command_loads_nothing_it_does_not_use(command):
+    loaded = packages_loaded("jointid.cli", {"jointid", "shutil"}, run=f"jointid.cli.main({command!r})")
+    assert "jointid.fit" in loaded  # the command did run
+    assert sorted(UNUSED_AT_START.intersection(loaded)) == []
+
+
+def test_the_modules_left_out_still_load_when_needed():
+    # The check above must be able to fail: a constrained fit loads jointid.bounded, help loads shutil.
+    assert "jointid.bounded" in packages_loaded(
+        "jointid.cli", {"jointid"}, run="jointid.cli.main(['fit', '--constrained', '--json'])")
+    assert packages_loaded("jointid.cli", {"shutil"}, run="jointid.cli.build_parser('fit').format_help()") == ["shutil"]
