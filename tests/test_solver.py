@@ -30,6 +30,19 @@ def reference_solution(X, y):
     return scaled / norms, rank
 
 
+def make_one_column_dependent(X, data, kind, factor_exponent):
+    """Make one drawn column of X zero, a copy of another, or -10**factor_exponent times another, in place."""
+    columns = X.shape[1]
+    source = data.draw(st.integers(0, columns - 1), label="source column")
+    target = data.draw(st.integers(0, columns - 1).filter(lambda j: j != source), label="target column")
+    if kind == "zero":
+        X[:, target] = 0.0
+    elif kind == "duplicate":
+        X[:, target] = X[:, source]
+    else:
+        X[:, target] = -(10.0**factor_exponent) * X[:, source]
+
+
 @settings(max_examples=150, deadline=None)
 @given(seed=seeds, columns=column_counts, extra_rows=st.integers(2, 60), column_exponents=exponents)
 def test_full_rank_problems_agree_with_numpy_lstsq(seed, columns, extra_rows, column_exponents):
@@ -59,14 +72,7 @@ def test_dependent_columns_lower_the_rank_and_give_no_estimate(
     seed, columns, extra_rows, column_exponents, kind, factor_exponent, data
 ):
     X, y = random_problem(seed, columns + extra_rows, columns, column_exponents)
-    source = data.draw(st.integers(0, columns - 1), label="source column")
-    target = data.draw(st.integers(0, columns - 1).filter(lambda j: j != source), label="target column")
-    if kind == "zero":
-        X[:, target] = 0.0
-    elif kind == "duplicate":
-        X[:, target] = X[:, source]
-    else:
-        X[:, target] = -(10.0**factor_exponent) * X[:, source]
+    make_one_column_dependent(X, data, kind, factor_exponent)
     solution = solve_least_squares(X, y)
     assert solution.rank == columns - 1
     assert solution.estimate is None
