@@ -10,6 +10,16 @@ seeds = st.integers(0, 2**32 - 1)
 column_counts = st.integers(1, 6)
 # Column magnitudes from 1e-8 to 1e8, as the issue asks.
 exponents = st.lists(st.floats(-8, 8), min_size=6, max_size=6)
+dependent_column_problems = dict(
+    seed=seeds,
+    columns=st.integers(2, 6),
+    extra_rows=st.integers(2, 40),
+    column_exponents=exponents,
+    kind=st.sampled_from(["zero", "duplicate", "proportional"]),
+    factor_exponent=st.floats(-6, 6),
+    data=st.data(),
+)
+"""The strategies of a problem with one dependent column (see `make_one_column_dependent`)."""
 
 
 def random_problem(seed, rows, columns, column_exponents):
@@ -59,15 +69,7 @@ def test_full_rank_problems_agree_with_numpy_lstsq(seed, columns, extra_rows, co
 
 
 @settings(max_examples=150, deadline=None)
-@given(
-    seed=seeds,
-    columns=st.integers(2, 6),
-    extra_rows=st.integers(2, 40),
-    column_exponents=exponents,
-    kind=st.sampled_from(["zero", "duplicate", "proportional"]),
-    factor_exponent=st.floats(-6, 6),
-    data=st.data(),
-)
+@given(**dependent_column_problems)
 def test_dependent_columns_lower_the_rank_and_give_no_estimate(
     seed, columns, extra_rows, column_exponents, kind, factor_exponent, data
 ):
