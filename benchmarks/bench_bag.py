@@ -22,12 +22,13 @@ import gc
 import statistics
 import sys
 import time
-import tracemalloc
 from pathlib import Path
 
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+from common import peak_memory  # noqa: E402  (this folder is first on sys.path)
 
 ROUNDS = 7
 RATE = 1000.0
@@ -112,16 +113,6 @@ def timed(function, path) -> tuple[float, object]:
     return time.perf_counter() - start, result
 
 
-def peak(function, path) -> int:
-    gc.collect()
-    tracemalloc.start()
-    try:
-        function(path)
-        return tracemalloc.get_traced_memory()[1]
-    finally:
-        tracemalloc.stop()
-
-
 def main(argv: list[str]) -> int:
     seconds = float(next((a for a in argv if not a.startswith("--")), 3600))
     path = Path("/tmp") / f"jointid-bench-bag-{seconds:g}s"
@@ -143,7 +134,7 @@ def main(argv: list[str]) -> int:
             if name == "ours" and np.max(np.abs(np.asarray(result) / TRUE - 1)) > 1e-3:
                 print(f"ours: wrong estimate {result}")
                 return 1
-    memory = {"ours": peak(ours, path), "baseline": peak(baseline, path)}
+    memory = {"ours": peak_memory(ours, path), "baseline": peak_memory(baseline, path)}
     for name in ("ours", "baseline"):
         values = times[name]
         print(f"{name:<9} min {min(values):.2f} s, median {statistics.median(values):.2f} s, max {max(values):.2f} s; "

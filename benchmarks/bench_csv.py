@@ -24,7 +24,6 @@ import subprocess
 import sys
 import tempfile
 import time
-import tracemalloc
 from pathlib import Path
 
 import numpy as np
@@ -33,23 +32,15 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from jointid.csvlog import load_log  # noqa: E402
 from jointid.fit import fit_joint  # noqa: E402
-from jointid.model import G, TRUE_PARAMETERS, predict_torque  # noqa: E402
-from jointid.motions import TRAINING_MOTIONS  # noqa: E402
+from jointid.model import G, TRUE_PARAMETERS  # noqa: E402
+
+from common import peak_memory, write_log  # noqa: E402  (this folder is first on sys.path)
 
 REPEATS = 7
 """Timed runs of each pipeline; the best is reported."""
 
 GOAL_SECONDS = 2.0
 GOAL_MEMORY_MULTIPLE = 4.0
-
-
-def write_log(path: Path, rows: int) -> None:
-    """A full-column log of the rich motion at 1 kHz with exact torques, 17 significant digits."""
-    t = np.arange(rows) * 1e-3
-    states = TRAINING_MOTIONS["rich"].states(t)
-    tau = predict_torque(states.q, states.qd, states.qdd)
-    table = np.column_stack([t, states.q, states.qd, states.qdd, tau])
-    np.savetxt(path, table, delimiter=",", fmt="%.17g", header="t,q,qd,qdd,tau", comments="")
 
 
 def ours(path: Path) -> np.ndarray:
@@ -70,17 +61,6 @@ def timed(function, path: Path) -> tuple[float, float, np.ndarray]:
     start, cpu = time.perf_counter(), time.process_time()
     result = function(path)
     return time.perf_counter() - start, time.process_time() - cpu, result
-
-
-def peak_memory(function, path: Path) -> int:
-    """Peak bytes traced by tracemalloc during one call."""
-    gc.collect()
-    tracemalloc.start()
-    try:
-        function(path)
-        return tracemalloc.get_traced_memory()[1]
-    finally:
-        tracemalloc.stop()
 
 
 FRESH = """

@@ -39,8 +39,9 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from jointid.csvlog import load_log  # noqa: E402
-from jointid.model import TRUE_PARAMETERS, predict_torque  # noqa: E402
-from jointid.motions import TRAINING_MOTIONS  # noqa: E402
+from jointid.model import TRUE_PARAMETERS  # noqa: E402
+
+from common import write_log  # noqa: E402  (this folder is first on sys.path)
 
 ROUNDS = 7
 ROWS = 1_000_000
@@ -63,15 +64,6 @@ ENVIRONMENT = {name: value for name, value in os.environ.items() if name != "PYT
 ENVIRONMENT["PYTHONPATH"] = os.pathsep.join(p for p in (str(ROOT), os.environ.get("PYTHONPATH")) if p)
 SCRIPT = Path(sys.executable).parent / "jointid"
 JOINTID = [sys.executable, str(SCRIPT)] if SCRIPT.exists() else [sys.executable, "-m", "jointid"]
-
-
-def write_log(path: Path, rows: int) -> None:
-    """A full-column log of the rich motion at 1 kHz with exact torques, 17 significant digits."""
-    t = np.arange(rows) * 1e-3
-    states = TRAINING_MOTIONS["rich"].states(t)
-    tau = predict_torque(states.q, states.qd, states.qdd)
-    table = np.column_stack([t, states.q, states.qd, states.qdd, tau])
-    np.savetxt(path, table, delimiter=",", fmt="%.17g", header="t,q,qd,qdd,tau", comments="")
 
 
 def child(command: list[str], folder: Path) -> tuple[float, int, str]:

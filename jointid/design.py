@@ -223,11 +223,6 @@ class DesignResult:
         return replace(self.spec.experiment, motion=self.motion)
 
     @cached_property
-    def active_limits(self) -> tuple[str, ...]:
-        """Names of the limits the design reaches."""
-        return tuple(check.name for check in self.checks if check.active)
-
-    @cached_property
     def worse_than_rich(self) -> tuple[str, ...]:
         """Parameters whose expected standard error is larger under the design than under rich motion."""
         if self.design.expected_std_error is None or self.rich.expected_std_error is None:

@@ -87,11 +87,6 @@ class SensitivityCheck:
         """True when any parameter is flagged."""
         return any(self.flags)
 
-    @property
-    def flagged_names(self) -> tuple[str, ...]:
-        """Names of the flagged parameters."""
-        return tuple(name for name, flag in zip(self.names, self.flags) if flag)
-
     def worst(self, index: int) -> tuple[Variant, float]:
         """The variant that moves parameter `index` most, and by how many standard errors."""
         k = int(np.argmax(self.moves[:, index]))

@@ -10,6 +10,16 @@ seeds = st.integers(0, 2**32 - 1)
 column_counts = st.integers(1, 6)
 # Column magnitudes from 1e-8 to 1e8, as the issue asks.
 exponents = st.lists(st.floats(-8, 8), min_size=6, max_size=6)
+dependent_column_problems = dict(
+    seed=seeds,
+    columns=st.integers(2, 6),
+    extra_rows=st.integers(2, 40),
+    column_exponents=exponents,
+    kind=st.sampled_from(["zero", "duplicate", "proportional"]),
+    factor_exponent=st.floats(-6, 6),
+    data=st.data(),
+)
+"""The strategies of a problem with one dependent column (see `make_one_column_dependent`)."""
 
 
 def random_problem(seed, rows, columns, column_exponents):
@@ -30,6 +40,19 @@ def reference_solution(X, y):
     return scaled / norms, rank
 
 
+def make_one_column_dependent(X, data, kind, factor_exponent):
+    """Make one drawn column of X zero, a copy of another, or -10**factor_exponent times another, in place."""
+    columns = X.shape[1]
+    source = data.draw(st.integers(0, columns - 1), label="source column")
+    target = data.draw(st.integers(0, columns - 1).filter(lambda j: j != source), label="target column")
+    if kind == "zero":
+        X[:, target] = 0.0
+    elif kind == "duplicate":
+        X[:, target] = X[:, source]
+    else:
+        X[:, target] = -(10.0**factor_exponent) * X[:, source]
+
+
 @settings(max_examples=150, deadline=None)
 @given(seed=seeds, columns=column_counts, extra_rows=st.integers(2, 60), column_exponents=exponents)
 def test_full_rank_problems_agree_with_numpy_lstsq(seed, columns, extra_rows, column_exponents):
@@ -46,27 +69,12 @@ def test_full_rank_problems_agree_with_numpy_lstsq(seed, columns, extra_rows, co
 
 
 @settings(max_examples=150, deadline=None)
-@given(
-    seed=seeds,
-    columns=st.integers(2, 6),
-    extra_rows=st.integers(2, 40),
-    column_exponents=exponents,
-    kind=st.sampled_from(["zero", "duplicate", "proportional"]),
-    factor_exponent=st.floats(-6, 6),
-    data=st.data(),
-)
+@given(**dependent_column_problems)
 def test_dependent_columns_lower_the_rank_and_give_no_estimate(
     seed, columns, extra_rows, column_exponents, kind, factor_exponent, data
 ):
     X, y = random_problem(seed, columns + extra_rows, columns, column_exponents)
-    source = data.draw(st.integers(0, columns - 1), label="source column")
-    target = data.draw(st.integers(0, columns - 1).filter(lambda j: j != source), label="target column")
-    if kind == "zero":
-        X[:, target] = 0.0
-    elif kind == "duplicate":
-        X[:, target] = X[:, source]
-    else:
-        X[:, target] = -(10.0**factor_exponent) * X[:, source]
+    make_one_column_dependent(X, data, kind, factor_exponent)
     solution = solve_least_squares(X, y)
     assert solution.rank == columns - 1
     assert solution.estimate is None

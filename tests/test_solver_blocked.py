@@ -26,7 +26,14 @@ from jointid.solver import (
     solve_least_squares,
 )
 from jointid.sweep import run_sweep
-from test_solver import exponents, random_problem, reference_solution, seeds
+from test_solver import (
+    dependent_column_problems,
+    exponents,
+    make_one_column_dependent,
+    random_problem,
+    reference_solution,
+    seeds,
+)
 
 AGREEMENT = 1e-12
 """Largest scaled difference allowed between the blocked path and the previous solver."""
@@ -123,28 +130,13 @@ def test_blocked_full_rank_agrees_with_todays_solver_and_lstsq(seed, columns, ex
 
 
 @settings(max_examples=200, deadline=None)
-@given(
-    seed=seeds,
-    columns=st.integers(2, 6),
-    extra_rows=st.integers(2, 40),
-    column_exponents=exponents,
-    kind=st.sampled_from(["zero", "duplicate", "proportional"]),
-    factor_exponent=st.floats(-6, 6),
-    data=st.data(),
-)
+@given(**dependent_column_problems)
 def test_blocked_dependent_columns_give_todays_rank_and_fit(
     seed, columns, extra_rows, column_exponents, kind, factor_exponent, data
 ):
     X, y = random_problem(seed, columns + extra_rows, columns, column_exponents)
     block_rows = draw_block_rows(data, len(X))
-    source = data.draw(st.integers(0, columns - 1), label="source column")
-    target = data.draw(st.integers(0, columns - 1).filter(lambda j: j != source), label="target column")
-    if kind == "zero":
-        X[:, target] = 0.0
-    elif kind == "duplicate":
-        X[:, target] = X[:, source]
-    else:
-        X[:, target] = -(10.0**factor_exponent) * X[:, source]
+    make_one_column_dependent(X, data, kind, factor_exponent)
     blocked = solve_least_squares(X, y, block_rows=block_rows)
     assert blocked.rank == columns - 1
     assert_same_fit(blocked, todays_solve(X, y), X, y)

@@ -332,20 +332,7 @@ def after_compositor_refresh(callback: Callable[[Screen], None]) -> Callable[[],
         RuntimeError: The installed Textual is not the pinned one, whose refresh method this wraps.
     """
     _require_pinned_textual("after_compositor_refresh")
-    from textual.screen import Screen
-
-    original = Screen._compositor_refresh
-
-    def refresh_then_call(screen: Screen) -> None:
-        original(screen)
-        callback(screen)
-
-    Screen._compositor_refresh = refresh_then_call
-
-    def undo() -> None:
-        Screen._compositor_refresh = original
-
-    return undo
+    return _call_after_screen_method("_compositor_refresh", callback)
 
 
 def after_screen_update(callback: Callable[[Screen], None]) -> Callable[[], None]:
@@ -360,18 +347,23 @@ def after_screen_update(callback: Callable[[Screen], None]) -> Callable[[], None
         RuntimeError: The installed Textual is not the pinned one, whose update method this wraps.
     """
     _require_pinned_textual("after_screen_update")
+    return _call_after_screen_method("_on_timer_update", callback)
+
+
+def _call_after_screen_method(name: str, callback: Callable[[Screen], None]) -> Callable[[], None]:
+    # Wraps Screen.<name> so that callback(screen) runs after it; the undo puts the original back.
     from textual.screen import Screen
 
-    original = Screen._on_timer_update
+    original = getattr(Screen, name)
 
-    def update_then_call(screen: Screen) -> None:
+    def call_then_callback(screen: Screen) -> None:
         original(screen)
         callback(screen)
 
-    Screen._on_timer_update = update_then_call
+    setattr(Screen, name, call_then_callback)
 
     def undo() -> None:
-        Screen._on_timer_update = original
+        setattr(Screen, name, original)
 
     return undo
 

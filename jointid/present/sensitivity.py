@@ -2,9 +2,6 @@
 
 from __future__ import annotations
 
-from ..sensitivity import THRESHOLD
-
-
 SETTINGS_DECIDE = "Your derivative settings decide this estimate"
 """The warning both faces print when the sensitivity check flags a parameter."""
 
