@@ -242,8 +242,8 @@ class MainScreen(Screen):
 
         Textual restyles every widget of a screen that resumes, for CSS that changed while it was
         covered; on the first resume nothing has covered it, and restyling the whole screen again
-        cost about a tenth of the explorer's time from start to its first frame. Later resumes
-        (a dialog or view closing) restyle as usual. Runs before Textual's own handler.
+        cost about 4 ms of the start-up (perf_counter marks, 2026-11-23). Later resumes (a dialog
+        or view closing) restyle as usual. Runs before Textual's own handler.
         """
         if not self._shown_once:
             self._shown_once = True
