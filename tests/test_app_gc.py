@@ -85,6 +85,10 @@ def test_objects_someone_else_froze_stay_frozen():
                 await pilot.pause()
 
         asyncio.run(main())
-        assert collector_state() == before
+        threshold, frozen, enabled = collector_state()
+        assert (threshold, enabled) == (before[0], before[2])
+        # Still frozen, not unfrozen (0): a frozen object that dies during the run leaves the
+        # permanent generation, so after other tests' leftovers the count may drop a little.
+        assert 0.9 * before[1] <= frozen <= before[1]
     finally:
         gc.unfreeze()
