@@ -22,7 +22,7 @@ DEFERRED = (
     # jointid beyond the synthetic fit
     "jointid.bag", "jointid.csvlog", "jointid.cross_excitation", "jointid.derivatives", "jointid.design",
     "jointid.design_process", "jointid.export", "jointid.ladder", "jointid.logfit", "jointid.parallel_filter",
-    "jointid.sensitivity", "jointid.simulation", "jointid.sweep",
+    "jointid.residuals", "jointid.sensitivity", "jointid.simulation", "jointid.sweep",
     # heavy libraries
     "scipy", "pandas", "rosbags", "importlib.metadata",
 )
