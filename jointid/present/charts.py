@@ -180,7 +180,8 @@ class ScatterData:
 
 def residual_scatter(data: ResidualData, axis: str) -> ScatterData:
     """The scatter of training residuals against one axis ('t', 'q', 'qd' or 'qdd')."""
-    from ..residuals import AXIS_LABELS  # here: the explorer's first frame shows no residuals
+    # Imported here: the explorer's first frame shows no residuals.
+    from ..residuals import AXIS_LABELS
 
     x_label = AXIS_LABELS[axis] if data.has_times or axis != "t" else "sample index"
     return ScatterData(
