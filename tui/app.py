@@ -12,16 +12,16 @@ from textual.app import App, SystemCommand
 from textual.binding import Binding
 from textual.screen import Screen
 
-from jointid.derivatives import DEFAULT_ORDER, DEFAULT_WINDOW
-from jointid.parallel_filter import FilterRequest
+from jointid.choices import DEFAULT_ORDER, DEFAULT_WINDOW
 from jointid.settings import DEFAULT_SETTINGS, Settings
 
 from .commands import TourCommands
 from . import third_party
 from .screens.main import MainScreen
 
-if TYPE_CHECKING:  # the log reader is imported only when a log is opened
+if TYPE_CHECKING:  # the log reader and its low-pass are imported only when a log is opened
     from jointid.logfit import LoadedLogs
+    from jointid.parallel_filter import FilterRequest
 
 FULL_COLLECTION_EVERY = 10_000
 """Young-generation collections between full garbage collections while keys keep coming
@@ -47,7 +47,7 @@ class JointIdApp(App):
 
     def __init__(self, settings: Settings = DEFAULT_SETTINGS, logs: LoadedLogs | None = None,
                  derivatives: tuple[int | None, int] = (DEFAULT_WINDOW, DEFAULT_ORDER),
-                 filtering: FilterRequest = FilterRequest()) -> None:
+                 filtering: FilterRequest | None = None) -> None:
         """Create the app.
 
         Args:
@@ -55,7 +55,8 @@ class JointIdApp(App):
             logs: A loaded log to open on (`jointid --csv`).
             derivatives: Savitzky-Golay window and order for logs without qd or qdd,
                 those opened later too (`jointid --window --order`); a window of None is automatic.
-            filtering: The parallel low-pass for logs opened later (`jointid --cutoff --decimate`).
+            filtering: The parallel low-pass for logs opened later (`jointid --cutoff --decimate`);
+                None is automatic, as `FilterRequest()`.
         """
         super().__init__()
         self.initial_settings = settings
@@ -75,7 +76,18 @@ class JointIdApp(App):
     (benchmarks/bench_tui_startup.py measures start-up to the process's end)."""
 
     def on_load(self) -> None:
-        """Turn on the third-party adapters the installed versions allow, before the first chart; log which."""
+        """Pause the garbage collector until the first frame; turn on the third-party adapters the installed
+        versions allow, before the first chart; log which.
+
+        Start-up builds tens of thousands of objects that live as long as the app (the screen's widgets,
+        their styles, the fit, the figures): the collections Python runs while they are built free
+        little and walk them all, about a fifth of the time from here to the first frame (perf_counter
+        marks, 2026-11-23). `on_ready` freezes what start-up built and resumes collecting; the few
+        thousand objects of start-up garbage are frozen with it, the price of skipping those walks.
+        """
+        if self.tune_gc and gc.isenabled():
+            gc.disable()
+            self._gc_paused = True
         for line in third_party.activate():
             self.log(f"third-party adapter: {line}")
 
@@ -106,10 +118,18 @@ class JointIdApp(App):
         if self._gc_unfreeze:
             gc.freeze()
         gc.set_threshold(young, middle, FULL_COLLECTION_EVERY)
+        self.resume_gc()
         self._idle_collection = self.set_interval(IDLE_COLLECTION_AFTER, self.collect_when_idle)
+
+    def resume_gc(self) -> None:
+        """Turn the collector back on if `on_load` paused it (once the first frame is up, or the run ends)."""
+        if getattr(self, "_gc_paused", False):
+            self._gc_paused = False
+            gc.enable()
 
     def on_unmount(self) -> None:
         """Restore the collector's thresholds and unfreeze what `on_ready` froze (after a crash too)."""
+        self.resume_gc()  # a crash before the first frame leaves it paused
         if self.restore_gc and getattr(self, "_gc_restore", None) is not None:
             gc.set_threshold(*self._gc_restore)
             self._gc_restore = None

@@ -4,8 +4,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from jointid.derivatives import DEFAULT_ORDER, DEFAULT_WINDOW
-from jointid.parallel_filter import FilterRequest
+from jointid.choices import DEFAULT_ORDER, DEFAULT_WINDOW
 from jointid.settings import Settings
 
 from . import third_party
@@ -13,18 +12,19 @@ from .controls import check_explorer_settings
 
 if TYPE_CHECKING:
     from jointid.logfit import LoadedLogs
+    from jointid.parallel_filter import FilterRequest
 
 
 def explore(settings: Settings, logs: LoadedLogs | None = None,
             derivatives: tuple[int | None, int] = (DEFAULT_WINDOW, DEFAULT_ORDER),
-            filtering: FilterRequest = FilterRequest()) -> int:
+            filtering: FilterRequest | None = None) -> int:
     """Run the explorer until the user quits and return the exit status.
 
     Args:
         settings: Settings to open at; SettingsError if outside the explorer's ranges.
         logs: A loaded log to open on (`jointid --csv`).
         derivatives: Savitzky-Golay window (None: automatic) and order for logs opened later with Ctrl+O.
-        filtering: The parallel low-pass for those logs (`--cutoff`, `--decimate`).
+        filtering: The parallel low-pass for those logs (`--cutoff`, `--decimate`); None is automatic.
     """
     check_explorer_settings(settings)
     from .app import JointIdApp  # after the check: a refused value costs no Textual import

@@ -13,7 +13,6 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..residuals import AXIS_LABELS
 from .text import format_number, ordinal
 
 if TYPE_CHECKING:
@@ -181,6 +180,9 @@ class ScatterData:
 
 def residual_scatter(data: ResidualData, axis: str) -> ScatterData:
     """The scatter of training residuals against one axis ('t', 'q', 'qd' or 'qdd')."""
+    # Imported here: the explorer's first frame shows no residuals.
+    from ..residuals import AXIS_LABELS
+
     x_label = AXIS_LABELS[axis] if data.has_times or axis != "t" else "sample index"
     return ScatterData(
         titles=(f"Training residuals (N m) against {x_label}", f"Residuals against {x_label}"),

@@ -15,7 +15,7 @@ from textual.containers import Horizontal, Vertical
 from textual.screen import ModalScreen
 from textual.widgets import DirectoryTree, Input, Label, RadioSet, Static
 
-from jointid.derivatives import DEFAULT_ORDER, DEFAULT_WINDOW
+from jointid.choices import DEFAULT_ORDER, DEFAULT_WINDOW
 from jointid.parallel_filter import FilterRequest
 
 from jointid.logfit import HELDOUT, TRAINING, LoadRequest
@@ -70,7 +70,7 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
 
     def __init__(self, folder: str | os.PathLike | None = None, *, heldout_allowed: bool = False,
                  derivatives: tuple[int | None, int] = (DEFAULT_WINDOW, DEFAULT_ORDER),
-                 filtering: FilterRequest = FilterRequest()) -> None:
+                 filtering: FilterRequest | None = None) -> None:
         """Create the dialog.
 
         Args:
@@ -78,13 +78,13 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
             heldout_allowed: True when a training log is loaded, so a held-out log can be chosen.
             derivatives: Savitzky-Golay window and order for a log without qd or qdd
                 (the explorer's --window and --order; a window of None is automatic).
-            filtering: The parallel low-pass (the explorer's --cutoff and --decimate).
+            filtering: The parallel low-pass (the explorer's --cutoff and --decimate); None is automatic.
         """
         super().__init__()
         self.folder = Path(folder or os.getcwd())
         self.heldout_allowed = heldout_allowed
         self.derivatives = derivatives
-        self.filtering = filtering
+        self.filtering = FilterRequest() if filtering is None else filtering
 
     def compose(self) -> ComposeResult:
         """Path field, role and degrees options, hint, folder tree, and the dialog's keys."""
