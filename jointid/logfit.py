@@ -195,7 +195,10 @@ def _sensitivity(training: JointLog, model: JointModel, constrained: bool, chose
             except LogError:  # a doubled cutoff beyond the Nyquist frequency: skipped
                 continue
             variants.append(Variant("cutoff", factor, window, request.cutoff, fit.estimate))
-    return sensitivity_check(model.names, base, result.uncertainty.std_error, variants)
+    torque = result.training.tau
+    torque_rms = float(np.sqrt(np.mean(torque * torque)))
+    return sensitivity_check(model.names, base, result.uncertainty.std_error, variants,
+                             rmse=result.training_rmse, torque_rms=torque_rms)
 
 
 def _scaled_window(window: int, factor: float, order: int, samples: int) -> int | None:
