@@ -146,6 +146,17 @@ class LogTable:
     """Sentences about how the table was read or cut, for the fit's notes."""
     first: int = 0
     """Data rows cut from the start (a time window), so messages still name the file's lines."""
+    time_window: object = None
+    """The timewindow.TimeWindow the table was cut to, or None."""
+    effort_scale: float = 1.0
+    """Torque (N m) per unit of the logged tau or effort, already applied to the tau column."""
+
+    @property
+    def origin(self) -> dict:
+        """JSON-ready: the file, its format, and the time window and effort scale applied."""
+        return {"path": self.path, "format": "csv",
+                "time_window": None if self.time_window is None else self.time_window.to_dict(),
+                "effort_scale": self.effort_scale}
 
     @property
     def count(self) -> int:
@@ -252,6 +263,13 @@ class JointLog:
         if self.derivatives is not None:
             notes.append(f"{name}: {self.derivatives.short_description}")
         return tuple(notes)
+
+    @property
+    def origin(self) -> dict:
+        """JSON-ready: the file, its format (with a bag's topic and joint), time window and effort scale."""
+        if self.source is None:
+            return {"path": self.path, "format": "csv", "time_window": None, "effort_scale": 1.0}
+        return self.source.table.origin
 
     def source_text(self) -> str:
         """One line describing what was read, e.g. for the line above the readouts."""
