@@ -58,7 +58,7 @@ NUMPY_IMPORT = [sys.executable, "-c", "import numpy"]
 HELP_FLOOR = [sys.executable, "-c", "import argparse; argparse.ArgumentParser(prog='x').print_help()"]
 COMMAND_FLOOR = [sys.executable, "-c", "import numpy, argparse, json, dataclasses"]
 
-HELPS = {"jointid --help": ["--help"]} | {f"jointid {m.NAME} --help": [m.NAME, "--help"] for m in SUBCOMMANDS}
+HELPS = {"jointid --help": ["--help"]} | {f"jointid {name} --help": [name, "--help"] for name in SUBCOMMANDS}
 COMMANDS = {
     **{f"jointid fit --motion {motion}{flag}": ["fit", "--motion", motion, *flag.split()]
        for motion in TRAINING_MOTION_NAMES for flag in ("", " --json")},

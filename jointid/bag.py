@@ -483,6 +483,11 @@ class BagTable(LogTable):
     message_numbers: np.ndarray | None = None
     """0-based number in the topic of each sample's message."""
 
+    @property
+    def origin(self) -> dict:
+        """LogTable.origin with format "rosbag", the topic and the joint."""
+        return {**super().origin, "format": "rosbag", "topic": self.topic, "joint": self.joint}
+
     def sliced(self, rows: slice, note: str) -> "BagTable":
         """The table cut to a contiguous range of samples, with a note saying how."""
         columns = {name: values[rows] for name, values in self.columns.items()}

@@ -23,6 +23,7 @@ from .derivatives import MAX_WINDOW, motion_bandwidth
 from .fit import FitResult, fit_joint
 from .logsource import HELDOUT, TRAINING, LoadRequest, load_joint_log  # noqa: F401 (TRAINING: re-exported)
 from .model import PLAIN, JointModel
+from .norms import rms
 from .parallel_filter import FilterRequest, FilterRequestError, ParallelFilter, choose_filter
 from .present.documents import log_fit_document
 from .sensitivity import FACTORS, SensitivityCheck, Variant, sensitivity_check
@@ -195,7 +196,8 @@ def _sensitivity(training: JointLog, model: JointModel, constrained: bool, chose
             except LogError:  # a doubled cutoff beyond the Nyquist frequency: skipped
                 continue
             variants.append(Variant("cutoff", factor, window, request.cutoff, fit.estimate))
-    return sensitivity_check(model.names, base, result.uncertainty.std_error, variants)
+    return sensitivity_check(model.names, base, result.uncertainty.std_error, variants,
+                             rmse=result.training_rmse, torque_rms=rms(result.training.tau))
 
 
 def _scaled_window(window: int, factor: float, order: int, samples: int) -> int | None:

@@ -87,7 +87,7 @@ def cut_time_window(table, window: TimeWindow, role: str = TRAINING):
     kept = rows.stop - rows.start
     note = (f"{ROLE_WORDS[role]} window {window.text} s from the log's start: {kept} of {table.count} samples "
             f"(t = {float(since[rows.start]):.6g} to {float(since[rows.stop - 1]):.6g} s).")
-    return table.sliced(rows, note)
+    return dataclasses.replace(table.sliced(rows, note), time_window=window)
 
 
 def scale_torque(table, scale: float, bag: bool):
@@ -104,4 +104,4 @@ def scale_torque(table, scale: float, bag: bool):
         return dataclasses.replace(table, notes=(*table.notes, note))
     note = f"torque = {scale:g} × {source}, in N m (--effort-scale {scale:g})."
     columns = {**table.columns, "tau": table.columns["tau"] * scale}
-    return dataclasses.replace(table, columns=columns, notes=(*table.notes, note))
+    return dataclasses.replace(table, columns=columns, notes=(*table.notes, note), effort_scale=scale)

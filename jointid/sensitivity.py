@@ -6,6 +6,10 @@ refits with each halved and doubled, one at a time, and compares every
 parameter's move with its standard error in the fit at the chosen settings.
 A move of more than THRESHOLD standard errors is more than noise would make:
 the settings, not the data, decide that estimate.
+
+Noise-free data fitted exactly (a simulated log with its true derivatives)
+have standard errors made of rounding: every move would then count as many
+"standard errors" of nothing, so such a fit is marked exact and flags nothing.
 """
 
 from __future__ import annotations
@@ -20,6 +24,10 @@ THRESHOLD = 2.0
 
 FACTORS = (0.5, 2.0)
 """Each setting is tried halved and doubled."""
+
+EXACT_FIT = 1e-9
+"""A fit whose training RMSE is at most this fraction of the torque's RMS is exact: its residuals are
+rounding, and so are its standard errors (double precision leaves about 1e-16 of each number)."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -64,6 +72,8 @@ class SensitivityCheck:
     """(p,) Standard errors of the base fit."""
     variants: tuple[Variant, ...]
     """The refits, window ones first."""
+    exact: bool = False
+    """True when the base fit reproduced its torques to rounding (noise-free data): nothing is flagged."""
 
     @cached_property
     def moves(self) -> np.ndarray:
@@ -78,7 +88,7 @@ class SensitivityCheck:
     @cached_property
     def flags(self) -> tuple[bool, ...]:
         """Per parameter: True when some variant moves it by more than THRESHOLD standard errors."""
-        if not self.variants:
+        if not self.variants or self.exact:
             return (False,) * len(self.names)
         return tuple(bool(m) for m in (self.moves > THRESHOLD).any(axis=0))
 
@@ -92,23 +102,44 @@ class SensitivityCheck:
         k = int(np.argmax(self.moves[:, index]))
         return self.variants[k], float(self.moves[k, index])
 
+    @cached_property
+    def relative_moves(self) -> np.ndarray:
+        """(p,) Each parameter's largest |variant - base| over |base| (inf where base is zero and it moved)."""
+        if not self.variants:
+            return np.zeros(len(self.names))
+        difference = np.abs(np.array([v.estimate for v in self.variants]) - self.base.estimate).max(axis=0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            moves = difference / np.abs(self.base.estimate)
+        return np.where(difference == 0, 0.0, moves)
+
     def to_dict(self) -> dict:
-        """Plain JSON-ready values: the settings tried, each parameter's estimates, and the flags."""
+        """Plain JSON-ready values: the settings tried, each parameter's estimates, and the flags.
+
+        For an exact fit the moves in standard errors are None (they would be ratios of rounding) and
+        `exact_fit` says why.
+        """
         return {
             "threshold_std_errors": THRESHOLD,
+            "exact_fit": self.exact,
             "settings": [self.base.to_dict(self.names), *(v.to_dict(self.names) for v in self.variants)],
             "std_error": dict(zip(self.names, map(_finite, self.std_error))),
-            "largest_move_std_errors": {name: _finite(self.moves[:, j].max() if len(self.variants) else 0.0)
+            "largest_move_std_errors": {name: None if self.exact else _finite(self.moves[:, j].max()
+                                                                              if len(self.variants) else 0.0)
                                         for j, name in enumerate(self.names)},
+            "largest_relative_move": dict(zip(self.names, map(_finite, self.relative_moves))),
             "flags": dict(zip(self.names, self.flags)),
             "flagged": self.flagged,
         }
 
 
-def sensitivity_check(names, base: Variant, std_error, variants) -> SensitivityCheck:
-    """Collect the base fit and its variants (those that gave a unique fit) into a check."""
+def sensitivity_check(names, base: Variant, std_error, variants, *, rmse: float, torque_rms: float) -> SensitivityCheck:
+    """Collect the base fit and its variants (those that gave a unique fit) into a check.
+
+    `rmse` and `torque_rms`: the base fit's training RMSE and its torque's RMS, which say whether it is exact.
+    """
     kept = tuple(v for v in variants if v.estimate is not None and np.all(np.isfinite(v.estimate)))
-    return SensitivityCheck(tuple(names), base, np.asarray(std_error, dtype=float), kept)
+    exact = rmse <= EXACT_FIT * torque_rms
+    return SensitivityCheck(tuple(names), base, np.asarray(std_error, dtype=float), kept, exact)
 
 
 def _finite(value) -> float | None:

@@ -120,13 +120,15 @@ def check_times(t: np.ndarray, columns: dict, *, uniform: bool) -> tuple[dict, T
     t = np.asarray(t, dtype=float)
     count = len(t)
     steps = np.diff(t)
-    backwards = np.flatnonzero(steps < 0)
-    if len(backwards):
-        i = int(backwards[0]) + 1
-        raise TimeProblem(f"time runs backwards: t = {t[i]:.9g} s after {t[i - 1]:.9g} s on the previous row", i)
-    repeats = np.flatnonzero(steps == 0)
-    rows = np.arange(count)  # original row of each kept row, for messages
-    if len(repeats):
+    repeats = steps[:0].astype(np.intp)
+    rows = None  # original row of each kept row, for messages; None while no row was dropped
+    # One pass (the least step) tells an ordered log without repeats, almost every log, from the rest.
+    if len(steps) and not steps.min() > 0:
+        backwards = np.flatnonzero(steps < 0)
+        if len(backwards):
+            i = int(backwards[0]) + 1
+            raise TimeProblem(f"time runs backwards: t = {t[i]:.9g} s after {t[i - 1]:.9g} s on the previous row", i)
+        repeats = np.flatnonzero(steps == 0)
         names = [n for n in columns if n != "t"]
         same = np.ones(len(repeats), dtype=bool)
         for name in names:
@@ -141,14 +143,16 @@ def check_times(t: np.ndarray, columns: dict, *, uniform: bool) -> tuple[dict, T
         keep = np.ones(count, dtype=bool)
         keep[repeats + 1] = False
         columns = {name: values[keep] for name, values in columns.items()}
-        rows = rows[keep]
+        rows = np.flatnonzero(keep)
         t = columns["t"]
         steps = np.diff(t)
     if len(steps) == 0:
         return columns, TimeCheck(None, 0.0, 0.0, len(repeats), False, count, len(t))
     step = float(np.median(steps))
-    deviation = np.abs(steps - step) / step
-    median_jitter, max_jitter = float(np.median(deviation)), float(deviation.max())
+    deviation = np.abs(steps - step)
+    deviation /= step
+    max_jitter = float(deviation.max())
+    median_jitter = float(np.median(deviation, overwrite_input=True))  # after the max: it reorders
     resampled = False
     if uniform:
         gaps = np.flatnonzero(steps > GAP_FACTOR * step)
@@ -158,7 +162,7 @@ def check_times(t: np.ndarray, columns: dict, *, uniform: bool) -> tuple[dict, T
                 f"gap in time: {steps[i - 1]:.6g} s between t = {t[i - 1]:.9g} s and {t[i]:.9g} s, more than "
                 f"{GAP_FACTOR:g} times the median step {step:.6g} s; derivatives cannot be estimated across it "
                 "(fit the pieces as separate logs)",
-                int(rows[i]),
+                i if rows is None else int(rows[i]),
             )
         if max_jitter > UNIFORM_TOLERANCE:
             columns = resample(columns, step)

@@ -114,6 +114,9 @@ def test_train_and_heldout_windows_of_one_bag(bags, capsys):
     heldout = both["heldout_rmse"]
     assert abs(heldout - NOISE_RMS) <= 0.10 * NOISE_RMS, heldout
     assert any("held-out window 12:20 s" in note for note in both["notes"])
+    assert both["logs"]["heldout"] == {"path": bag, "format": "rosbag", "topic": "/joint_states", "joint": "shoulder",
+                                       "time_window": {"start_s": 12.0, "end_s": 20.0}, "effort_scale": 1.0}
+    assert both["logs"]["training"]["time_window"] == {"start_s": 0.0, "end_s": 12.0}
 
 
 def test_effort_scale_converts_and_is_noted(bags, capsys):
@@ -124,6 +127,7 @@ def test_effort_scale_converts_and_is_noted(bags, capsys):
                             rel_tol=1e-9)
     assert any("torque = 2.5 × effort" in note for note in document["notes"])
     assert any("--effort-scale 1)" in note for note in plain["notes"])
+    assert document["logs"]["training"]["effort_scale"] == 2.5 and document["logs"]["heldout"] is None
 
 
 def test_bag_info_lists_exactly_what_was_written(tmp_path, capsys):

@@ -29,7 +29,7 @@ def heavy_modules_after(code: str) -> tuple[str, list[str]]:
     return tuple(json.loads(done.stdout))
 
 
-@pytest.mark.parametrize("command", [[]] + [[module.NAME] for module in SUBCOMMANDS],
+@pytest.mark.parametrize("command", [[]] + [[name] for name in SUBCOMMANDS],
                          ids=lambda command: " ".join(command) or "jointid")
 def test_help_loads_no_numpy(command):
     text, loaded = heavy_modules_after(f"from jointid.cli import main; main({command + ['--help']!r})")
@@ -40,6 +40,22 @@ def test_the_help_test_sees_numpy_when_a_command_runs():
     # The check above must be able to fail: running a fit does load numpy.
     text, loaded = heavy_modules_after("from jointid.cli import main; main(['fit', '--json'])")
     assert json.loads(text)["rank"] == 3 and "numpy" in loaded
+
+
+def test_every_subcommand_module_defines_the_name_it_is_listed_under():
+    from jointid.cli import subcommand
+
+    for name in SUBCOMMANDS:
+        assert subcommand(name).NAME == name
+
+
+def test_a_command_loads_only_its_own_subcommand_module():
+    probe = ("import sys\nfrom jointid.cli import main\nmain(['fit', '--json'])\n"
+             "print(sorted(m for m in sys.modules if m.startswith('jointid.cli.') and m.endswith('_command')))")
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    assert done.stdout.splitlines()[-1] == "['jointid.cli.fit_command']"
+    _, listed = heavy_modules_after("from jointid.cli import main; main(['--help'])")
+    assert listed == []  # listing every subcommand imports each module, still without numpy
 
 
 def test_import_jointid_loads_no_numpy_until_a_name_is_used():

@@ -44,6 +44,12 @@ def test_windows_of_one_csv_log_equal_separate_logs(tmp_path, capsys):
     assert any("training window 0:6 s from the log's start: 1501 of 4001" in n
                for n in windowed["notes"])
     assert any("held-out window 10: s from the log's start: 1501 of 4001" in n for n in windowed["notes"])
+    assert windowed["logs"] == {
+        "training": {"path": str(tmp_path / "all.csv"), "format": "csv",
+                     "time_window": {"start_s": 0.0, "end_s": 6.0}, "effort_scale": 1.0},
+        "heldout": {"path": str(tmp_path / "all.csv"), "format": "csv",
+                    "time_window": {"start_s": 10.0, "end_s": None}, "effort_scale": 1.0}}
+    assert separate["logs"]["heldout"]["time_window"] is None
 
 
 def test_errors_inside_a_window_name_the_files_line(tmp_path, capsys):
@@ -66,3 +72,4 @@ def test_effort_scale_multiplies_the_torque_of_a_csv_log(tmp_path, capsys):
         assert math.isclose(scaled["estimate"][name], -0.5 * plain["estimate"][name], rel_tol=1e-9)
     assert any("torque = -0.5 × tau, in N m (--effort-scale -0.5)" in n for n in scaled["notes"])
     assert not any("effort-scale" in n for n in plain["notes"])
+    assert scaled["logs"]["training"]["effort_scale"] == -0.5 and plain["logs"]["training"]["effort_scale"] == 1.0

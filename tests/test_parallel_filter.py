@@ -235,6 +235,43 @@ def test_the_sensitivity_flag_is_a_move_of_more_than_two_standard_errors():
     assert [s["setting"] for s in document["settings"]] == [None, "window", "cutoff"]
 
 
+def test_an_exact_fit_flags_nothing_however_many_rounding_errors_its_moves_are():
+    base = Variant("", 1.0, None, 6.0, np.array([0.8, 0.4, 0.15]))
+    variants = (Variant("cutoff", 0.5, None, 3.0, np.array([0.8 + 2e-16, 0.4, 0.15 - 3e-17])),)
+    std_error = np.array([1e-17, 1e-18, 1e-17])
+    judged = SensitivityCheck(("I", "h", "B"), base, std_error, variants)
+    assert judged.flags == (True, False, True)  # 20 and 3 "standard errors" of rounding
+    exact = SensitivityCheck(("I", "h", "B"), base, std_error, variants, exact=True)
+    assert exact.flags == (False, False, False) and not exact.flagged
+    assert exact.relative_moves == pytest.approx([2e-16 / 0.8, 0.0, 3e-17 / 0.15])
+    document = exact.to_dict()
+    assert document["exact_fit"] is True and set(document["largest_move_std_errors"].values()) == {None}
+
+
+@pytest.mark.parametrize("noise", [0.0, 1e-6])
+def test_noise_free_torques_make_an_exact_fit_and_any_noise_a_judged_one(noise, tmp_path, capsys):
+    """A log of the closed-form joint with its true derivatives: without noise the low-passed fit reproduces the
+    torques to rounding, so the check says so instead of flagging moves of 1e-16 as many standard errors."""
+    data = full_log()
+    rng = np.random.default_rng(9)
+    data["tau"] = (0.8 * data["qdd"] + 0.4 * G * np.cos(data["q"]) + 0.15 * data["qd"]
+                   + noise * rng.standard_normal(data["t"].size))
+    path = tmp_path / "log.csv"
+    np.savetxt(path, np.column_stack(list(data.values())), delimiter=",", header="t,q,qd,qdd,tau", comments="",
+               fmt="%.17g")
+    assert main(["fit", "--csv", str(path), "--json"]) == 0
+    check = json.loads(capsys.readouterr().out)["sensitivity"]
+    assert check["exact_fit"] is (noise == 0.0)
+    assert check["flagged"] is False
+    if noise == 0.0:
+        assert max(check["largest_relative_move"].values()) < 1e-12
+        assert main(["fit", "--csv", str(path)]) == 0
+        text = capsys.readouterr().out
+        assert "fitted exactly (noise-free data)" in text and "decide this estimate" not in text
+    else:
+        assert all(move is not None for move in check["largest_move_std_errors"].values())
+
+
 def test_the_note_names_the_filter_and_counts_in_ordinals():
     chosen = ParallelFilter(5.0, 200.0, 21, "cutoff given")
     taps = len(reference_taps(5.0, 200.0))

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import asyncio
+import dataclasses
 import functools
 import json
 
@@ -400,3 +401,30 @@ async def test_a_jittered_log_shows_its_notes_and_the_sensitivity_warning(tmp_pa
             assert "resampled" in status and "Savitzky-Golay" in status and "low-passed" in status
             warned = "Your derivative settings decide this estimate" in status
             assert warned == (window is not None), status
+
+
+@synchronous
+async def test_k_and_the_model_refit_a_loaded_log_in_a_worker_and_a_stale_refit_is_dropped(logs, capsys):
+    train, _ = logs
+    capsys.readouterr()
+    app = make_app()
+    async with app.run_test(size=SIZE) as pilot:
+        await load(pilot, train)
+        screen = main_screen(app)
+        loaded = screen.logs
+        screen.change_fit("constrained", True)
+        assert screen.logs is loaded  # the press returns at once: the refit runs in a worker
+        await pilot.app.workers.wait_for_complete()
+        await pilot.pause()
+        expected = logfit.fit_logs(load_log(train), constrained=True).result
+        assert screen.logs.training is loaded.training and screen.logs.result.constrained
+        assert screen.query_one(ReadoutPanel).items == readouts(expected)
+        screen.change_fit("model", "coulomb")
+        await pilot.app.workers.wait_for_complete()
+        await pilot.pause()
+        assert screen.logs.result.model.name == "coulomb" and screen.logs.result.constrained
+        # A refit that lands after the user chose something else is not shown.
+        shown = screen.logs
+        stale = logfit.fit_logs(shown.training, constrained=False)
+        screen.finish_refit(shown, dataclasses.replace(screen.settings, model="plain"), stale)
+        assert screen.logs is shown

@@ -8,26 +8,24 @@ Errors a user can cause print one line on stderr and exit with status 2.
 from __future__ import annotations
 
 import sys
+from importlib import import_module
 
-from . import (
-    bag_info_command,
-    compare_command,
-    design_command,
-    explorer_command,
-    fit_command,
-    matrix_command,
-    simulate_command,
-    sweep_command,
-    torque_command,
-)
 from .arguments import OneLineParser, UserError, add_model_argument, add_settings_arguments
 from .floating_point import strict_arithmetic
 from .log_fit import add_log_arguments
 from .version import VersionAction
 
-SUBCOMMANDS = (fit_command, compare_command, torque_command, sweep_command, matrix_command, simulate_command,
-               design_command, bag_info_command)
-"""Modules that define the subcommands, in help order."""
+SUBCOMMANDS = {"fit": "fit_command", "compare": "compare_command", "torque": "torque_command",
+               "sweep": "sweep_command", "matrix": "matrix_command", "simulate": "simulate_command",
+               "design": "design_command", "bag-info": "bag_info_command"}
+"""Each subcommand's name and the module that defines it (its NAME), in help order. A run imports only
+the module of the subcommand it names (all of them to list them in `jointid --help`): the others cost
+about 8 ms of every start."""
+
+
+def subcommand(name: str):
+    """The module that defines subcommand `name` (a key of SUBCOMMANDS), imported on first use."""
+    return import_module(f".{SUBCOMMANDS[name]}", __name__)
 
 
 def build_parser(command: str | None = None) -> OneLineParser:
@@ -52,9 +50,9 @@ def build_parser(command: str | None = None) -> OneLineParser:
     # so spares argparse formatting it, which measures the terminal (shutil: about 3 ms of every start).
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=OneLineParser,
                                        prog=parser.prog)
-    for module in SUBCOMMANDS:
-        if command is None or module.NAME == command:
-            module.add_parser(subparsers)
+    for name in SUBCOMMANDS:
+        if command is None or name == command:
+            subcommand(name).add_parser(subparsers)
     return parser
 
 
@@ -64,14 +62,15 @@ def main(argv: list[str] | None = None) -> int:
     # A subcommand named first is the only one argparse can reach: the others' parsers (most of the
     # parser's 3 ms of a start) need not be built. Anywhere else, a name could be an option's value.
     first = argv[0] if argv else None
-    parser = build_parser(first if any(module.NAME == first for module in SUBCOMMANDS) else None)
+    parser = build_parser(first if first in SUBCOMMANDS else None)
     try:
         args = parser.parse_args(argv)
-        module = next((m for m in SUBCOMMANDS if m.NAME == args.command), None)
-        if module is None:
-            return explorer_command.run(args)  # guards its own loading; the app itself must not raise
+        if args.command is None:
+            from .explorer_command import run as run_explorer
+
+            return run_explorer(args)  # guards its own loading; the app itself must not raise
         with strict_arithmetic():
-            return module.run(args)
+            return subcommand(args.command).run(args)
     except UserError as error:
         print(f"jointid: {error}", file=sys.stderr)
         return 2

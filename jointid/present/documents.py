@@ -186,6 +186,7 @@ def log_fit_document(result: FitResult, training, heldout=None, low_pass=None, s
     return fit_document(
         result,
         source={"training": training.path, "heldout": None if heldout is None else heldout.path},
+        logs={"training": training.origin, "heldout": None if heldout is None else heldout.origin},
         derivatives=None if training.derivatives is None else training.derivatives.to_dict(),
         heldout_derivatives=None if heldout is None or heldout.derivatives is None else heldout.derivatives.to_dict(),
         timing=None if training.timing is None else training.timing.to_dict(),

@@ -15,6 +15,11 @@ def sensitivity_summary(check) -> str:
     settings = {"window": f"window {base.window} samples", "cutoff": f"cutoff {base.cutoff:.3g} Hz"
                 if base.cutoff is not None else ""}
     varied = " and ".join(settings[name] for name in tried)
+    if check.exact:
+        moves = ", ".join(f"{name} {move:.1g}" for name, move in zip(check.names, check.relative_moves))
+        return (f"Sensitivity check ({varied}, each halved and doubled): the torques are fitted exactly "
+                f"(noise-free data), so the standard errors are rounding and no move is judged by them; "
+                f"largest relative moves {moves}.")
     moves = ", ".join(f"{name} {f'{check.worst(j)[1]:.2f}'}" for j, name in enumerate(check.names))
     return f"Sensitivity check ({varied}, each halved and doubled): largest moves {moves} standard errors."
 

@@ -361,11 +361,28 @@ class MainScreen(Screen):
         if self.logs is None or field not in ("model", "constrained"):
             self.set_settings(settings)
             return
+        self.settings = settings
+        self.refit_worker(self.logs, settings)
+
+    @work(thread=True, exclusive=True, group="log-refit")
+    def refit_worker(self, logs: LoadedLogs, settings: Settings) -> None:
+        """Refit the shown log with the settings' model and constraint off the main thread (a large log's fit
+        and its sensitivity refits take seconds); the result is shown if nothing changed meanwhile."""
         from jointid.logfit import fit_logs
 
-        self.settings = settings
-        self.set_logs(fit_logs(self.logs.training, self.logs.heldout, settings.joint_model, settings.constrained,
-                               self.logs.filtering))
+        try:
+            refitted = fit_logs(logs.training, logs.heldout, settings.joint_model, settings.constrained,
+                                logs.filtering)
+        except ValueError as error:  # LogError: numbers beyond double precision
+            self.app.call_from_thread(self.notify, str(error).splitlines()[0], title="Log not refitted",
+                                      severity="error")
+            return
+        self.app.call_from_thread(self.finish_refit, logs, settings, refitted)
+
+    def finish_refit(self, logs: LoadedLogs, settings: Settings, refitted: LoadedLogs) -> None:
+        """Show a refit unless another log, model or constraint was chosen while it ran."""
+        if self.logs is logs and self.settings == settings:
+            self.set_logs(refitted)
 
     def choose_motion(self, button_id: str) -> None:
         """The motion list's choice (choosing the log's own entry changes nothing)."""
