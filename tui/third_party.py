@@ -226,14 +226,26 @@ def figure_strips(widget: PlotextPlot, width: int, height: int) -> list[Strip]:
     strips = []
     for row in reversed(matrix.Rows):  # plotext's row 0 is the bottom line
         markers = matrix.marker[row]
-        colours = list(zip(matrix.fullground[row], matrix.style[row], matrix.background[row]))
-        segments, start = [], 0
-        for col in range(1, len(markers) + 1):
-            if col == len(markers) or colours[col] != colours[start]:
-                segments.append(Segment("".join(markers[start:col]), cell_style(*colours[start])))
-                start = col
-        strips.append(Strip(segments, width))
+        key = (width, tuple(markers), tuple(matrix.fullground[row]), tuple(matrix.style[row]),
+               tuple(matrix.background[row]))
+        strip = _row_strips.get(key)
+        if strip is None:  # a row no recent figure had (the axes, ticks and labels' rows mostly repeat)
+            colours = list(zip(*key[2:]))
+            segments, start = [], 0
+            for col in range(1, len(markers) + 1):
+                if col == len(markers) or colours[col] != colours[start]:
+                    segments.append(Segment("".join(markers[start:col]), cell_style(*colours[start])))
+                    start = col
+            strip = _row_strips[key] = Strip(segments, width)
+            if len(_row_strips) > ROW_CACHE_SIZE:
+                del _row_strips[next(iter(_row_strips))]  # the oldest
+        strips.append(strip)
     return strips
+
+
+ROW_CACHE_SIZE = 2048
+"""Chart rows kept as strips (about 70 figures of 28 rows: stepping back and forth repeats recent ones)."""
+_row_strips: dict[tuple, Strip] = {}
 
 
 # Textual --------------------------------------------------------------------------------------

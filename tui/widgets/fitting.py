@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 from textual.content import Content
-from textual.widget import Widget
+
+from .rows import RowStrips
 
 
-class FittingLine(Widget):
+class FittingLine(RowStrips):
     """One line of text with shorter variants for narrow terminals.
 
     The longest variant that fits the current width is shown; when none fits,
@@ -45,7 +46,10 @@ class FittingLine(Widget):
         self._heights = {}
         # A relayout of the whole screen costs more than the rest of a key press; only ask
         # for one when this widget's height really changed.
-        self.refresh(layout=not width or self.height_at(width) != old_height)
+        if not width or self.height_at(width) != old_height:
+            self.refresh(layout=True)
+        else:
+            self.refresh_rows()
 
     def line_count(self, width: int) -> int:
         """Lines the shown variant takes at a given width."""
@@ -78,6 +82,10 @@ class FittingLine(Widget):
     def shown(self) -> Content:
         """The variant shown at the current width."""
         return self.pick(self.content_region.width or self.size.width)
+
+    def text_lines(self, width: int) -> list[Content]:
+        """The variant shown at a width, as one line (RowStrips wraps it when it does not fit)."""
+        return [self.pick(width)]
 
     def render(self) -> Content:
         """The chosen variant."""

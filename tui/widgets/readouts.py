@@ -5,10 +5,11 @@ from __future__ import annotations
 from functools import lru_cache
 
 from textual.content import Content
-from textual.widget import Widget
 
 from jointid.present.readouts import Precision, PrecisionNote, Readout
 from jointid.uncertainty import NOT_DETERMINED, WEAK, WELL_DETERMINED
+
+from .rows import RowStrips
 
 LABEL_WIDTH = 27
 """Columns reserved for a readout label ("Fitted damping (N m s/rad)" and a space); longer
@@ -103,7 +104,7 @@ def compact_parameter_lines(item: Readout, note: PrecisionNote, width: int) -> l
     return lines
 
 
-class ReadoutPanel(Widget):
+class ReadoutPanel(RowStrips):
     """Eight labelled readouts; a sign failure is shown unclipped in the error colour.
 
     When the panel is too narrow to name the failed requirement on the value's
@@ -161,7 +162,10 @@ class ReadoutPanel(Widget):
         self.items, self.precision = items, precision
         # A relayout of the whole screen costs more than the rest of a key press; the rows
         # are reserved so that one is needed only when the panel really grows or shrinks.
-        self.refresh(layout=not width or self.rows(width) != old_height)
+        if not width or self.rows(width) != old_height:
+            self.refresh(layout=True)
+        else:
+            self.refresh_rows()  # the rank, RMS and closing rows mostly stay: not repainted
 
     def reserved_rows(self) -> int:
         """Rows every fit fills at most in the current mode, so key presses keep the panel's height.
@@ -229,6 +233,10 @@ class ReadoutPanel(Widget):
                 lines.append(Content(" " * indent) + note_text)
             lines.extend(note_lines(self.precision, item.key, width))
         return lines + closing_content(self.precision, label_width)
+
+    def text_lines(self, width: int) -> list[Content]:
+        """The readout lines at a width (RowStrips paints them row by row)."""
+        return self.lines(width)
 
     def render(self) -> Content:
         """All readout lines for the current width."""

@@ -6,6 +6,7 @@ from collections import OrderedDict
 from typing import Callable, Hashable
 
 from rich.segment import Segment
+from textual.geometry import Region
 from textual.strip import Strip
 from textual_plotext import PlotextPlot
 
@@ -41,10 +42,23 @@ class TorquePlot(PlotextPlot):
         """Show the figure that `draw(plt)` sets up; `key` is equal for equal figures.
 
         The figure is built lazily at the next paint, and reused from the cache
-        when the same key, size and theme were drawn before.
+        when the same key, size and theme were drawn before. Once the plot has a
+        size, the figure is built here and only the rows that differ from the
+        ones on screen are repainted (the x axis, its ticks and label often stay).
         """
+        shown, shown_key = self._strips, self._strips_key
         self._figure_key, self._draw_figure = key, draw
-        self.refresh()
+        width, height = self.size
+        if shown_key is None or shown_key[:3] != (width, height, self.app.theme):
+            self.refresh()
+            return
+        strips = self._build_strips()
+        if len(strips) != len(shown):
+            self.refresh()
+            return
+        changed = [Region(0, y, width, 1) for y, (before, after) in enumerate(zip(shown, strips)) if before != after]
+        if changed:
+            self.refresh(*changed)
 
     def _build_strips(self) -> list[Strip]:
         width, height = self.size
