@@ -50,6 +50,18 @@ def line_strip(widget: Widget, line: Content, y: int, width: int) -> Strip:
     return strip
 
 
+def refresh_changed_rows(widget: Widget, shown: list[Strip], new: list[Strip]) -> None:
+    """Repaint the rows of `widget` whose strips differ between `shown` (on screen) and `new`; all of them when
+    the row count changed."""
+    if len(shown) != len(new):
+        widget.refresh()
+        return
+    width = widget.size.width
+    changed = [Region(0, y, width, 1) for y, (before, after) in enumerate(zip(shown, new)) if before != after]
+    if changed:
+        widget.refresh(*changed)
+
+
 class RowStrips(Widget):
     """A widget whose `render()` is Content, painted row by row from `row_strips()`.
 
@@ -99,10 +111,4 @@ class RowStrips(Widget):
             self.refresh()
             return
         old = self._rows
-        new = self.row_strips()
-        if len(old) != len(new):
-            self.refresh()
-            return
-        changed = [Region(0, y, width, 1) for y, (before, after) in enumerate(zip(old, new)) if before != after]
-        if changed:
-            self.refresh(*changed)
+        refresh_changed_rows(self, old, self.row_strips())

@@ -6,12 +6,12 @@ from collections import OrderedDict
 from typing import Callable, Hashable
 
 from rich.segment import Segment
-from textual.geometry import Region
 from textual.strip import Strip
 from textual_plotext import PlotextPlot
 
 from .. import third_party
 from .plot_guard import TOO_SMALL, failure_text, too_small
+from .rows import refresh_changed_rows
 
 
 class TorquePlot(PlotextPlot):
@@ -52,13 +52,7 @@ class TorquePlot(PlotextPlot):
         if shown_key is None or shown_key[:3] != (width, height, self.app.theme):
             self.refresh()
             return
-        strips = self._build_strips()
-        if len(strips) != len(shown):
-            self.refresh()
-            return
-        changed = [Region(0, y, width, 1) for y, (before, after) in enumerate(zip(shown, strips)) if before != after]
-        if changed:
-            self.refresh(*changed)
+        refresh_changed_rows(self, shown, self._build_strips())
 
     def _build_strips(self) -> list[Strip]:
         width, height = self.size
