@@ -69,6 +69,7 @@ from .derivatives import (
     choose_window,
     differentiate,
 )
+from .norms import all_finite
 from .timing import TimeCheck, TimeProblem, check_times
 
 COLUMNS = ("t", "q", "qd", "qdd", "tau")
@@ -443,7 +444,7 @@ class _ChunkReader:
         finally:
             screen.join()
             self.handle.seek(start)
-        if not screen.passed or not agrees or not all(np.isfinite(column).all() for column in columns):
+        if not screen.passed or not agrees or not all(all_finite(column) for column in columns):
             return None  # the chunked reading names the row and column of a value that is not finite
         return columns, start
 
@@ -784,7 +785,7 @@ def check_finite(table: LogTable) -> None:
     """Raise LogError at the first NaN or infinite value (earliest row, then leftmost column)."""
     first = None
     for name, values in table.columns.items():
-        if not np.isfinite(values).all():
+        if not all_finite(values):
             index = int(np.flatnonzero(~np.isfinite(values))[0])
             if first is None or index < first[0] or (index == first[0] and table.positions[name] < table.positions[first[1]]):
                 first = (index, name)

@@ -12,7 +12,7 @@ from hypothesis import given, settings as hypothesis_settings, strategies as st
 from jointid.dataset import JointData
 from jointid.derivatives import MAX_ORDER, MAX_WINDOW, FilterSettingError, check_filter
 from jointid.fit import fit_joint
-from jointid.norms import column_norms, power_of_two_scale, rms, row_norms, row_rms
+from jointid.norms import all_finite, column_norms, power_of_two_scale, rms, row_norms, row_rms
 from jointid.number_text import parse_float, parse_int
 from jointid.present.documents import NonFiniteValue, json_text
 from jointid.present.text import format_number
@@ -147,3 +147,20 @@ def test_the_filter_is_bounded():
         check_filter(MAX_WINDOW + 2, 4)
     with pytest.raises(FilterSettingError, match=f"at most {MAX_ORDER}"):
         check_filter(201, MAX_ORDER + 1)
+
+
+@pytest.mark.parametrize("special", [np.nan, np.inf, -np.inf, 1e300, -1e300, 1.5e154, 5e-324, 0.0])
+@pytest.mark.parametrize("where", [0, 500, 999])
+def test_all_finite_is_the_elementwise_test_even_where_the_squares_overflow(special, where):
+    values = np.linspace(-1.0, 1.0, 1000)
+    values[where] = special
+    expected = bool(np.isfinite(values).all())
+    assert all_finite(values) is expected
+    assert all_finite(values[::3]) is bool(np.isfinite(values[::3]).all())
+    with np.errstate(over="ignore"):
+        huge = values * 1e200  # every square overflows: the dot product is inf even without a special value
+    assert all_finite(huge) is bool(np.isfinite(huge).all())
+
+
+def test_all_finite_of_an_empty_column_is_true():
+    assert all_finite(np.empty(0)) is True

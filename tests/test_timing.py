@@ -5,7 +5,9 @@ import pytest
 
 from jointid.cli import main
 from jointid.csvlog import LogError, load_log
-from jointid.timing import GAP_FACTOR, UNIFORM_TOLERANCE, TimeProblem, check_times
+from hypothesis import given, settings as hypothesis_settings, strategies as st
+
+from jointid.timing import GAP_FACTOR, UNIFORM_TOLERANCE, TimeProblem, check_times, median_in_place
 
 
 def write(tmp_path, columns: dict, name="log.csv"):
@@ -162,3 +164,24 @@ def test_simulate_jitter_writes_the_true_instants_off_their_ticks(tmp_path, caps
     exact = 0.7 * np.sin(1.3 * t) + 0.25 * np.sin(2.7 * t)  # the angle at the written instant, not the tick
     assert np.max(np.abs(q - exact)) <= np.pi / 4096 + 1e-12
     assert "sampling instants jittered by up to 0.2 steps" in path.read_text().splitlines()[0]
+
+
+@hypothesis_settings(max_examples=300, deadline=None)
+@given(st.lists(st.floats(-1e300, 1e300) | st.sampled_from([0.001, 0.001 + 2**-60, 0.0]), min_size=1, max_size=60))
+def test_the_median_in_place_is_numpys_median(values):
+    values = np.array(values)
+    expected = np.median(values)
+    assert median_in_place(values.copy()) == expected
+
+
+def test_the_time_checks_report_numpys_medians_of_the_steps_and_their_deviations():
+    rng = np.random.default_rng(7)
+    for count in (1000, 1001):  # even and odd numbers of steps
+        t = np.cumsum(0.01 * (1 + 0.004 * rng.standard_normal(count + 1)))
+        steps = np.diff(t)
+        step = np.median(steps)
+        deviation = np.abs(steps - step) / step
+        _, check = check_times(t, {"t": t, "q": np.zeros(count + 1)}, uniform=False)
+        assert check.step == step
+        assert check.median_jitter == np.median(deviation)
+        assert check.max_jitter == deviation.max()
