@@ -8,6 +8,7 @@ from jointid.csvlog import LogError, load_log
 from hypothesis import given, settings as hypothesis_settings, strategies as st
 
 from jointid.timing import GAP_FACTOR, UNIFORM_TOLERANCE, TimeProblem, check_times, median_in_place
+from jointid.timing import SAMPLED_MEDIAN_MIN
 
 
 def write(tmp_path, columns: dict, name="log.csv"):
@@ -172,6 +173,33 @@ def test_the_median_in_place_is_numpys_median(values):
     values = np.array(values)
     expected = np.median(values)
     assert median_in_place(values.copy()) == expected
+
+
+def long_array(kind: str, count: int, seed: int) -> np.ndarray:
+    """A long array of a shape that a median's sample might misjudge."""
+    rng = np.random.default_rng(seed)
+    stride = count // 4096  # the sample's spacing in median_in_place
+    if kind == "steps":  # a 1 kHz clock's steps: a few distinct values
+        return np.diff(np.arange(count + 1) * 1e-3)
+    if kind == "ties":
+        return rng.integers(0, 3, count).astype(float)
+    if kind == "sorted":
+        return np.sort(rng.standard_normal(count))
+    if kind == "reversed":
+        return np.sort(rng.standard_normal(count))[::-1].copy()
+    if kind == "sample misses the middle":  # every sampled position holds a value far below the rest
+        values = rng.uniform(1.0, 2.0, count)
+        values[::stride] = -1e300
+        return values
+    return rng.standard_normal(count) * 10.0 ** rng.integers(-300, 300)
+
+
+@hypothesis_settings(max_examples=60, deadline=None)
+@given(st.sampled_from(["steps", "ties", "sorted", "reversed", "sample misses the middle", "normal"]),
+       st.integers(SAMPLED_MEDIAN_MIN - 1, 3 * SAMPLED_MEDIAN_MIN), st.integers(0, 2**32 - 1))
+def test_the_median_of_a_long_array_is_numpys_median(kind, count, seed):
+    values = long_array(kind, count, seed)
+    assert median_in_place(values.copy()) == np.median(values)
 
 
 def test_the_time_checks_report_numpys_medians_of_the_steps_and_their_deviations():
