@@ -166,8 +166,13 @@ def solve_least_squares(
     if X.ndim != 2 or y.ndim not in (1, 2) or y.shape[0] != X.shape[0]:
         raise ValueError(f"X must be (N, p) and y (N,) or (N, K); got {X.shape} and {y.shape}")
     for name, values in (("the regressor X", X), ("the observations y", y)):
-        # min and max propagate NaN and reach any infinity, without an (N, p) temporary.
-        if values.size and not (math.isfinite(values.min()) and math.isfinite(values.max())):
+        # One pass: a finite sum has no NaN or infinity in it (both propagate). Only a sum that overflows
+        # needs the second look, min and max, which reach any infinity without an (N, p) temporary.
+        with np.errstate(over="ignore", invalid="ignore"):  # the command line's strict arithmetic would raise
+            total = values.sum()
+        if values.size and not math.isfinite(total) and not (
+            math.isfinite(values.min()) and math.isfinite(values.max())
+        ):
             raise NonFiniteError(f"{name} holds values that are not finite numbers")
     rows, columns = X.shape
     if block_rows is None:

@@ -81,6 +81,29 @@ def test_the_solver_refuses_values_that_are_not_finite(where, bad):
         solve_least_squares(X, y)
 
 
+def test_the_solver_takes_finite_columns_whose_sum_overflows():
+    """The finite check's one-pass sum overflows here; every value is finite, so the solve goes on, and scaling
+    a column by 2^1020 scales its estimate by 2^-1020 bit for bit."""
+    X, y = problem()
+    X[:, 0] = np.abs(X[:, 0]) + 1.0  # one sign: the sum of 30 values near 2^1021 exceeds double precision
+    base = solve_least_squares(X, y)
+    huge = X.copy()
+    huge[:, 0] = np.ldexp(X[:, 0], 1020)
+    with np.errstate(over="ignore"):
+        assert np.isinf(huge.sum()) and np.isfinite(huge).all()
+    with np.errstate(over="raise", invalid="raise", divide="raise"):  # as on the command line
+        scaled = solve_least_squares(huge, y)
+    assert scaled.rank == 3
+    np.testing.assert_array_equal(scaled.estimate, base.estimate * [2.0 ** -1020, 1.0, 1.0])
+
+
+def test_the_solver_refuses_opposite_infinities_whose_sum_is_nan():
+    X, y = problem()
+    X[3, 0], X[7, 2] = np.inf, -np.inf
+    with np.errstate(over="raise", invalid="raise", divide="raise"), pytest.raises(NonFiniteError, match="not finite"):
+        solve_least_squares(X, y)
+
+
 def test_the_solver_refuses_an_estimate_that_overflows():
     X, y = problem()
     X[:, 0] *= 1e-300
