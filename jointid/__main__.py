@@ -1,5 +1,5 @@
 """Run the command line as `python -m jointid`."""
 
-from .cli import main
+from .cli import console_script
 
-raise SystemExit(main())
+console_script()

@@ -13,6 +13,7 @@ from importlib import import_module
 from .arguments import OneLineParser, UserError, add_model_argument, add_settings_arguments
 from .floating_point import strict_arithmetic
 from .log_fit import add_log_arguments
+from .output import OUTPUT_FAILED, end_process, output_error_line
 from .version import VersionAction
 
 SUBCOMMANDS = {"fit": "fit_command", "compare": "compare_command", "torque": "torque_command",
@@ -56,8 +57,17 @@ def build_parser(command: str | None = None) -> OneLineParser:
     return parser
 
 
-def main(argv: list[str] | None = None) -> int:
-    """Parse arguments, run the chosen subcommand, and return the exit status."""
+def console_script() -> None:
+    """The `jointid` console script and `python -m jointid`: main(), which ends the process itself after a
+    subcommand (see end_process); the explorer returns, and Python's own exit closes what it opened."""
+    sys.exit(main(end_after_subcommand=True))
+
+
+def main(argv: list[str] | None = None, *, end_after_subcommand: bool = False) -> int:
+    """Parse arguments, run the chosen subcommand, and return the exit status.
+
+    With `end_after_subcommand`, a subcommand that finishes ends the process (end_process) instead of returning.
+    """
     argv = sys.argv[1:] if argv is None else argv
     # A subcommand named first is the only one argparse can reach: the others' parsers (most of the
     # parser's 3 ms of a start) need not be built. Anywhere else, a name could be an option's value.
@@ -70,12 +80,20 @@ def main(argv: list[str] | None = None) -> int:
 
             return run_explorer(args)  # guards its own loading; the app itself must not raise
         with strict_arithmetic():
-            return subcommand(args.command).run(args)
+            status = subcommand(args.command).run(args)
     except UserError as error:
         print(f"jointid: {error}", file=sys.stderr)
         return 2
     except BrokenPipeError:  # e.g. `jointid fit | head -1`
         sys.stderr.close()
         return 0
+    except OSError as error:
+        if error.filename is not None:  # a file's errors are LogErrors or UserErrors with the file named
+            raise
+        print(output_error_line(error), file=sys.stderr)  # e.g. printing onto a full disk
+        return OUTPUT_FAILED
     except KeyboardInterrupt:
         return 130
+    if end_after_subcommand:
+        end_process(status)
+    return status
