@@ -4,8 +4,9 @@ min ||y - X theta|| for X of shape (N, p) is solved in two stages.
 
 Reduction. Above `DIRECT_ROWS` rows, [X | y] is cut into blocks of rows
 (`block_rows_for`) and read a group of blocks at a time (a TSQR): one call of
-numpy.linalg.qr, LAPACK's Householder QR batched over the group, triangularises
-each block, and a second call factors those triangles, stacked under the
+LAPACK's Householder QR batched over the group (numpy's gufunc behind
+numpy.linalg.qr, see `_factor_in_place`) triangularises each block, and a
+second call factors those triangles, stacked under the
 triangle of all earlier rows, into the triangle of all rows so far. Of that
 (p + 1, p + 1) triangle the first p columns are R and the last holds Q^T y and,
 below it, the residual norm of the rows so far, which LAPACK accumulates
@@ -55,6 +56,11 @@ from functools import cached_property
 import numpy as np
 
 from .norms import column_norms, row_norms
+
+try:  # the gufunc numpy.linalg.qr(mode="raw") calls on a copy of its argument
+    from numpy.linalg._umath_linalg import qr_r_raw as _lapack_qr_in_place
+except ImportError:  # another numpy's layout: numpy.linalg.qr itself, and its copy
+    _lapack_qr_in_place = None
 
 RANK_TOLERANCE = 1e-10
 """A remaining scaled column norm at or below this is numerically dependent."""
@@ -271,19 +277,20 @@ def _reduce_by_blocks(X: np.ndarray, y: np.ndarray, block_rows: int) -> tuple[np
         middle = start + full * block_rows
         rest = slice(middle, min(start + group * block_rows, rows))
         blocks = buffer[:full]
-        blocks[:, :, :columns] = X[start:middle].reshape(full, block_rows, columns)
         for k in range(len(triangles)):
             # Each right-hand side in its own factorisations, of the same shapes as a lone
-            # y's, so that its numbers never depend on the other columns of y.
+            # y's, so that its numbers never depend on the other columns of y (X's part is
+            # copied again for each: the factorisation overwrites it).
+            blocks[:, :, :columns] = X[start:middle].reshape(full, block_rows, columns)
             blocks[:, :, columns] = Y[start:middle, k].reshape(full, block_rows)
             pieces = [triangles[k]]
             if full:
-                pieces.append(_triangles(np.linalg.qr(blocks, mode="raw")[0], upper).reshape(-1, width))
+                pieces.append(_triangles(_factor_in_place(blocks), upper).reshape(-1, width))
             if rest.start < rest.stop:
                 pieces.append(np.column_stack([X[rest], Y[rest, k]]))
             # The triangles of the group's blocks, stacked under the one so far (and the
             # rows too few to make a block), factored into the triangle of all rows so far.
-            triangles[k] = _triangles(np.linalg.qr(np.concatenate(pieces), mode="raw")[0], upper)
+            triangles[k] = _triangles(_factor_in_place(np.concatenate(pieces)), upper)
     kept = min(rows, columns)
     last = np.empty((count, len(triangles[0])))
     for k in range(count):
@@ -292,12 +299,25 @@ def _reduce_by_blocks(X: np.ndarray, y: np.ndarray, block_rows: int) -> tuple[np
     return triangles[0][:kept, :columns], np.array(last[:, :kept], order="C"), residual
 
 
-def _triangles(factors: np.ndarray, upper: np.ndarray) -> np.ndarray:
-    """The upper triangles (..., min(m, p + 1), p + 1) from numpy.linalg.qr's raw factors (..., p + 1, m)."""
-    # Row j of a raw factor is column j of LAPACK's result: the triangle's entries down to
-    # the diagonal, then the reflector's, which are set to zero here.
-    kept = min(factors.shape[-1], factors.shape[-2])
-    return np.where(upper[:kept], np.swapaxes(factors[..., :kept], -1, -2), 0.0)
+def _factor_in_place(matrices: np.ndarray) -> np.ndarray:
+    """`matrices` (..., m, p + 1), each overwritten by LAPACK's Householder QR (dgeqrf) of it: R on and above
+    the diagonal, the reflectors below.
+
+    numpy.linalg.qr(mode="raw") computes the same on a copy and hands back its transpose; the matrices here
+    are the reduction's own scratch, so where numpy's gufunc can be imported they are factored where they
+    lie (one copy of every group fewer), with the same bits.
+    """
+    if _lapack_qr_in_place is None:
+        matrices[...] = np.swapaxes(np.linalg.qr(matrices, mode="raw")[0], -1, -2)
+    else:
+        _lapack_qr_in_place(matrices, signature="d->d")
+    return matrices
+
+
+def _triangles(factored: np.ndarray, upper: np.ndarray) -> np.ndarray:
+    """The upper triangles (..., min(m, p + 1), p + 1) of matrices (..., m, p + 1) factored in place."""
+    kept = min(factored.shape[-2], factored.shape[-1])
+    return np.where(upper[:kept], factored[..., :kept, :], 0.0)  # the reflectors below the diagonal become 0
 
 
 def _pivoted_householder(work: np.ndarray, targets: np.ndarray, tolerance: float) -> tuple[int, np.ndarray]:

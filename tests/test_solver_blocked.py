@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
+from jointid import solver
 from jointid.experiment import run_experiment
 from jointid.settings import Settings
 from jointid.solver import (
@@ -184,6 +185,28 @@ def test_blocked_many_right_hand_sides_equal_single_solves_bit_for_bit(
         np.testing.assert_array_equal(many.qty[:, k], one.qty)
         np.testing.assert_array_equal(many.basic_estimate[:, k], one.basic_estimate)
         assert many.residual_norm[k] == one.residual_norm
+
+
+@pytest.mark.skipif(solver._lapack_qr_in_place is None, reason="this numpy has no importable qr gufunc")
+@settings(max_examples=60, deadline=None)
+@given(seed=seeds, columns=st.integers(1, 6), extra_rows=st.integers(1, 60), column_exponents=exponents,
+       count=st.integers(0, 3), deficient=st.booleans(), data=st.data())
+def test_factoring_in_place_gives_numpy_qrs_bits(seed, columns, extra_rows, column_exponents, count, deficient,
+                                                  data):
+    """The reduction factors its blocks with numpy's gufunc where they lie; through numpy.linalg.qr (the
+    fallback for a numpy without that gufunc) every number is the same."""
+    X, _ = random_problem(seed, columns + extra_rows, columns, column_exponents)
+    block_rows = draw_block_rows(data, len(X))
+    if deficient:
+        X[:, 0] = 0.0
+    Y = np.random.default_rng(seed).normal(size=(len(X), count)) if count else X[:, 0] + 1.0
+    in_place = solve_least_squares(X, Y, block_rows=block_rows)
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(solver, "_lapack_qr_in_place", None)
+        through_numpy = solve_least_squares(X, Y, block_rows=block_rows)
+    assert in_place.rank == through_numpy.rank
+    for name in ("r_factor", "qty", "residual_norm", "scales", "permutation"):
+        np.testing.assert_array_equal(getattr(in_place, name), getattr(through_numpy, name))
 
 
 def test_zero_columns_on_the_blocked_path():
