@@ -177,6 +177,9 @@ def check_times(t: np.ndarray, columns: dict, *, uniform: bool) -> tuple[dict, T
 SAMPLED_MEDIAN_MIN = 16384
 """Arrays at least this long have their median found from a sample first (see median_in_place)."""
 
+MEDIAN_SAMPLE = 4096
+"""About this many evenly spaced values make that sample."""
+
 
 def median_in_place(values: np.ndarray) -> float:
     """np.median of a 1-D float array without NaN; the array may be reordered.
@@ -206,7 +209,7 @@ def _bracketed_middle(values: np.ndarray, lower_rank: int, upper_rank: int) -> t
     """(the values of 0-based sorted ranks `lower_rank` and `upper_rank`), found between two sample values, or
     None when the sample's bracket does not hold both ranks."""
     count = len(values)
-    sample = np.sort(values[:: count // 4096])
+    sample = np.sort(values[:: count // MEDIAN_SAMPLE])
     # Six standard deviations of a sample quantile's rank either side: a random order misses once in 10^9.
     centre = len(sample) * upper_rank // count
     margin = 3 * int(np.sqrt(len(sample)))

@@ -7,8 +7,15 @@ from jointid.cli import main
 from jointid.csvlog import LogError, load_log
 from hypothesis import given, settings as hypothesis_settings, strategies as st
 
-from jointid.timing import GAP_FACTOR, UNIFORM_TOLERANCE, TimeProblem, check_times, median_in_place
-from jointid.timing import SAMPLED_MEDIAN_MIN
+from jointid.timing import (
+    GAP_FACTOR,
+    MEDIAN_SAMPLE,
+    SAMPLED_MEDIAN_MIN,
+    UNIFORM_TOLERANCE,
+    TimeProblem,
+    check_times,
+    median_in_place,
+)
 
 
 def write(tmp_path, columns: dict, name="log.csv"):
@@ -178,7 +185,7 @@ def test_the_median_in_place_is_numpys_median(values):
 def long_array(kind: str, count: int, seed: int) -> np.ndarray:
     """A long array of a shape that a median's sample might misjudge."""
     rng = np.random.default_rng(seed)
-    stride = count // 4096  # the sample's spacing in median_in_place
+    stride = count // MEDIAN_SAMPLE  # the sample's spacing in median_in_place
     if kind == "steps":  # a 1 kHz clock's steps: a few distinct values
         return np.diff(np.arange(count + 1) * 1e-3)
     if kind == "ties":
