@@ -23,10 +23,10 @@ flushed (this machine sets PYTHONUNBUFFERED, which writes at every print)."""
 UNBUFFERED = {**BUFFERED, "PYTHONUNBUFFERED": "1"}
 
 
-def jointid_process(*args: str, environment=BUFFERED, **options) -> subprocess.CompletedProcess:
-    """`python -m jointid ARGS` as a user's shell runs it (the console script's own path)."""
-    return subprocess.run([sys.executable, "-m", "jointid", *args], capture_output=True, text=True,
-                          env=environment, **options)
+def jointid_process(*args: str, environment=BUFFERED, stdout=subprocess.PIPE) -> subprocess.CompletedProcess:
+    """`python -m jointid ARGS` as a user's shell runs it (the console script's own path), stderr captured."""
+    return subprocess.run([sys.executable, "-m", "jointid", *args], stdout=stdout, stderr=subprocess.PIPE,
+                          text=True, env=environment)
 
 
 @pytest.mark.skipif(not os.path.exists("/dev/full"), reason="needs /dev/full")
@@ -35,8 +35,7 @@ def jointid_process(*args: str, environment=BUFFERED, **options) -> subprocess.C
 def test_output_onto_a_full_disk_is_one_line_and_status_2(args, environment):
     """Buffered, the write fails when the process ends; unbuffered, at the first print."""
     with open("/dev/full", "w") as full:
-        done = subprocess.run([sys.executable, "-m", "jointid", *args], stdout=full, stderr=subprocess.PIPE,
-                              text=True, env=environment)
+        done = jointid_process(*args, environment=environment, stdout=full)
     assert done.returncode == 2
     assert done.stderr == FULL_DISK + "\n"
 
