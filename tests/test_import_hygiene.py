@@ -1,6 +1,10 @@
 """Boundaries: the core never drags in the user interface, and the UI's modules import in one direction."""
 
 import ast
+import json
+import subprocess
+import sys
+import tomllib
 from pathlib import Path
 
 import pytest
@@ -14,6 +18,28 @@ UI_PACKAGES = {"textual", "plotext", "rich", "tui", "textual_plotext"}
 def test_import_jointid_loads_no_ui_packages():
     imports = "jointid, jointid.experiment, jointid.present.documents, jointid.cli, jointid.cli.explorer_command"
     assert packages_loaded(imports, UI_PACKAGES) == []
+
+
+def test_the_installed_command_hands_its_explorer_over_and_loads_no_ui_for_a_subcommand():
+    # pip's `jointid` starts in tui.command, which passes the explorer to the core: no entry-point lookup
+    # (importlib.metadata, about 13 ms of the explorer's start); the core still imports nothing of the UI.
+    scripts = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["scripts"]
+    assert scripts["jointid"] == "tui.command:console_script"
+    assert packages_loaded("tui.command", UI_PACKAGES) == ["tui", "tui.command"]
+    probe = (
+        "import json, sys\n"
+        "import tui.entry\n"
+        "def explore(settings, *rest):\n"
+        "    print(json.dumps([settings.motion, 'importlib.metadata' in sys.modules]))\n"
+        "    return 3\n"
+        "tui.entry.explore = explore\n"
+        "sys.argv = ['jointid', '--motion', 'rich']\n"
+        "from tui.command import console_script\n"
+        "console_script()\n"
+    )
+    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, cwd=ROOT)
+    assert (done.returncode, done.stderr) == (3, "")
+    assert json.loads(done.stdout) == ["rich", False]
 
 
 def test_fit_imports_no_scipy():

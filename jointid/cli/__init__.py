@@ -57,16 +57,19 @@ def build_parser(command: str | None = None) -> OneLineParser:
     return parser
 
 
-def console_script() -> None:
-    """The `jointid` console script and `python -m jointid`: main(), which ends the process itself after a
-    subcommand (see end_process); the explorer returns, and Python's own exit closes what it opened."""
-    sys.exit(main(end_after_subcommand=True))
+def console_script(explorer=None) -> None:
+    """The `jointid` console script (tui/command.py) and `python -m jointid`: main(), which ends the process
+    itself after a subcommand (see end_process); the explorer returns, and Python's own exit closes what it
+    opened. `explorer` is as for main()."""
+    sys.exit(main(end_after_subcommand=True, explorer=explorer))
 
 
-def main(argv: list[str] | None = None, *, end_after_subcommand: bool = False) -> int:
+def main(argv: list[str] | None = None, *, end_after_subcommand: bool = False, explorer=None) -> int:
     """Parse arguments, run the chosen subcommand, and return the exit status.
 
     With `end_after_subcommand`, a subcommand that finishes ends the process (end_process) instead of returning.
+    `explorer` is the terminal explorer's entry function, for no subcommand (see explorer_command); None finds
+    it through its entry point.
     """
     argv = sys.argv[1:] if argv is None else argv
     # A subcommand named first is the only one argparse can reach: the others' parsers (most of the
@@ -78,7 +81,7 @@ def main(argv: list[str] | None = None, *, end_after_subcommand: bool = False) -
         if args.command is None:
             from .explorer_command import run as run_explorer
 
-            return run_explorer(args)  # guards its own loading; the app itself must not raise
+            return run_explorer(args, explorer)  # guards its own loading; the app itself must not raise
         with strict_arithmetic():
             status = subcommand(args.command).run(args)
     except UserError as error:

@@ -5,6 +5,10 @@ under the `jointid.faces` entry-point group (see pyproject.toml); this command
 parses and checks what the core can check, then hands everything to it. The
 entry function checks the explorer's own, narrower ranges and raises
 SettingsError for a value outside them.
+
+The installed `jointid` command starts in the UI (tui/command.py), which hands
+the entry function over itself: the entry-point lookup imports importlib.metadata,
+about 13 ms of an explorer start that `python -m jointid` still spends.
 """
 
 from __future__ import annotations
@@ -29,15 +33,19 @@ def load_explorer():
     return next(iter(found)).load()
 
 
-def run(args) -> int:
-    """Open the explorer at the settings given by the flags, or on the --csv log; its exit status."""
+def run(args, explore=None) -> int:
+    """Open the explorer at the settings given by the flags, or on the --csv log; its exit status.
+
+    `explore` is the explorer's entry function, or None to find it (load_explorer).
+    """
     # A bad log is one line on stderr and status 2 before the app starts, as for `jointid fit --csv/--bag`.
     with strict_arithmetic():
         loaded = fit_loaded_logs(args) if has_log(args) else None
     derivatives = derivative_options(args)  # also for logs opened later with Ctrl+O
     filtering = filter_options(args)
     settings = settings_from(with_default_settings(args) if loaded is None else _defaults(args))
-    explore = load_explorer()
+    if explore is None:
+        explore = load_explorer()
     try:
         return explore(settings, loaded, derivatives, filtering)
     except SettingsError as error:  # outside the explorer's ranges: `jointid fit` takes more
