@@ -52,6 +52,30 @@ def test_the_physics_dialog_changes_the_true_joint_and_the_model_at_once():
     np.testing.assert_allclose([float(i.text) for i in items[1:5]], [0.8, 0.4, 0.15, 0.3], atol=1e-6)
 
 
+def test_escape_closes_the_dialog_from_its_focused_first_field_and_first_discards_typing():
+    async def scenario(pilot, app):
+        main = app.screen
+        seen = []
+        for typed in ((), ("1",)):
+            await pilot.press("p")
+            await pilot.pause()
+            field = app.screen.focused
+            await pilot.press(*typed, "escape")
+            await pilot.pause()
+            seen.append((isinstance(field, Stepper) and field.id == "true_coulomb", field.value,
+                         isinstance(app.screen, PhysicsScreen)))
+            if app.screen is not main:
+                await pilot.press("escape")
+                await pilot.pause()
+            seen.append(app.screen is main)
+        return main.settings, seen
+
+    settings, seen = run(scenario)
+    # Nothing typed: one Escape closes. Typed: the first Escape discards it in the still open dialog.
+    assert seen == [(True, "0.00", False), True, (True, "0.00", True), True]
+    assert settings == DEFAULT_SETTINGS
+
+
 def test_a_refused_physics_value_keeps_the_setting():
     async def scenario(pilot, app):
         main = app.screen

@@ -80,7 +80,8 @@ class Stepper(RepaintOnValue, Input):
     refused with a notification and the previous value is kept. Left/Right on
     typed text step from the typed value, or refuse it as Enter would. After
     Enter, a step or Escape the whole text is selected, so the next digit
-    starts a new value instead of appending to the old one. A new value is
+    starts a new value instead of appending to the old one. With nothing typed,
+    Escape is not the field's: it reaches the screen (a dialog closes). A new value is
     handed to the owner's `on_commit` callback (the explorer's one convention for
     widgets reporting up: see tui/widgets/direct_controls.py for the measured reason);
     the owner, holding the one copy of the state, shows it with `show_value`.
@@ -176,6 +177,13 @@ class Stepper(RepaintOnValue, Input):
         size = self.steps.big_step if big else self.steps.step
         self._commit(self.steps.clamp(start + direction * size))
         self._select_for_typing()
+
+    def check_action(self, action: str, parameters: tuple) -> bool | None:
+        """Escape is this field's only while it holds typing to discard; otherwise it goes on to the screen,
+        so that a dialog whose first field has the focus still closes with one Escape."""
+        if action == "revert":
+            return self.editing
+        return super().check_action(action, parameters)
 
     def action_revert(self) -> None:
         """Throw away typed text and show the committed value again."""
