@@ -22,7 +22,7 @@ def test_import_jointid_loads_no_ui_packages():
 
 def test_the_installed_command_hands_its_explorer_over_and_loads_no_ui_for_a_subcommand():
     # pip's `jointid` starts in tui.command, which passes the explorer to the core: no entry-point lookup
-    # (importlib.metadata, about 13 ms of the explorer's start); the core still imports nothing of the UI.
+    # (importlib.metadata, a few per cent of the explorer's start); the core still imports nothing of the UI.
     scripts = tomllib.loads((ROOT / "pyproject.toml").read_text())["project"]["scripts"]
     assert scripts["jointid"] == "tui.command:console_script"
     assert packages_loaded("tui.command", UI_PACKAGES) == ["tui", "tui.command"]

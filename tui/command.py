@@ -2,8 +2,9 @@
 
 The core never imports the UI; without help it finds the explorer through the
 `jointid.faces` entry point (jointid/cli/explorer_command.py), and that lookup
-imports importlib.metadata: about 13 ms of every explorer start, measured by
-benchmarks/bench_tui_startup.py. pip's `jointid` script starts here instead
+imports importlib.metadata: benchmarks/bench_tui_startup.py prints `python -m
+jointid`, which makes it, 0.05-0.07 of the baseline app's start above this
+command (2026-11-24). pip's `jointid` script starts here instead
 (pyproject.toml) and passes the explorer in. A subcommand imports nothing of
 the UI: the explorer's modules load only when it opens.
 """

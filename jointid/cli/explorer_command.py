@@ -8,7 +8,7 @@ SettingsError for a value outside them.
 
 The installed `jointid` command starts in the UI (tui/command.py), which hands
 the entry function over itself: the entry-point lookup imports importlib.metadata,
-about 13 ms of an explorer start that `python -m jointid` still spends.
+a few per cent of an explorer start that `python -m jointid` still spends.
 """
 
 from __future__ import annotations
