@@ -42,6 +42,13 @@ def test_the_installed_command_hands_its_explorer_over_and_loads_no_ui_for_a_sub
     assert json.loads(done.stdout) == ["rich", False]
 
 
+def test_the_explorer_imports_no_subcommand_module():
+    # With no subcommand named, the explorer's flags are parsed alone (jointid.cli.parse).
+    loaded = packages_loaded("jointid.cli", {"jointid"},
+                             run="jointid.cli.main(['--motion', 'slow'], explorer=lambda *given: 0)")
+    assert [name for name in loaded if name.endswith("_command")] == ["jointid.cli.explorer_command"]
+
+
 def test_fit_imports_no_scipy():
     # The 95 % interval's Student-t quantile is pure Python (jointid.student_t); scipy.special
     # alone took about 300 ms of every `jointid fit`.
