@@ -43,7 +43,11 @@ class FirstFrame(JointIdApp):
 FirstFrame().run(headless=True, size=(120, 40))
 """
 
-COMMAND = """
+
+def command_line(module: str) -> str:
+    """`jointid` with no subcommand, through `module`'s console_script, leaving after the first frame as
+    EXPLORER does (importing tui.app first changes the order of the imports, not their sum)."""
+    return f"""
 import functools, sys
 from tui.app import JointIdApp
 
@@ -56,14 +60,15 @@ def on_ready(self):
 JointIdApp.on_ready = on_ready
 JointIdApp.run = functools.partialmethod(JointIdApp.run, headless=True, size=(120, 40))
 sys.argv = ["jointid"]
-from tui.command import console_script  # what pip's `jointid` script runs
+from {module} import console_script
 console_script()
 """
-"""`jointid` with no subcommand, as the installed script runs it, leaving after the first frame as EXPLORER does
-(importing tui.app first changes the order of the imports, not their sum)."""
 
-MODULE = COMMAND.replace("from tui.command import console_script  # what pip's `jointid` script runs",
-                         "from jointid.cli import console_script  # what `python -m jointid` runs")
+
+COMMAND = command_line("tui.command")
+"""What pip's `jointid` script runs: the UI hands its explorer to the core's command line."""
+
+MODULE = command_line("jointid.cli")
 """`python -m jointid`: the core's own command line, which finds the explorer through its entry point."""
 
 MINIMAL = """

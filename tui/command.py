@@ -2,9 +2,9 @@
 
 The core never imports the UI; without help it finds the explorer through the
 `jointid.faces` entry point (jointid/cli/explorer_command.py), and that lookup
-imports importlib.metadata: benchmarks/bench_tui_startup.py prints `python -m
-jointid`, which makes it, 0.05-0.07 of the baseline app's start above this
-command (2026-11-24). pip's `jointid` script starts here instead
+imports importlib.metadata, which benchmarks/bench_tui_startup.py shows as
+`python -m jointid` starting slower than this command (benchmarks/README.md has
+the figures). pip's `jointid` script starts here instead
 (pyproject.toml) and passes the explorer in. A subcommand imports nothing of
 the UI: the explorer's modules load only when it opens.
 """
