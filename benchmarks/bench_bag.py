@@ -5,8 +5,8 @@ ROS 2 bag (sqlite3 storage, the default of `ros2 bag record`) of sensor_msgs/Joi
 joints, SECONDS long (default 3600: the issue's 3.6 million messages), under /tmp once (reused while its
 name matches; --keep leaves it there), then times, interleaved over ROUNDS rounds:
 
-- ours: `jointid.logsource.load_joint_log` of one joint (the numpy byte reader, the shared time checks
-  and Savitzky-Golay qdd) and `jointid.logfit.fit_logs`, what `jointid fit --bag B --joint J` does;
+- ours: `jointid.logs.request.load_joint_log` of one joint (the numpy byte reader, the shared time checks
+  and Savitzky-Golay qdd) and `jointid.studies.log_fit.fit_logs`, what `jointid fit --bag B --joint J` does;
 - baseline: the plainest loop a user would write with rosbags: AnyReader.messages() on the topic,
   deserialise every message, find the joint's index by name, append its position, velocity and effort
   to three lists. The baseline stops there: it neither checks time, nor differentiates, nor fits, so the
@@ -57,7 +57,7 @@ def write_bag(path: Path, seconds: float) -> float:
         header=types["std_msgs/msg/Header"](stamp=types["builtin_interfaces/msg/Time"](sec=0, nanosec=0),
                                             frame_id=""),
         name=list(JOINTS), position=np.zeros(6), velocity=np.zeros(6), effort=np.zeros(6))
-    from jointid.bag import parse_layout
+    from jointid.logs.bag import parse_layout
 
     raw = bytes(store.serialize_cdr(template, "sensor_msgs/msg/JointState"))
     layout = parse_layout(raw, ros1=False)
@@ -84,8 +84,8 @@ def write_bag(path: Path, seconds: float) -> float:
 
 def ours(path: Path) -> np.ndarray:
     """What `jointid fit --bag PATH --joint elbow` does: load, check, differentiate, fit."""
-    from jointid.logfit import fit_logs
-    from jointid.logsource import LoadRequest, load_joint_log
+    from jointid.studies.log_fit import fit_logs
+    from jointid.logs.request import LoadRequest, load_joint_log
 
     return fit_logs(load_joint_log(LoadRequest(str(path), joint=TARGET))).result.estimate
 

@@ -38,7 +38,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from jointid.choices import TRAINING_MOTION_NAMES  # noqa: E402
+from jointid.options import TRAINING_MOTION_NAMES  # noqa: E402
 from jointid.cli import SUBCOMMANDS  # noqa: E402
 
 ROUNDS = 9

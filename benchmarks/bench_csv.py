@@ -30,9 +30,9 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from jointid.csvlog import load_log  # noqa: E402
-from jointid.fit import fit_joint  # noqa: E402
-from jointid.model import G, TRUE_PARAMETERS  # noqa: E402
+from jointid.logs.csv_reader import load_log  # noqa: E402
+from jointid.estimation.fit import fit_joint  # noqa: E402
+from jointid.model.terms import G, TRUE_PARAMETERS  # noqa: E402
 
 from common import peak_memory, write_log  # noqa: E402  (this folder is first on sys.path)
 

@@ -38,9 +38,9 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from jointid.design import DesignSpec, design_motion  # noqa: E402
-from jointid.settings import Settings  # noqa: E402
-from jointid.sweep import run_sweep  # noqa: E402
+from jointid.studies.design import DesignSpec, design_motion  # noqa: E402
+from jointid.synthetic.settings import Settings  # noqa: E402
+from jointid.studies.sweep import run_sweep  # noqa: E402
 
 SEEDS = 10_000
 SWEEP_SETTINGS = Settings(noise=0.2)

@@ -20,15 +20,15 @@ import time
 
 import numpy as np
 
-from jointid.dataset import JointData
-from jointid.experiment import run_experiment
-from jointid.fit import fit_joint
-from jointid.ladder import compare_models
-from jointid.model import LADDER
-from jointid.motions import TRAINING_MOTIONS, VALIDATION_MOTION
-from jointid.settings import Settings
-from jointid.simulation import simulation_check
-from jointid.truth import TrueJoint
+from jointid.samples import JointData
+from jointid.studies.experiment import run_experiment
+from jointid.estimation.fit import fit_joint
+from jointid.studies.ladder import compare_models
+from jointid.options import LADDER
+from jointid.synthetic.motions import TRAINING_MOTIONS, VALIDATION_MOTION
+from jointid.synthetic.settings import Settings
+from jointid.studies.simulation import simulation_check
+from jointid.model.truth import TrueJoint
 
 JOINT = TrueJoint(coulomb=0.3)
 

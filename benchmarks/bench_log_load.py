@@ -13,7 +13,7 @@ two sides of a pair in alternating order:
    `numpy.linalg.lstsq`. Both include every import (pandas among them).
    Ratios: wall time, and peak resident set (each child's own ru_maxrss, from
    GNU time). Goals: time <= 1.0, memory <= 1.0.
-2. In-process: `jointid.csvlog.load_log(path)` against one
+2. In-process: `jointid.logs.table.load_log(path)` against one
    `pandas.read_csv(path)`, both after a warm-up in this process. Goal <= 1.3.
 
 It prints min / median / max of the per-round ratios and whether each median
@@ -41,10 +41,11 @@ import pandas
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from jointid.csvlog import check_time, joint_log_from_table, load_log, read_table  # noqa: E402
-from jointid.derivatives import motion_bandwidth  # noqa: E402
-from jointid.logfit import fit_logs  # noqa: E402
-from jointid.model import TRUE_PARAMETERS  # noqa: E402
+from jointid.logs.csv_reader import load_log, read_table  # noqa: E402
+from jointid.logs.pipeline import check_time, joint_log_from_table
+from jointid.logs.derivatives import motion_bandwidth  # noqa: E402
+from jointid.studies.log_fit import fit_logs  # noqa: E402
+from jointid.model.terms import TRUE_PARAMETERS  # noqa: E402
 
 from common import write_log  # noqa: E402  (this folder is first on sys.path)
 

@@ -8,7 +8,7 @@ import time
 
 import numpy as np
 
-from jointid.noise import _jump_coefficients, torque_noise
+from jointid.synthetic.noise import _jump_coefficients, torque_noise
 
 
 def sequential_noise(bound: float, count: int, seed: int) -> list[float]:

@@ -16,8 +16,8 @@ per solver. Goals: median ours / lstsq <= 0.5, median ours / X.sum() <= 15,
 memory <= 0.25. Exits 1 if the estimates disagree with lstsq's.
 
 --tune times `solve_least_squares` with each block size (values of X per
-block; see `jointid.solver.block_rows_for`) against
-X.sum(), interleaved, to choose `jointid.solver.BLOCK_VALUES`.
+block; see `jointid.estimation.solver.block_rows_for`) against
+X.sum(), interleaved, to choose `jointid.estimation.solver.BLOCK_VALUES`.
 """
 
 import argparse
@@ -30,7 +30,7 @@ import tracemalloc
 
 import numpy as np
 
-from jointid.solver import BLOCK_VALUES, block_rows_for, solve_least_squares
+from jointid.estimation.solver import BLOCK_VALUES, block_rows_for, solve_least_squares
 
 THETA = np.array([0.8, 0.4, 0.15, 0.05, -0.02, 0.3])
 SCALES = np.array([1.4, 9.81, 0.8, 1.0, 0.6, 2.0])

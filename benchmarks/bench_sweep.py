@@ -12,9 +12,9 @@ import time
 import numpy as np
 from bench_noise import best_of  # the script's own folder is on sys.path
 
-from jointid.experiment import run_experiment
-from jointid.settings import Settings
-from jointid.sweep import run_sweep
+from jointid.studies.experiment import run_experiment
+from jointid.synthetic.settings import Settings
+from jointid.studies.sweep import run_sweep
 
 SEEDS = 10_000
 GOAL_SECONDS = 0.050

@@ -56,7 +56,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from textual import events  # noqa: E402
 
-from jointid.settings import Settings  # noqa: E402
+from jointid.synthetic.settings import Settings  # noqa: E402
 from tui import third_party  # noqa: E402
 from tui.app import JointIdApp  # noqa: E402
 from tui.screens.main import MainScreen, cached_experiment  # noqa: E402
@@ -186,8 +186,8 @@ async def measure(tune_gc: bool = True, model: str = "plain") -> tuple[list[floa
 def reference_workload_ms() -> float:
     """Median time to build one torque chart with plotext, outside the app: how fast this shared
     machine runs code like the explorer's (allocation-heavy Python) just now."""
-    from jointid.experiment import run_experiment
-    from jointid.settings import DEFAULT_SETTINGS
+    from jointid.studies.experiment import run_experiment
+    from jointid.synthetic.settings import DEFAULT_SETTINGS
     from jointid.present.charts import training_chart
     from tui.widgets.charts import draw_torque_chart
 
@@ -292,7 +292,7 @@ def compare_with_stock_chart(rounds: int) -> bool:
 
     Returns whether both goals are met.
     """
-    from jointid.experiment import run_experiment
+    from jointid.studies.experiment import run_experiment
     from jointid.present.charts import training_chart
 
     third_party.after_compositor_refresh(after_refresh)

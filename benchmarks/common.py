@@ -12,8 +12,8 @@ from pathlib import Path
 
 import numpy as np
 
-from jointid.model import predict_torque
-from jointid.motions import TRAINING_MOTIONS
+from jointid.model.terms import predict_torque
+from jointid.synthetic.motions import TRAINING_MOTIONS
 
 
 def write_log(path: Path, rows: int) -> None:

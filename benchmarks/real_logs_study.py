@@ -23,9 +23,10 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
 
 from test_real_logs import TRUE, robot_log  # noqa: E402  (the tests' own generator)
 
-from jointid.csvlog import LogTable, joint_log_from_table  # noqa: E402
-from jointid.derivatives import DEFAULT_ORDER  # noqa: E402
-from jointid.logfit import fit_logs  # noqa: E402
+from jointid.logs.table import LogTable  # noqa: E402
+from jointid.logs.pipeline import joint_log_from_table
+from jointid.options import DEFAULT_ORDER
+from jointid.studies.log_fit import fit_logs  # noqa: E402
 
 
 def main() -> None:
@@ -41,7 +42,7 @@ def main() -> None:
             columns = robot_log(rate, seed=seed)
             table = LogTable(f"robot_{rate}_{seed}.csv", columns, {"t": 1, "q": 2, "tau": 3}, (), ((0, 0),))
             logs = fit_logs(joint_log_from_table(table, order=order))
-            estimate, std_error = logs.result.estimate, logs.result.uncertainty.std_error
+            estimate, std_error = logs.result.estimate, logs.result.uncertainty.residual_std_error
             misses += not np.all(np.abs(estimate - truth) <= np.maximum(0.03 * truth, 3 * std_error))
             flags += logs.sensitivity.flagged
             errors.append((estimate - truth) / std_error)

@@ -1,15 +1,17 @@
 """jointid: identify a rotating joint's dynamic parameters from motion and torque, and judge the fit.
 
 The lesson's model, `plain`, is tau = I*qdd + h*g*cos(q) + B*qd; other models
-add terms (`jointid.model`, e.g. ``Settings(model="bias")``). Typical use::
+add terms (`jointid.model.terms`, e.g. ``Settings(model="bias")``). Typical use::
 
     import jointid
     result = jointid.run_experiment(jointid.Settings(motion="slow", noise=0.2))
-    result.estimate        # array([-1.607788..., 0.400093..., 0.109965...])
+    result.params["I"]     # -1.607788...
+    result.bse["I"]        # 5.425077... (the ± `jointid fit` prints)
     result.heldout_rmse    # 2.261864...
-    print(result.message)
+    print(result.summary())
 
-For your own data, build a `JointData` and call `fit_joint` (with `model=` for another model).
+For a recorded log, `fit_log(path_or_arrays)` does what `jointid fit --csv` does; for samples of your own,
+build a `JointData` and call `fit_joint` (with `model=` for another model). See docs/library.md.
 """
 
 from __future__ import annotations
@@ -17,26 +19,29 @@ from __future__ import annotations
 import importlib
 
 _HOMES = {
-    "JointData": "dataset",
-    "run_experiment": "experiment",
-    "training_data": "experiment",
-    "validation_data": "experiment",
-    "FitResult": "fit",
-    "fit_joint": "fit",
-    "G": "model",
-    "PARAMETER_NAMES": "model",
-    "PLAIN": "model",
-    "TRUE_PARAMETERS": "model",
-    "JointModel": "model",
-    "Term": "model",
-    "model_named": "model",
-    "predict_torque": "model",
-    "regressor": "model",
-    "torque_breakdown": "breakdown",
-    "Settings": "settings",
-    "SettingsError": "settings",
-    "LeastSquaresSolution": "solver",
-    "solve_least_squares": "solver",
+    "JointData": "samples",
+    "run_experiment": "studies.experiment",
+    "training_data": "synthetic.samples",
+    "validation_data": "synthetic.samples",
+    "FitResult": "estimation.fit",
+    "fit_joint": "estimation.fit",
+    "G": "model.terms",
+    "PARAMETER_NAMES": "model.terms",
+    "PLAIN": "model.terms",
+    "TRUE_PARAMETERS": "model.terms",
+    "JointModel": "model.terms",
+    "Term": "model.terms",
+    "model_named": "model.terms",
+    "predict_torque": "model.terms",
+    "regressor": "model.terms",
+    "torque_breakdown": "model.breakdown",
+    "Settings": "synthetic.settings",
+    "SettingsError": "options",
+    "LeastSquaresSolution": "estimation.solver",
+    "solve_least_squares": "estimation.solver",
+    "fit_log": "studies.log_fit",
+    "LoadedLogs": "studies.log_fit",
+    "LogError": "logs.table",
 }
 """Each public name's module. They load on first use (PEP 562), so `import jointid` and the command
 line's help need no numpy."""
@@ -55,6 +60,9 @@ __all__ = [
     "Settings",
     "SettingsError",
     "fit_joint",
+    "fit_log",
+    "LoadedLogs",
+    "LogError",
     "predict_torque",
     "regressor",
     "run_experiment",

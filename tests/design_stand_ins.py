@@ -5,7 +5,7 @@ from __future__ import annotations
 import os
 import time
 
-from jointid.design import DesignError
+from jointid.studies.design import DesignError
 
 
 def refused_design(spec, progress=None):

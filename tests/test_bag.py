@@ -31,7 +31,7 @@ from bag_support import (  # noqa: E402
     write_joint_bag,
 )
 
-from jointid.bag import bag_info, doubles, parse_layout, read_bag_table, stamps  # noqa: E402
+from jointid.logs.bag import bag_info, doubles, parse_layout, read_bag_table, stamps  # noqa: E402
 from jointid.cli import main  # noqa: E402
 
 DURATION, RATE = 20.0, 500.0

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 from jointid.cli import main
-from jointid.model import G, TRUE_PARAMETERS
-from jointid.motions import ALL_MOTIONS
-from jointid.noise import torque_noise
+from jointid.model.terms import G, TRUE_PARAMETERS
+from jointid.synthetic.motions import ALL_MOTIONS
+from jointid.synthetic.noise import torque_noise
 
 
 def run(capsys, *argv):
@@ -71,7 +71,7 @@ def test_noiseless_full_log_recovers_the_truth(capsys, tmp_path):
     kept = [n for n in range(0, 500, decimation) if edge <= n < 500 - edge]  # every D-th with a full window
     assert document["samples"] == len(kept) and document["rank"] == 3
     assert document["heldout_rmse"] is None
-    assert document["expected_std_error"] is None
+    assert document["noise_bound_std_error"] is None
     assert "No held-out data" in document["message"]
 
 

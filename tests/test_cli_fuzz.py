@@ -23,9 +23,9 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from jointid.cli import build_parser, main, parse
-from jointid.model import G
-from jointid.motions import ALL_MOTIONS
-from jointid.sweep import WORK_BUDGET
+from jointid.model.terms import G
+from jointid.synthetic.motions import ALL_MOTIONS
+from jointid.options import WORK_BUDGET
 
 
 CHECKOUT = Path(__file__).resolve().parent.parent

@@ -66,7 +66,9 @@ def test_import_jointid_loads_no_numpy_until_a_name_is_used():
 
 
 def test_every_public_name_resolves_to_the_object_its_module_defines():
-    from jointid import fit, model, settings, solver
+    from jointid.estimation import fit, solver
+    from jointid.model import terms as model
+    from jointid.synthetic import settings
 
     for name in jointid.__all__:
         assert getattr(jointid, name) is not None, name
@@ -78,9 +80,9 @@ def test_every_public_name_resolves_to_the_object_its_module_defines():
 
 
 def test_the_choices_name_the_motions_the_numeric_modules_define():
-    from jointid.choices import ALL_MOTION_NAMES, EXTRA_TERM_NAMES, TRAINING_MOTION_NAMES
-    from jointid.model import EXTRA_TERMS
-    from jointid.motions import ALL_MOTIONS, TRAINING_MOTIONS
+    from jointid.options import ALL_MOTION_NAMES, EXTRA_TERM_NAMES, TRAINING_MOTION_NAMES
+    from jointid.model.terms import EXTRA_TERMS
+    from jointid.synthetic.motions import ALL_MOTIONS, TRAINING_MOTIONS
 
     assert tuple(TRAINING_MOTIONS) == TRAINING_MOTION_NAMES
     assert tuple(ALL_MOTIONS) == ALL_MOTION_NAMES

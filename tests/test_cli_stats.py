@@ -8,13 +8,13 @@ import numpy as np
 import pytest
 
 from jointid.cli import main
-from jointid.experiment import run_experiment
-from jointid.fit import fit_joint
+from jointid.studies.experiment import run_experiment
+from jointid.estimation.fit import fit_joint
 from jointid.present.documents import result_to_dict
-from jointid.settings import Settings
-from jointid.sweep import run_sweep
+from jointid.synthetic.settings import Settings
+from jointid.studies.sweep import run_sweep
 
-PER_PARAMETER_KEYS = ("std_error", "expected_std_error", "relative_std_pct", "interval95", "verdicts")
+PER_PARAMETER_KEYS = ("std_error", "noise_bound_std_error", "relative_std_pct", "interval95", "verdicts")
 LEGACY_KEYS = ("samples", "rank", "estimate", "training_rmse", "heldout_rmse", "accel_rms", "speed_rms",
                "sign_failures", "message")
 
@@ -35,7 +35,7 @@ def test_fit_json_gains_uncertainty_keys_and_keeps_the_old_ones(capsys):
     assert all(key in document for key in LEGACY_KEYS)
     for key in PER_PARAMETER_KEYS:
         assert list(document[key]) == ["I", "h", "B"]
-    expected = document["expected_std_error"]
+    expected = document["noise_bound_std_error"]
     assert (round(expected["I"], 6), round(expected["B"], 6)) == (5.425077, 1.013808)
     assert document["verdicts"] == {"I": "not determined", "h": "well determined", "B": "not determined"}
     low, high = document["interval95"]["I"]
@@ -58,7 +58,7 @@ def test_fit_json_for_holds_has_the_subset_and_null_errors(capsys):
 def test_expected_std_error_is_null_without_a_known_noise_bound():
     training = run_experiment(Settings(noise=0.2)).training
     document = result_to_dict(fit_joint(training))  # measured data: no bound
-    assert document["expected_std_error"] is None
+    assert document["noise_bound_std_error"] is None
     assert document["verdict_basis"] == "empirical"
     assert None not in document["std_error"].values()
 

@@ -11,13 +11,14 @@ from hypothesis import strategies as st
 from scipy.optimize import lsq_linear
 
 import physics_reference as ref
-from jointid.bounded import INERTIA_FLOOR, bounded_least_squares, lower_bounds
+from jointid.estimation.bounded import INERTIA_FLOOR, bounded_least_squares, lower_bounds
 from jointid.cli import main
-from jointid.experiment import run_experiment
-from jointid.model import model_named
-from jointid.settings import Settings
-from jointid.solver import solve_least_squares
-from jointid.sweep import run_sweep
+from jointid.studies.experiment import run_experiment
+from jointid.model.terms import model_named
+from jointid.synthetic.settings import Settings
+from jointid.estimation.solver import solve_least_squares
+from jointid.studies.sweep import run_sweep
+from jointid.present.status import status_message
 
 
 def slow_problem(noise=0.2, seed=7):
@@ -39,14 +40,14 @@ def test_slow_motion_constrained_holds_the_inertia_at_its_floor_like_lsq_linear(
     rich = run_experiment(Settings(motion="rich", noise=0.2))
     assert constrained.heldout_rmse > 10 * rich.heldout_rmse  # correct signs are not accuracy
     assert constrained.uncertainty.verdicts[0] == "at bound"
-    assert "correct signs are not accuracy" in constrained.message
+    assert "correct signs are not accuracy" in status_message(constrained)
 
 
 def test_an_inactive_constraint_is_the_unconstrained_fit_bit_for_bit():
     free = run_experiment(Settings(noise=0.2))
     held = run_experiment(Settings(noise=0.2, constrained=True))
     assert held.at_bound == () and np.array_equal(held.estimate, free.estimate)
-    assert "no bound is active" in held.message
+    assert "no bound is active" in status_message(held)
 
 
 @hypothesis_settings(max_examples=60, deadline=None)

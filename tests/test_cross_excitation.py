@@ -3,11 +3,11 @@
 import numpy as np
 import pytest
 
-from jointid.cross_excitation import PREDICTION_MOTIONS, cross_excitation
-from jointid.experiment import run_experiment
-from jointid.model import TRUE_PARAMETERS, regressor
-from jointid.motions import ALL_MOTIONS
-from jointid.settings import Settings
+from jointid.studies.cross_excitation import PREDICTION_MOTIONS, cross_excitation
+from jointid.studies.experiment import run_experiment
+from jointid.model.terms import TRUE_PARAMETERS, regressor
+from jointid.synthetic.motions import ALL_MOTIONS
+from jointid.synthetic.settings import Settings
 
 NOISY = Settings(noise=0.2)
 

@@ -9,9 +9,10 @@ from import_check import packages_loaded
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from jointid import csvlog
-from jointid.csvlog import LoadCancelled, LogError, load_log, read_table
-from jointid.derivatives import differentiate
+from jointid.logs import csv_reader
+from jointid.logs.table import LoadCancelled, LogError
+from jointid.logs.csv_reader import load_log, read_table
+from jointid.logs.derivatives import differentiate
 
 
 def write(tmp_path, text, name="log.csv"):
@@ -298,7 +299,7 @@ def test_values_are_bit_identical_to_float_of_the_text_with_or_without_pandas(tm
     path = write(tmp_path, "\n".join(lines) + "\n")
     expected = np.vectorize(float, otypes=[float])(cells)
     fast = read_table(path)
-    monkeypatch.setattr(csvlog, "_pandas_read_csv", lambda: None)
+    monkeypatch.setattr(csv_reader, "_pandas_read_csv", lambda: None)
     slow = read_table(path)
     for j, name in enumerate(("q", "qd", "qdd", "tau")):
         assert fast.columns[name].view(np.uint64).tolist() == expected[:, j].view(np.uint64).tolist()
@@ -307,8 +308,8 @@ def test_values_are_bit_identical_to_float_of_the_text_with_or_without_pandas(tm
 
 def test_clean_chunks_take_pandas_and_the_rest_take_loadtxt(tmp_path, monkeypatch):
     taken = []
-    original = csvlog._ChunkReader._fast
-    monkeypatch.setattr(csvlog._ChunkReader, "_fast", lambda self, data: taken.append(original(self, data)) or taken[-1])
+    original = csv_reader._ChunkReader._fast
+    monkeypatch.setattr(csv_reader._ChunkReader, "_fast", lambda self, data: taken.append(original(self, data)) or taken[-1])
     read_table(write(tmp_path, FULL), chunk_bytes=1 << 20)  # chunked, not the one-call reading
     assert taken and taken[-1] is not None
     taken.clear()
@@ -360,12 +361,12 @@ def test_with_or_without_pandas_the_same_values_or_the_same_error(tmp_path_facto
 
     fast = outcome()
     with pytest.MonkeyPatch.context() as patch:
-        patch.setattr(csvlog, "_pandas_read_csv", lambda: None)
+        patch.setattr(csv_reader, "_pandas_read_csv", lambda: None)
         assert outcome() == fast
 
 
 def test_import_jointid_loads_no_pandas():
-    imports = "jointid, jointid.csvlog, jointid.experiment, jointid.present.documents, jointid.cli"
+    imports = "jointid, jointid.logs.table, jointid.studies.experiment, jointid.present.documents, jointid.cli"
     assert packages_loaded(imports, {"pandas", "pyarrow"}) == []
 
 
@@ -383,7 +384,7 @@ def test_an_empty_path_says_so():
 
 
 def test_the_sweep_views_seed_count_reads_ascii_digits_only():
-    from jointid.settings import SettingsError
+    from jointid.options import SettingsError
     from tui.screens.sweep import SEED_COUNT_RANGE
 
     assert SEED_COUNT_RANGE.parse("250") == 250
@@ -398,8 +399,8 @@ def test_the_sweep_views_seed_count_reads_ascii_digits_only():
 def chunked_calls(monkeypatch) -> list:
     """A list that grows by one for each chunk the chunked reading takes."""
     calls = []
-    original = csvlog._ChunkReader._next_chunk
-    monkeypatch.setattr(csvlog._ChunkReader, "_next_chunk", lambda self: calls.append(1) or original(self))
+    original = csv_reader._ChunkReader._next_chunk
+    monkeypatch.setattr(csv_reader._ChunkReader, "_next_chunk", lambda self: calls.append(1) or original(self))
     return calls
 
 
@@ -454,7 +455,7 @@ def test_a_doubtful_log_goes_the_chunked_way_with_the_same_result(tmp_path, monk
     whole = outcome_of(path)
     assert calls, "the chunked reading was not asked"
     with monkeypatch.context() as patch:
-        patch.setattr(csvlog, "_pandas_read_csv", lambda: None)
+        patch.setattr(csv_reader, "_pandas_read_csv", lambda: None)
         assert outcome_of(path) == whole
 
 
@@ -462,7 +463,7 @@ def test_without_proc_the_file_is_read_in_chunks(tmp_path, monkeypatch):
     # pandas gets /proc/self/fd/N, the file already checked to be regular, never the path again.
     path = write(tmp_path, FULL)
     calls = chunked_calls(monkeypatch)
-    real_exists = csvlog.os.path.exists
-    monkeypatch.setattr(csvlog.os.path, "exists", lambda name: not str(name).startswith("/proc/") and real_exists(name))
+    real_exists = csv_reader.os.path.exists
+    monkeypatch.setattr(csv_reader.os.path, "exists", lambda name: not str(name).startswith("/proc/") and real_exists(name))
     assert outcome_of(path) == outcome_of(path, chunk_bytes=64)
     assert calls

@@ -3,18 +3,13 @@
 import numpy as np
 import pytest
 
-from jointid.dataset import JointData
-from jointid.derivatives import (
-    DEFAULT_ORDER,
-    check_filter,
-    choose_window,
-    differentiate,
-    savgol_coefficients,
-)
-from jointid.fit import fit_joint
-from jointid.model import TRUE_PARAMETERS, predict_torque
-from jointid.motions import TRAINING_MOTIONS, Motion, SineTerm
-from jointid.noise import torque_noise
+from jointid.samples import JointData
+from jointid.logs.derivatives import check_filter, choose_window, differentiate, savgol_coefficients
+from jointid.options import DEFAULT_ORDER
+from jointid.estimation.fit import fit_joint
+from jointid.model.terms import TRUE_PARAMETERS, predict_torque
+from jointid.synthetic.motions import TRAINING_MOTIONS, Motion, SineTerm
+from jointid.synthetic.noise import torque_noise
 
 
 @pytest.mark.parametrize("window, order", [(5, 2), (11, 3), (21, 4), (201, 4), (51, 5)])

@@ -14,11 +14,11 @@ import numpy as np
 import pytest
 
 from jointid.cli import main
-from jointid.design import DesignCancelled, DesignError, DesignSpec, Limits, design_motion
-from jointid.experiment import run_experiment
-from jointid.fourier import FourierMotion, MotionFileError, load_motion, motion_text, save_motion
+from jointid.studies.design import DesignCancelled, DesignError, DesignSpec, Limits, design_motion
+from jointid.studies.experiment import run_experiment
+from jointid.synthetic.fourier import FourierMotion, MotionFileError, load_motion, motion_text, save_motion
 from jointid.present.design import design_text
-from jointid.settings import Settings
+from jointid.synthetic.settings import Settings
 from physics_reference import COLUMNS, MODELS, measured, noise, rich_states
 
 SIGMA = 0.20 / math.sqrt(3.0)
@@ -97,8 +97,8 @@ def test_d_optimal_design_beats_rich_motion_on_the_lessons_plain_model(d_plain):
     assert 100 * designed[0] / 0.8 <= 0.8 * (100 * rich[0] / 0.8)  # I: at most 80 % of rich's 2.1 %
     assert np.all(designed <= rich)  # no parameter worse
     # jointid's own expected standard errors agree with the plain (X^T X)^-1 computation
-    np.testing.assert_allclose(d_plain.design.expected_std_error, designed, rtol=1e-9)
-    np.testing.assert_allclose(d_plain.rich.expected_std_error, rich, rtol=1e-9)
+    np.testing.assert_allclose(d_plain.design.noise_bound_std_error, designed, rtol=1e-9)
+    np.testing.assert_allclose(d_plain.rich.noise_bound_std_error, rich, rtol=1e-9)
     assert d_plain.worse_than_rich == ()
 
 
@@ -132,7 +132,7 @@ def sweep_std(motion, seeds, samples=24):
 
 def test_a_2000_seed_sweep_agrees_with_the_expected_standard_errors(d_plain):
     empirical, matrix = sweep_std(d_plain.motion, 2000)
-    np.testing.assert_allclose(empirical, d_plain.design.expected_std_error, rtol=0.10)
+    np.testing.assert_allclose(empirical, d_plain.design.noise_bound_std_error, rtol=0.10)
     np.testing.assert_allclose(empirical, reference_std_errors(matrix), rtol=0.10)
 
 
@@ -141,7 +141,7 @@ def test_coulomb_bias_design_beats_rich_motion_on_every_parameter():
     designed = reference_std_errors(design_regressor(result.motion, model="coulomb+bias"))
     rich = reference_std_errors(rich_regressor(model="coulomb+bias"))
     assert np.all(designed < rich)
-    np.testing.assert_allclose(result.design.expected_std_error, designed, rtol=1e-8)
+    np.testing.assert_allclose(result.design.noise_bound_std_error, designed, rtol=1e-8)
 
 
 def test_cond_design_is_near_1_and_the_printout_names_what_got_worse(cond_plain):

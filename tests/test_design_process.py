@@ -15,9 +15,9 @@ import numpy as np
 import pytest
 
 from design_stand_ins import broken_design, endless_design, gone, refused_design
-from jointid.design import DesignCancelled, DesignError, DesignSpec, design_motion
-from jointid.design_process import DesignFailed, DesignProcess
-from jointid.settings import Settings
+from jointid.studies.design import DesignCancelled, DesignError, DesignSpec, design_motion
+from jointid.studies.design_process import DesignFailed, DesignProcess
+from jointid.synthetic.settings import Settings
 from tui_support import time_limit
 
 TESTS = os.path.dirname(os.path.abspath(__file__))
@@ -30,7 +30,7 @@ def assert_same_design(mine, reference) -> None:
     assert mine.criterion_value == reference.criterion_value and mine.converged == reference.converged
     for name in ("design", "rich"):
         a, b = getattr(mine, name), getattr(reference, name)
-        np.testing.assert_array_equal(a.expected_std_error, b.expected_std_error)
+        np.testing.assert_array_equal(a.noise_bound_std_error, b.noise_bound_std_error)
         np.testing.assert_array_equal(a.relative_std_pct, b.relative_std_pct)
         assert a.condition_number == b.condition_number
     assert [(c.name, c.limit, c.peak) for c in mine.checks] == [(c.name, c.limit, c.peak) for c in reference.checks]
@@ -114,8 +114,8 @@ def test_a_child_whose_parent_dies_ends_itself():
         import os, sys, threading
         sys.path[:0] = [{TESTS!r}]
         from design_stand_ins import endless_design
-        from jointid.design import DesignSpec
-        from jointid.design_process import DesignProcess
+        from jointid.studies.design import DesignSpec
+        from jointid.studies.design_process import DesignProcess
 
         designer = DesignProcess(endless_design)
 

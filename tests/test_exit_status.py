@@ -6,7 +6,7 @@ import pytest
 from textual.app import App
 
 from jointid.cli import main
-from jointid.settings import DEFAULT_SETTINGS
+from jointid.synthetic.settings import DEFAULT_SETTINGS
 from tui import entry
 from tui.app import JointIdApp
 from tui.screens.main import MainScreen

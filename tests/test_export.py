@@ -5,7 +5,7 @@ import os
 
 import pytest
 
-from jointid.export import ExportError, atomic_output, write_json, write_text
+from jointid.files import ExportError, atomic_output, write_json, write_text
 
 
 def test_write_json_creates_the_file_with_a_final_newline(tmp_path):

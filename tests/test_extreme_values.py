@@ -9,16 +9,17 @@ import numpy as np
 import pytest
 from hypothesis import given, settings as hypothesis_settings, strategies as st
 
-from jointid.dataset import JointData
-from jointid.derivatives import MAX_ORDER, MAX_WINDOW, FilterSettingError, check_filter
-from jointid.fit import fit_joint
+from jointid.samples import JointData
+from jointid.logs.derivatives import MAX_ORDER, MAX_WINDOW, FilterSettingError, check_filter
+from jointid.estimation.fit import fit_joint
 from jointid.norms import all_finite, column_norms, power_of_two_scale, rms, row_norms, row_rms
-from jointid.number_text import parse_float, parse_int
+from jointid.options import parse_float, parse_int
 from jointid.present.documents import NonFiniteValue, json_text
 from jointid.present.text import format_number
-from jointid.settings import SettingsError, parse_setting
-from jointid.solver import NonFiniteError, solve_least_squares
-from jointid.uncertainty import parameter_uncertainty
+from jointid.options import SettingsError, parse_setting
+from jointid.estimation.solver import NonFiniteError, solve_least_squares
+from jointid.estimation.uncertainty import parameter_uncertainty
+from jointid.present.status import status_message
 
 ordinary = st.one_of(st.just(0.0), st.floats(1e-6, 1e6), st.floats(-1e6, -1e-6))
 """Values of ordinary size (a 1e-168 would be an extreme one: its square underflows)."""
@@ -66,9 +67,9 @@ def test_the_solver_is_exactly_scale_invariant_under_powers_of_two(column_power,
     np.testing.assert_array_equal(scaled.estimate, np.ldexp(base.estimate, target_power - column_power))
     assert scaled.residual_norm == math.ldexp(base.residual_norm, target_power)
     ours, theirs = parameter_uncertainty(base, 0.2), parameter_uncertainty(scaled, math.ldexp(0.2, target_power))
-    np.testing.assert_array_equal(theirs.std_error, np.ldexp(ours.std_error, target_power - column_power))
-    np.testing.assert_array_equal(theirs.expected_std_error,
-                                  np.ldexp(ours.expected_std_error, target_power - column_power))
+    np.testing.assert_array_equal(theirs.residual_std_error, np.ldexp(ours.residual_std_error, target_power - column_power))
+    np.testing.assert_array_equal(theirs.noise_bound_std_error,
+                                  np.ldexp(ours.noise_bound_std_error, target_power - column_power))
     assert theirs.verdicts == ours.verdicts
 
 
@@ -117,10 +118,10 @@ def test_a_fit_of_huge_motion_has_full_rank_and_finite_readouts():
     qd, qdd = 0.91 * np.cos(1.3 * t) * 1e200, -1.183 * np.sin(1.3 * t) * 1e200
     data = JointData(t=t, q=q, qd=qd, qdd=qdd, tau=0.8 * qdd + 0.4e200 * 9.81 * np.cos(q) + 0.15 * qd)
     result = fit_joint(data)
-    assert result.rank == 3 and "no acceleration" not in result.message
+    assert result.rank == 3 and "no acceleration" not in status_message(result)
     np.testing.assert_allclose(result.estimate, [0.8, 0.4e200, 0.15], rtol=1e-12)
     assert math.isfinite(result.speed_rms) and math.isfinite(result.accel_rms) and result.speed_rms > 1e199
-    assert all(map(math.isfinite, result.uncertainty.std_error))
+    assert all(map(math.isfinite, result.uncertainty.residual_std_error))
 
 
 def test_json_text_is_strict_and_names_what_is_not_finite():

@@ -28,7 +28,7 @@ import pytest
 from textual.widgets import Input
 
 from jointid.cli import main
-from jointid.export import TEMPORARY_SUFFIX, ExportError, atomic_output, write_json, write_text, write_texts
+from jointid.files import TEMPORARY_SUFFIX, ExportError, atomic_output, write_json, write_text, write_texts
 from tui.screens.export import write_export
 from tui.screens.main import MainScreen
 from tui_support import make_app

@@ -4,11 +4,12 @@ import numpy as np
 import pytest
 from hypothesis import given, settings as hypothesis_settings, strategies as st
 
-from jointid.experiment import run_experiment
-from jointid.identifiable import identifiable_subset
-from jointid.model import G
-from jointid.settings import Settings
-from jointid.solver import solve_least_squares
+from jointid.studies.experiment import run_experiment
+from jointid.estimation.identifiable import identifiable_subset
+from jointid.model.terms import G
+from jointid.synthetic.settings import Settings
+from jointid.estimation.solver import solve_least_squares
+from jointid.present.status import status_message
 
 
 def test_holds_determine_exactly_h_equal_to_0_4():
@@ -27,7 +28,7 @@ def test_noisy_holds_give_h_as_the_mean_holding_torque_over_g():
 
 
 def test_holds_message_says_what_is_determined_and_why_the_rest_is_not():
-    message = run_experiment(Settings(motion="holds")).message
+    message = status_message(run_experiment(Settings(motion="holds")))
     assert message.startswith(
         "Rank 1 of 3: no unique least-squares fit. Parameter and prediction readouts are unavailable."
     )

@@ -16,7 +16,7 @@ UI_PACKAGES = {"textual", "plotext", "rich", "tui", "textual_plotext"}
 
 
 def test_import_jointid_loads_no_ui_packages():
-    imports = "jointid, jointid.experiment, jointid.present.documents, jointid.cli, jointid.cli.explorer_command"
+    imports = "jointid, jointid.studies.experiment, jointid.present.documents, jointid.cli, jointid.cli.explorer_command"
     assert packages_loaded(imports, UI_PACKAGES) == []
 
 
@@ -50,20 +50,20 @@ def test_the_explorer_imports_no_subcommand_module():
 
 
 def test_fit_imports_no_scipy():
-    # The 95 % interval's Student-t quantile is pure Python (jointid.student_t); scipy.special
+    # The 95 % interval's Student-t quantile is pure Python (jointid.estimation.student_t); scipy.special
     # alone took about 300 ms of every `jointid fit`.
     assert packages_loaded("jointid.cli", {"scipy"}, run="jointid.cli.main(['fit', '--noise', '0.2', '--json'])") == []
 
 
 def test_rosbags_is_imported_only_to_open_a_bag():
     # jointid[ros] is an optional extra: neither `import jointid` nor a fit without a bag may need it.
-    imports = "jointid, jointid.cli, jointid.logfit, jointid.logsource, jointid.cli.bag_info_command"
+    imports = "jointid, jointid.cli, jointid.studies.log_fit, jointid.logs.request, jointid.cli.bag_info_command"
     assert packages_loaded(imports, {"rosbags"}) == []
     assert packages_loaded("jointid.cli", {"rosbags"}, run="jointid.cli.main(['fit', '--noise', '0.2', '--json'])") == []
 
 
 def test_bag_info_command_module_imports_no_numpy_at_its_top_level():
-    # Its --help must stay light: numpy, jointid.bag and rosbags come only inside run().
+    # Its --help must stay light: numpy, jointid.logs.bag and rosbags come only inside run().
     top = ast.parse((ROOT / "jointid/cli/bag_info_command.py").read_text()).body
     names = {alias.name if isinstance(node, ast.Import) else node.module
              for node in top if isinstance(node, (ast.Import, ast.ImportFrom)) for alias in node.names}
@@ -146,8 +146,8 @@ def test_the_cycle_finder_sees_a_lazy_import(tmp_path, monkeypatch):
 
 
 SYNTHETIC_COMMANDS = (["fit"], ["fit", "--json"], ["sweep"], ["matrix"])
-UNUSED_AT_START = {"shutil", "jointid.sensitivity", "jointid.present.sensitivity", "jointid.fourier",
-                   "jointid.bounded", "jointid.breakdown"}
+UNUSED_AT_START = {"shutil", "jointid.studies.sensitivity", "jointid.present.sensitivity", "jointid.synthetic.fourier",
+                   "jointid.estimation.bounded", "jointid.model.breakdown"}
 """What a synthetic, unconstrained run has no use for: shutil only measures the terminal for help (3 ms),
 the others serve log fits, designed motions, the sign constraint and `jointid torque`."""
 
@@ -155,12 +155,12 @@ the others serve log fits, designed motions, the sign constraint and `jointid to
 @pytest.mark.parametrize("command", SYNTHETIC_COMMANDS, ids=" ".join)
 def test_a_synthetic_command_loads_nothing_it_does_not_use(command):
     loaded = packages_loaded("jointid.cli", {"jointid", "shutil"}, run=f"jointid.cli.main({command!r})")
-    assert "jointid.fit" in loaded  # the command did run
+    assert "jointid.estimation.fit" in loaded  # the command did run
     assert sorted(UNUSED_AT_START.intersection(loaded)) == []
 
 
 def test_the_modules_left_out_still_load_when_needed():
-    # The check above must be able to fail: a constrained fit loads jointid.bounded, help loads shutil.
-    assert "jointid.bounded" in packages_loaded(
+    # The check above must be able to fail: a constrained fit loads jointid.estimation.bounded, help loads shutil.
+    assert "jointid.estimation.bounded" in packages_loaded(
         "jointid.cli", {"jointid"}, run="jointid.cli.main(['fit', '--constrained', '--json'])")
     assert packages_loaded("jointid.cli", {"shutil"}, run="jointid.cli.build_parser('fit').format_help()") == ["shutil"]

@@ -3,13 +3,16 @@
 import numpy as np
 import pytest
 
-from jointid.experiment import run_experiment, training_data
-from jointid.fit import fit_joint
+from jointid.studies.experiment import run_experiment
+from jointid.synthetic.samples import training_data
+from jointid.estimation.fit import fit_joint
 from jointid.present.text import format_number
-from jointid.dataset import JointData
-from jointid.model import TRUE_PARAMETERS, torque_breakdown
+from jointid.samples import JointData
+from jointid.model.terms import TRUE_PARAMETERS
+from jointid.model.breakdown import torque_breakdown
 from jointid.present.readouts import readouts
-from jointid.settings import Settings
+from jointid.synthetic.settings import Settings
+from jointid.present.status import status_message
 
 # motion, noise -> (I, h, B, training RMSE, held-out RMSE), copied from the lesson's table.
 LESSON_TABLE = {
@@ -35,7 +38,7 @@ def test_holds_have_rank_one_and_no_unique_fit():
     assert result.training_rmse is None and result.heldout_rmse is None
     texts = {r.key: r.text for r in readouts(result)}
     assert [texts[k] for k in ("I", "h", "B", "training_rmse", "heldout_rmse")] == ["unavailable"] * 5
-    assert "no unique least-squares fit" in result.message
+    assert "no unique least-squares fit" in status_message(result)
 
 
 @pytest.mark.parametrize(
@@ -53,15 +56,15 @@ def test_slow_noisy_fit_names_the_negative_inertia_unclipped():
     result = run_experiment(Settings(motion="slow", noise=0.2))
     assert result.sign_failures == ("I",)
     assert result.estimate[0] < 0
-    assert "-1.607788" in result.message and "I > 0" in result.message
+    assert "-1.607788" in status_message(result) and "I > 0" in status_message(result)
     assert next(r for r in readouts(result) if r.key == "I").sign_failure
 
 
 def test_full_rank_message_warns_that_signs_do_not_prove_accuracy():
     result = run_experiment(Settings(motion="rich", noise=0.2))
-    assert result.message.startswith("Rank 3 of 3: a unique least-squares fit.")
-    assert "Held-out torque RMSE is 0.014150 N m." in result.message
-    assert "Positive parameter signs alone do not establish an accurate physical model." in result.message
+    assert status_message(result).startswith("Rank 3 of 3: a unique least-squares fit.")
+    assert "Held-out torque RMSE is 0.014150 N m." in status_message(result)
+    assert "Positive parameter signs alone do not establish an accurate physical model." in status_message(result)
 
 
 def test_three_hand_picked_instants_identify_the_joint_exactly():

@@ -14,8 +14,8 @@ from test_snapshots import COMPACT, WIDE, steady
 from tui_support import make_app
 
 from jointid.cli import main
-from jointid.csvlog import load_log
-from jointid.logfit import LoadRequest, fit_logs
+from jointid.logs.csv_reader import load_log
+from jointid.studies.log_fit import LoadRequest, fit_logs
 
 
 @pytest.fixture

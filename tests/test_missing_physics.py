@@ -14,10 +14,12 @@ import pytest
 
 import physics_reference as ref
 from jointid.cli import main
-from jointid.experiment import run_experiment
-from jointid.ladder import compare_experiment
-from jointid.settings import Settings, SettingsError
-from jointid.sweep import run_sweep
+from jointid.studies.experiment import run_experiment
+from jointid.studies.ladder import compare_experiment
+from jointid.synthetic.settings import Settings
+from jointid.options import SettingsError
+from jointid.studies.sweep import run_sweep
+from jointid.present.status import status_message
 
 
 def test_default_settings_have_no_missing_physics_and_the_lesson_numbers_stay():
@@ -73,7 +75,7 @@ def test_coulomb_estimates_over_2000_seeds_are_unbiased_and_their_spread_matches
     assert abs(friction.mean() / 0.3 - 1) < 0.005
     # The spread over seeds within 10 % of the reported (expected) standard error, b²/3 (XᵀX)⁻¹ by hand.
     expected = np.sqrt(0.05**2 / 3 * np.diag(np.linalg.inv(X.T @ X)))[3]
-    assert sweep.expected_std_error[3] == pytest.approx(expected, rel=1e-9)
+    assert sweep.noise_bound_std_error[3] == pytest.approx(expected, rel=1e-9)
     assert abs(friction.std(ddof=1) / expected - 1) < 0.10
 
 
@@ -119,13 +121,13 @@ def test_delta_method_standard_errors_of_h_and_q0():
     gradient_h = np.array([0, h_c / h, 0, h_s / h])
     gradient_q0 = np.array([0, h_s / h**2, 0, -h_c / h**2])
     expected = [np.sqrt(g @ covariance @ g) for g in (gradient_h, gradient_q0)]
-    np.testing.assert_allclose(result.uncertainty.expected_std_error[[1, 3]], expected, rtol=1e-8)
+    np.testing.assert_allclose(result.uncertainty.noise_bound_std_error[[1, 3]], expected, rtol=1e-8)
 
 
 def test_a_sensor_bias_is_ill_conditioned_on_rich_motion_and_its_errors_are_explained():
     result = run_experiment(Settings(noise=0.05, true_bias=0.2, model="bias"))
     assert result.condition_number > 10
-    errors = result.uncertainty.expected_std_error
+    errors = result.uncertainty.noise_bound_std_error
     assert abs(result.estimate[1] - 0.4) <= 3 * errors[1]
     assert abs(result.estimate[3] - 0.2) <= 3 * errors[3]
 
@@ -151,7 +153,7 @@ def test_compare_text_marks_the_choice_and_says_what_the_plain_model_does(capsys
 def test_a_model_whose_extra_column_is_zero_names_the_term_the_motion_cannot_see():
     result = run_experiment(Settings(motion="holds", model="coulomb"))
     assert result.estimate is None
-    assert "Coulomb friction" in result.message and "no velocity" in result.message
+    assert "Coulomb friction" in status_message(result) and "no velocity" in status_message(result)
 
 
 @pytest.mark.parametrize("flag, value", [("--true-coulomb", "-0.1"), ("--true-coulomb", "11"),
@@ -176,10 +178,10 @@ def test_settings_refuse_physics_outside_its_range():
 
 def test_compare_on_a_long_log_agrees_with_each_model_fitted_alone():
     # Above the solver's DIRECT_ROWS the ladder's one pass goes through the blocked reduction.
-    from jointid.dataset import JointData
-    from jointid.fit import fit_joint
-    from jointid.ladder import compare_models
-    from jointid.model import model_named
+    from jointid.samples import JointData
+    from jointid.estimation.fit import fit_joint
+    from jointid.studies.ladder import compare_models
+    from jointid.model.terms import model_named
 
     t, q, qd, qdd = ref.rich_states(20_000)
     tau = ref.measured(q, qd, qdd, 0.3) + np.random.default_rng(3).uniform(-0.05, 0.05, t.size)

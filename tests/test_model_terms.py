@@ -14,13 +14,16 @@ import numpy as np
 import pytest
 
 from jointid.cli import main
-from jointid.cross_excitation import cross_excitation
-from jointid.experiment import run_experiment
-from jointid.model import G, ModelError, model_named
+from jointid.studies.cross_excitation import cross_excitation
+from jointid.studies.experiment import run_experiment
+from jointid.model.terms import G, model_named
+from jointid.options import ModelError
 from jointid.present.readouts import readouts
-from jointid.settings import Settings, SettingsError
-from jointid.sweep import run_sweep
+from jointid.synthetic.settings import Settings
+from jointid.options import SettingsError
+from jointid.studies.sweep import run_sweep
 from tui_support import displayed_readouts, make_app
+from jointid.present.status import status_message
 
 TRUE = np.array([0.8, 0.4, 0.15])
 MODULUS = 2**32
@@ -59,7 +62,7 @@ def test_a_model_with_extra_terms_fits_like_lstsq_on_the_hand_built_regressor(na
     np.testing.assert_allclose(result.estimate, expected, rtol=1e-9, atol=1e-12)
     # Expected standard errors: sqrt(b²/3 diag((XᵀX)⁻¹)), from the explicit inverse.
     covariance = np.linalg.inv(X.T @ X)
-    np.testing.assert_allclose(result.uncertainty.expected_std_error,
+    np.testing.assert_allclose(result.uncertainty.noise_bound_std_error,
                                np.sqrt(0.2**2 / 3 * np.diag(covariance)), rtol=1e-8)
     residual = tau - X @ expected
     assert result.training_rmse == pytest.approx(np.sqrt(np.mean(residual**2)), rel=1e-9)
@@ -80,7 +83,7 @@ def test_a_zero_column_names_the_term_the_motion_cannot_see():
     assert result.estimate is None and result.rank == 1
     subset = result.identifiable
     assert list(subset.zero_columns) == [True, False, True, True, False]
-    assert "Coulomb friction" in result.message and "no velocity" in result.message
+    assert "Coulomb friction" in status_message(result) and "no velocity" in status_message(result)
     # h and tau0 share the constant column g*cos(0) = 9.81 and 1: neither is determined alone.
     assert subset.values == {}
 
@@ -112,7 +115,7 @@ def test_cli_json_keys_every_per_parameter_object_by_term_name(capsys):
     document = json.loads(capsys.readouterr().out)
     names = ["I", "h", "B", "Fc", "tau0"]
     assert document["model"] == "coulomb+bias" and document["settings"]["model"] == "coulomb+bias"
-    for key in ("estimate", "std_error", "expected_std_error", "relative_std_pct", "interval95", "verdicts"):
+    for key in ("estimate", "std_error", "noise_bound_std_error", "relative_std_pct", "interval95", "verdicts"):
         assert list(document[key]) == names, key
     columns, tau = reference_problem(0.2)
     expected = np.linalg.lstsq(np.column_stack([columns[n] for n in names]), tau, rcond=None)[0]
@@ -122,7 +125,7 @@ def test_cli_json_keys_every_per_parameter_object_by_term_name(capsys):
 def test_cli_sweep_and_matrix_json_name_the_model(capsys):
     assert main(["sweep", "--model", "bias", "--seeds", "20", "--json"]) == 0
     sweep = json.loads(capsys.readouterr().out)
-    assert sweep["model"] == "bias" and list(sweep["expected_std_error"]) == ["I", "h", "B", "tau0"]
+    assert sweep["model"] == "bias" and list(sweep["noise_bound_std_error"]) == ["I", "h", "B", "tau0"]
     assert main(["matrix", "--model", "bias", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["model"] == "bias"
 
@@ -152,4 +155,4 @@ def test_the_explorer_shows_every_term_of_the_model():
     lines = shown.splitlines()
     assert lines[0].split() == ["Regressor", "rank", "4", "/", "4"]
     assert f"Fitted torque bias (N m)   {bias:.6f}" in lines
-    assert result.message in shown.replace("\n", " ")
+    assert status_message(result) in shown.replace("\n", " ")

@@ -3,7 +3,7 @@
 import numpy as np
 from hypothesis import given, settings, strategies as st
 
-from jointid.noise import lcg_states, torque_noise
+from jointid.synthetic.noise import lcg_states, torque_noise
 
 
 def sequential_states(seed: int, count: int) -> list[int]:

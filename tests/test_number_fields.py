@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from jointid.settings import DEFAULT_SETTINGS
+from jointid.synthetic.settings import DEFAULT_SETTINGS
 from tui.screens.sweep import SweepScreen
 from tui.widgets.stepper import Stepper
 from tui_support import run_app

@@ -15,16 +15,18 @@ from import_check import packages_loaded
 from scipy.signal import firwin, kaiserord
 
 from jointid.cli import main
-from jointid.csvlog import LogError, LogTable, joint_log_from_table
-from jointid.logfit import fit_logs
-from jointid.model import model_named
-from jointid.parallel_filter import (
+from jointid.logs.table import LogError, LogTable
+from jointid.logs.pipeline import joint_log_from_table
+from jointid.studies.log_fit import fit_logs
+from jointid.model.terms import model_named
+from jointid.estimation.low_pass import (
     FilterRequest,
     LowPassDesign,
     ParallelFilter,
     choose_filter,
 )
-from jointid.sensitivity import SensitivityCheck, Variant
+from jointid.studies.sensitivity import SensitivityCheck, Variant
+from jointid.present.notes import low_pass_note, low_pass_short_note
 
 G = 9.81
 
@@ -275,11 +277,11 @@ def test_noise_free_torques_make_an_exact_fit_and_any_noise_a_judged_one(noise, 
 def test_the_note_names_the_filter_and_counts_in_ordinals():
     chosen = ParallelFilter(5.0, 200.0, 21, "cutoff given")
     taps = len(reference_taps(5.0, 200.0))
-    assert chosen.description == (
+    assert low_pass_note(chosen) == (
         f"torque and every regressor column low-passed alike at 5 Hz (zero-phase FIR, Kaiser-windowed sinc, "
         f"{taps} taps, Kaiser beta 6.2: flat within 0.1% below 2.5 Hz, 60 dB down above 7.5 Hz; the "
         f"{(taps - 1) // 2} samples at each end, without a full window, not kept), then every 21st sample kept "
         f"(cutoff given); the training RMSE is of the filtered torque.")
-    assert chosen.short_description == "torque and regressor low-passed at 5 Hz, every 21st sample kept"
-    assert ", every 22nd sample" in ParallelFilter(5.0, 200.0, 22, "").short_description
-    assert ", every 12th sample" in ParallelFilter(5.0, 200.0, 12, "").short_description
+    assert low_pass_short_note(chosen) == "torque and regressor low-passed at 5 Hz, every 21st sample kept"
+    assert ", every 22nd sample" in low_pass_short_note(ParallelFilter(5.0, 200.0, 22, ""))
+    assert ", every 12th sample" in low_pass_short_note(ParallelFilter(5.0, 200.0, 12, ""))

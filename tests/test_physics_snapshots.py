@@ -11,7 +11,7 @@ from dataclasses import replace
 
 import pytest
 
-from jointid.settings import DEFAULT_SETTINGS
+from jointid.synthetic.settings import DEFAULT_SETTINGS
 from test_view_snapshots import open_view
 from tui_support import make_app
 

@@ -3,11 +3,11 @@
 import numpy as np
 import pytest
 
-from jointid.dataset import JointData
-from jointid.experiment import run_experiment
-from jointid.fit import fit_joint
-from jointid.residuals import AXES, residual_data
-from jointid.settings import Settings
+from jointid.samples import JointData
+from jointid.studies.experiment import run_experiment
+from jointid.estimation.fit import fit_joint
+from jointid.estimation.residuals import AXES, residual_data
+from jointid.synthetic.settings import Settings
 
 
 def test_residuals_are_measured_minus_fitted_and_orthogonal_to_the_columns():

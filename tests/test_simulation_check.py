@@ -9,9 +9,9 @@ import pytest
 
 import physics_reference as ref
 from jointid.cli import main
-from jointid.experiment import run_experiment
-from jointid.settings import Settings
-from jointid.simulation import simulation_check
+from jointid.studies.experiment import run_experiment
+from jointid.synthetic.settings import Settings
+from jointid.studies.simulation import simulation_check
 
 
 def validation_at(t):

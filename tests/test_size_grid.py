@@ -18,7 +18,7 @@ import pytest
 from textual.geometry import Region
 from textual.widget import Widget
 
-from jointid.settings import Settings
+from jointid.synthetic.settings import Settings
 from tui.screens.main import MainScreen
 from tui.widgets.fitting import FittingLine
 from tui.widgets.readouts import ReadoutPanel

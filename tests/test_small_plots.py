@@ -10,8 +10,8 @@ import pytest
 from rich.text import Text
 
 from jointid.present.charts import HistogramData, sweep_histograms
-from jointid.settings import DEFAULT_SETTINGS
-from jointid.sweep import run_sweep
+from jointid.synthetic.settings import DEFAULT_SETTINGS
+from jointid.studies.sweep import run_sweep
 from tui.screens.sweep import SweepScreen
 from tui.widgets.plot_guard import MIN_PLOT_SIZE, TOO_SMALL
 from tui.widgets.small_plots import GuardedPlot, SmallPlot, histogram_bars

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from jointid.solver import RANK_TOLERANCE, solve_least_squares
+from jointid.estimation.solver import RANK_TOLERANCE, solve_least_squares
 
 seeds = st.integers(0, 2**32 - 1)
 column_counts = st.integers(1, 6)

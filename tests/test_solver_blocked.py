@@ -14,10 +14,10 @@ import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from jointid import solver
-from jointid.experiment import run_experiment
-from jointid.settings import Settings
-from jointid.solver import (
+from jointid.estimation import solver
+from jointid.studies.experiment import run_experiment
+from jointid.synthetic.settings import Settings
+from jointid.estimation.solver import (
     BLOCK_VALUES,
     DIRECT_ROWS,
     RANK_TOLERANCE,
@@ -26,7 +26,7 @@ from jointid.solver import (
     block_rows_for,
     solve_least_squares,
 )
-from jointid.sweep import run_sweep
+from jointid.studies.sweep import run_sweep
 from test_solver import (
     dependent_column_problems,
     exponents,

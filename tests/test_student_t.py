@@ -13,7 +13,7 @@ from import_check import packages_loaded
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from jointid.student_t import student_t_quantile
+from jointid.estimation.student_t import student_t_quantile
 
 DEGREES_OF_FREEDOM = [1, 2, 3, 4, 5, 7, 10, 21, 30, 50, 100, 1000, 10**4, 10**5, 10**6]
 DEGREES_OF_FREEDOM += [1.5, 2.5, 3.7, 12.25, 1234.5]  # not integers
@@ -92,12 +92,12 @@ def test_rejects_degrees_of_freedom_below_one_or_not_finite(df):
 
 
 def test_import_leaves_scipy_out():
-    assert packages_loaded("jointid.student_t", {"scipy"}) == []
+    assert packages_loaded("jointid.estimation.student_t", {"scipy"}) == []
 
 
 def test_module_itself_needs_only_the_standard_library():
     """Loaded on its own, without the jointid package (which brings numpy), it adds only stdlib modules."""
-    path = Path(__file__).resolve().parent.parent / "jointid" / "student_t.py"
+    path = Path(__file__).resolve().parent.parent / "jointid" / "estimation" / "student_t.py"
     code = (
         "import importlib.util, json, sys; before = set(sys.modules); "
         f"spec = importlib.util.spec_from_file_location('student_t', {str(path)!r}); "
@@ -114,7 +114,7 @@ def test_the_normal_quantile_is_wichuras_as_statistics_computes_it():
     # a single mistyped coefficient digit would show somewhere on this grid.
     from statistics import NormalDist
 
-    from jointid.student_t import _upper_normal_quantile
+    from jointid.estimation.student_t import _upper_normal_quantile
 
     tails = [k / 4000 for k in range(1, 2001)] + [10.0**-k for k in range(2, 320)] + [0.075, 0.0749, 0.0751]
     tails += [math.ldexp(1.0, -e) * m for e in range(2, 1070, 7) for m in (1.0, 1.37, 1.999)]

@@ -5,10 +5,11 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from jointid.experiment import run_experiment
-from jointid.settings import Settings
-from jointid.solver import solve_least_squares
-from jointid.sweep import SweepCancelled, run_sweep
+from jointid.studies.experiment import run_experiment
+from jointid.synthetic.settings import Settings
+from jointid.estimation.solver import solve_least_squares
+from jointid.studies.sweep import SweepCancelled, run_sweep
+from jointid.present.tables import sweep_message
 
 SLOW = Settings(motion="slow", noise=0.2, seed=7)
 
@@ -80,14 +81,14 @@ def test_empirical_std_agrees_with_expected_within_sampling_error(settings):
     # For near-normal estimates the sample std has relative standard error 1/sqrt(2(K-1)) = 0.5 %;
     # allow four of them.
     tolerance = 4 / np.sqrt(2 * (count - 1))
-    np.testing.assert_allclose(sweep.empirical_std, sweep.expected_std_error, rtol=tolerance)
+    np.testing.assert_allclose(sweep.empirical_std, sweep.noise_bound_std_error, rtol=tolerance)
 
 
 def test_holds_sweep_has_no_estimates_and_says_so():
     sweep = run_sweep(Settings(motion="holds", noise=0.2), 50)
     assert sweep.rank == 1 and sweep.estimates is None and sweep.statistics == {}
     assert sweep.sign_failure_fraction is None and sweep.empirical_std is None
-    assert "rank 1 of 3 for every seed" in sweep.message and "no estimates" in sweep.message
+    assert "rank 1 of 3 for every seed" in sweep_message(sweep) and "no estimates" in sweep_message(sweep)
 
 
 def test_seeds_wrap_past_2_to_the_32_like_the_generator():
@@ -123,7 +124,7 @@ def test_bad_seed_counts_are_refused(count):
        st.lists(st.floats(0, 100), min_size=1, max_size=5))
 def test_percentiles_are_numpys(values, levels):
     # The sweep's summary must not move by a bit from np.percentile's default (linear) method.
-    from jointid.sweep import percentiles
+    from jointid.studies.sweep import percentiles
 
     values = np.array(values)
     with np.errstate(invalid="ignore", over="ignore"):

@@ -1,4 +1,4 @@
-"""Third-party internals are adapted in tui/third_party.py only, switched on when the app starts, and
+"""Third-party internals are adapted in tui/third_party/ only, switched on when the app starts, and
 fall back to the stock path on other versions."""
 
 from __future__ import annotations
@@ -16,8 +16,8 @@ from plotext import _matrix as plotext_matrix
 from plotext import _utility as plotext_utility
 
 from jointid.cli.version import version_text
-from tui import plotext_speedups, third_party
-from tui.controls import NOISE_RANGE
+from tui.third_party import adapter as third_party, plotext_speedups
+from tui.ranges import NOISE_RANGE
 from tui.widgets.stepper import Stepper
 from tui.widgets.torque_plot import TorquePlot
 from tui_support import make_app
@@ -54,7 +54,7 @@ def test_importing_the_app_patches_nothing():
         "import json, plotext._utility as u, plotext._matrix as m\n"
         "before = [u.hd_group, u.join, m.matrix_class.set_matrices]\n"
         "import tui.widgets.torque_plot, tui.widgets.charts, tui.widgets.stepper, tui.app\n"
-        "from tui import third_party\n"
+        "from tui.third_party import adapter as third_party\n"
         "after = [u.hd_group, u.join, m.matrix_class.set_matrices]\n"
         "print(json.dumps([all(a is b for a, b in zip(before, after)),\n"
         "                  [third_party.active(a.key) for a in third_party.ADAPTERS]]))\n"
@@ -183,6 +183,7 @@ def test_jointid_version_without_the_ui_packages(monkeypatch):
     assert "textual not installed" in text.splitlines()
     assert "  plotext not installed (expected 5.3.2): stock chart helpers" in text.splitlines()
     monkeypatch.setitem(sys.modules, "tui", None)  # and without the explorer's own package
+    monkeypatch.delitem(sys.modules, "tui.third_party.adapter")
     monkeypatch.delitem(sys.modules, "tui.third_party")
     assert version_text().splitlines()[-1].startswith("explorer adapters: unavailable")
 
@@ -194,7 +195,7 @@ PRIVATE_NAMES = re.compile(
 )
 """plotext, textual-plotext and Textual private names the explorer uses (and plotext's private modules)."""
 
-ADAPTER_MODULES = {"tui/third_party.py", "tui/plotext_speedups.py"}
+ADAPTER_MODULES = {"tui/third_party/adapter.py", "tui/third_party/plotext_speedups.py"}
 """The only files allowed to name them."""
 
 

@@ -4,10 +4,11 @@ import numpy as np
 import pytest
 
 from jointid.cli import main
-from jointid.csvlog import LogError, load_log
+from jointid.logs.table import LogError
+from jointid.logs.csv_reader import load_log
 from hypothesis import given, settings as hypothesis_settings, strategies as st
 
-from jointid.timing import (
+from jointid.logs.timing import (
     GAP_FACTOR,
     MEDIAN_SAMPLE,
     SAMPLED_MEDIAN_MIN,

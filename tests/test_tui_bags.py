@@ -14,9 +14,9 @@ from test_tui_logs import SIZE, main_screen, synchronous  # noqa: E402
 from textual.widgets import Input, OptionList  # noqa: E402
 from tui_support import displayed_readouts, make_app  # noqa: E402
 
-from jointid import bag as bag_module  # noqa: E402
+from jointid.logs import bag as bag_module  # noqa: E402
 from jointid.cli import main  # noqa: E402
-from jointid.logfit import LoadRequest  # noqa: E402
+from jointid.studies.log_fit import LoadRequest  # noqa: E402
 from tui.screens.bag_joint import BagJointScreen  # noqa: E402
 from tui.screens.main import MainScreen  # noqa: E402
 

@@ -11,9 +11,9 @@ import numpy as np
 from textual.widgets import ProgressBar, Static
 
 from design_stand_ins import broken_design, gone
-from jointid import design_process
-from jointid.fourier import FourierMotion, load_motion
-from jointid.settings import Settings
+from jointid.studies import design_process
+from jointid.synthetic.fourier import FourierMotion, load_motion
+from jointid.synthetic.settings import Settings
 from tui.screens.design import DesignScreen
 from tui.screens.main import MainScreen
 from tui.widgets.direct_controls import ChoiceList

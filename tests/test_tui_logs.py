@@ -12,12 +12,14 @@ from test_cli_csv import CORPUS, HEADER, good_rows
 from textual.widgets import Input
 from tui_support import displayed_readouts, make_app
 
-from jointid import csvlog, logfit
+from jointid.logs import csv_reader
+from jointid.studies import log_fit as logfit
 from jointid.cli import main
-from jointid.csvlog import LogError, load_log
-from jointid.derivatives import DEFAULT_ORDER, DEFAULT_WINDOW
-from jointid.logfit import HELDOUT, LoadRequest
-from jointid.parallel_filter import FilterRequest
+from jointid.logs.table import LogError
+from jointid.logs.csv_reader import load_log
+from jointid.options import DEFAULT_ORDER, DEFAULT_WINDOW
+from jointid.studies.log_fit import HELDOUT, LoadRequest
+from jointid.estimation.low_pass import FilterRequest
 from jointid.present import charts
 from jointid.present.charts import ordinal
 from jointid.present.readouts import readouts
@@ -155,7 +157,7 @@ async def test_escape_cancels_loading_and_keeps_the_current_state(tmp_path, monk
     train = tmp_path / "long.csv"
     assert main(["simulate", "--samples", "20000", "--out", str(train)]) == 0
     # Tiny chunks make the load long enough to cancel part-way.
-    monkeypatch.setattr(csvlog, "read_table", functools.partial(csvlog.read_table, chunk_bytes=64))
+    monkeypatch.setattr(csv_reader, "read_table", functools.partial(csv_reader.read_table, chunk_bytes=64))
     app = make_app()
     async with app.run_test(size=SIZE) as pilot:
         before = displayed_readouts(app.screen)

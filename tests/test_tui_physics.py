@@ -8,12 +8,12 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from jointid.experiment import run_experiment
-from jointid.ladder import compare_experiment
+from jointid.studies.experiment import run_experiment
+from jointid.studies.ladder import compare_experiment
 from jointid.present.comparison import comparison_table
 from jointid.present.readouts import readouts
-from jointid.settings import DEFAULT_SETTINGS
-from tui.commands import PHYSICS_STOPS
+from jointid.synthetic.settings import DEFAULT_SETTINGS
+from tui.palette import PHYSICS_STOPS
 from tui.screens.ladder import LadderScreen
 from tui.screens.physics import PhysicsScreen
 from tui.widgets.direct_controls import ChoiceList

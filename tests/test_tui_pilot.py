@@ -8,17 +8,19 @@ import pytest
 from textual.widgets import Input
 from tui_support import run_app
 
-from jointid.experiment import run_experiment
-from jointid.motions import TRAINING_MOTIONS
+from jointid.studies.experiment import run_experiment
+from jointid.synthetic.motions import TRAINING_MOTIONS
 from jointid.present.readouts import readouts
-from jointid.settings import DEFAULT_SETTINGS, SEED_LIMITS, Settings
-from tui.commands import TOUR, tour_title
-from tui.controls import NOISE_RANGE, SAMPLES_RANGE, SEED_RANGE
+from jointid.synthetic.settings import DEFAULT_SETTINGS, Settings
+from jointid.options import SEED_LIMITS
+from tui.palette import TOUR, tour_title
+from tui.ranges import NOISE_RANGE, SAMPLES_RANGE, SEED_RANGE
 from tui.screens.main import MIN_SIZE, MOTION_KEYS, MainScreen
 from tui.widgets.charts import TorqueChart
 from tui.widgets.direct_controls import ChoiceList
 from tui.widgets.readouts import ReadoutPanel
 from tui.widgets.stepper import Stepper
+from jointid.present.status import status_message
 
 SIZE = (120, 40)
 
@@ -36,7 +38,7 @@ def assert_shows(screen: MainScreen, settings: Settings) -> None:
     shown = "\n".join(line.plain for line in screen.query_one(ReadoutPanel).lines(200))
     for item in expected:
         assert f"{item.label}" in shown and item.text in shown
-    assert str(screen.query_one("#status").render()) == run_experiment(settings).message
+    assert str(screen.query_one("#status").render()) == status_message(run_experiment(settings))
     assert screen.query_one(ChoiceList).pressed == f"motion-{settings.motion}"
     for stepper in screen.query(Stepper):
         assert stepper.number == getattr(settings, stepper.field)

@@ -20,9 +20,9 @@ DEFERRED = (
     "tui.screens.ladder", "tui.screens.loading", "tui.screens.matrix", "tui.screens.open_log",
     "tui.screens.physics", "tui.screens.residuals", "tui.screens.sweep", "tui.widgets.small_plots",
     # jointid beyond the synthetic fit
-    "jointid.bag", "jointid.csvlog", "jointid.cross_excitation", "jointid.derivatives", "jointid.design",
-    "jointid.design_process", "jointid.export", "jointid.ladder", "jointid.logfit", "jointid.parallel_filter",
-    "jointid.residuals", "jointid.sensitivity", "jointid.simulation", "jointid.sweep",
+    "jointid.logs.bag", "jointid.logs.table", "jointid.studies.cross_excitation", "jointid.logs.derivatives", "jointid.studies.design",
+    "jointid.studies.design_process", "jointid.files", "jointid.studies.ladder", "jointid.studies.log_fit", "jointid.estimation.low_pass",
+    "jointid.estimation.residuals", "jointid.studies.sensitivity", "jointid.studies.simulation", "jointid.studies.sweep",
     # heavy libraries
     "scipy", "pandas", "rosbags", "importlib.metadata",
 )
@@ -58,5 +58,5 @@ def test_the_first_frame_loads_no_other_view_log_reader_designer_or_heavy_librar
 
 def test_the_probe_sees_a_deferred_module_once_something_imports_it():
     # The check above must be able to fail.
-    loaded = deferred_modules_loaded("import jointid.logfit, tui.screens.design")
-    assert {"jointid.logfit", "tui.screens.design"} <= set(loaded)
+    loaded = deferred_modules_loaded("import jointid.studies.log_fit, tui.screens.design")
+    assert {"jointid.studies.log_fit", "tui.screens.design"} <= set(loaded)

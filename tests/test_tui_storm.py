@@ -19,7 +19,7 @@ import pytest
 from textual import events
 from textual.keys import REPLACED_KEYS, _character_to_key, _get_unicode_name_from_key
 
-from jointid.experiment import run_experiment
+from jointid.studies.experiment import run_experiment
 from jointid.present.charts import training_chart
 from jointid.present.readouts import precision, readouts
 from tui.screens.main import MainScreen
@@ -27,6 +27,7 @@ from tui.widgets.charts import TorqueChart
 from tui.widgets.readouts import ReadoutPanel
 from tui.widgets.stepper import Stepper
 from tui_support import make_app, time_limit
+from jointid.present.status import status_message
 
 SIZES = ((20, 5), (250, 80))
 """Smallest and largest terminal (width, height) the storm resizes to."""
@@ -111,7 +112,7 @@ def assert_shows_the_cores_result(screen: MainScreen) -> None:
     panel = screen.query_one(ReadoutPanel)
     assert panel.items == readouts(result), settings
     assert panel.precision == precision(result), settings
-    assert str(screen.query_one("#status").render()) == result.message
+    assert str(screen.query_one("#status").render()) == status_message(result)
     for stepper in screen.query(Stepper):
         assert stepper.number == getattr(settings, stepper.field)
         assert stepper.value == stepper.steps.format(getattr(settings, stepper.field))

@@ -36,7 +36,7 @@ def logs(tmp_path):
 
 
 async def load_logs(pilot, train, test) -> None:
-    from jointid.logfit import HELDOUT, LoadRequest
+    from jointid.studies.log_fit import HELDOUT, LoadRequest
 
     for path, role in ((train, "training"), (test, HELDOUT)):
         pilot.app.screen.start_loading(LoadRequest(str(path), role, False))

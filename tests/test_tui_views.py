@@ -8,12 +8,12 @@ import numpy as np
 import pytest
 from tui_support import CANONICAL_STATES, READOUTS_DIR, run_app
 
-from jointid.cross_excitation import cross_excitation
-from jointid.experiment import run_experiment
+from jointid.studies.cross_excitation import cross_excitation
+from jointid.studies.experiment import run_experiment
 from jointid.present.tables import matrix_table
 from jointid.present.tables import sweep_table as statistics_table
-from jointid.residuals import AXES, AXIS_NOTES, residual_data
-from jointid.sweep import SweepCancelled, run_sweep
+from jointid.estimation.residuals import AXES, AXIS_NOTES, residual_data
+from jointid.studies.sweep import SweepCancelled, run_sweep
 from tui.screens import sweep as sweep_screen
 from tui.screens.main import MainScreen
 from tui.screens.matrix import MatrixScreen
@@ -22,6 +22,7 @@ from tui.screens.sweep import SweepScreen
 from tui.widgets.readouts import ReadoutPanel
 from tui.widgets.small_plots import SmallPlot
 from tui.widgets.stepper import Stepper
+from jointid.present.tables import sweep_message
 
 SLOW = CANONICAL_STATES["slow_0.20"]
 HOLDS = CANONICAL_STATES["holds"]
@@ -154,7 +155,7 @@ def test_sweep_view_shows_the_core_statistics():
     assert result.seed_count == 1000 and int(result.seeds[0]) == SLOW.seed
     np.testing.assert_array_equal(result.estimates, expected.estimates)
     assert table == statistics_table(expected)
-    assert summary.startswith(expected.message)
+    assert summary.startswith(sweep_message(expected))
     assert "std (expected)     5.425077" in table
 
 

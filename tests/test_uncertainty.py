@@ -4,10 +4,10 @@ import numpy as np
 import pytest
 from hypothesis import given, settings as hypothesis_settings, strategies as st
 
-from jointid.experiment import run_experiment
-from jointid.settings import Settings
-from jointid.solver import solve_least_squares
-from jointid.uncertainty import (
+from jointid.studies.experiment import run_experiment
+from jointid.synthetic.settings import Settings
+from jointid.estimation.solver import solve_least_squares
+from jointid.estimation.uncertainty import (
     NOT_DETERMINED,
     WEAK,
     WELL_DETERMINED,
@@ -15,6 +15,7 @@ from jointid.uncertainty import (
     parameter_uncertainty,
     verdict,
 )
+from jointid.present.status import fit_warnings, status_message
 
 LAB_SENTENCE = "Positive parameter signs alone do not establish an accurate physical model."
 
@@ -44,8 +45,8 @@ def test_standard_errors_match_the_explicit_inverse_on_small_problems(seed, colu
     uncertainty = parameter_uncertainty(solve_least_squares(X, y), noise_bound=0.3)
     scale = np.sqrt(np.outer(np.diag(inverse), np.diag(inverse)))
     np.testing.assert_allclose(uncertainty.covariance_factor / scale, inverse / scale, atol=1e-9)
-    np.testing.assert_allclose(uncertainty.std_error, std_error, rtol=1e-8)
-    np.testing.assert_allclose(uncertainty.expected_std_error, expected, rtol=1e-8)
+    np.testing.assert_allclose(uncertainty.residual_std_error, std_error, rtol=1e-8)
+    np.testing.assert_allclose(uncertainty.noise_bound_std_error, expected, rtol=1e-8)
 
 
 def test_covariance_factor_undoes_pivoting_and_scaling_on_a_hand_problem():
@@ -65,7 +66,7 @@ def test_covariance_factor_undoes_pivoting_and_scaling_on_a_hand_problem():
 )
 def test_expected_standard_errors_at_noise_020_to_six_decimals(motion, expected):
     result = run_experiment(Settings(motion=motion, noise=0.2))
-    assert tuple(round(float(v), 6) for v in result.uncertainty.expected_std_error) == expected
+    assert tuple(round(float(v), 6) for v in result.uncertainty.noise_bound_std_error) == expected
 
 
 def test_slow_motion_inertia_and_damping_are_not_determined():
@@ -93,8 +94,8 @@ def test_verdict_limits(relative, expected):
 def test_verdicts_use_empirical_errors_without_a_noise_bound():
     result = run_experiment(Settings(motion="slow", noise=0.2))
     uncertainty = parameter_uncertainty(result.solution, noise_bound=None)
-    assert uncertainty.expected_std_error is None and uncertainty.verdict_basis == "empirical"
-    np.testing.assert_array_equal(uncertainty.verdict_std_error, uncertainty.std_error)
+    assert uncertainty.noise_bound_std_error is None and uncertainty.verdict_basis == "empirical"
+    np.testing.assert_array_equal(uncertainty.verdict_std_error, uncertainty.residual_std_error)
 
 
 def test_interval_is_student_t_with_n_minus_p_degrees_of_freedom():
@@ -102,17 +103,17 @@ def test_interval_is_student_t_with_n_minus_p_degrees_of_freedom():
     low, high = uncertainty.interval95.T
     np.testing.assert_allclose((low + high) / 2, uncertainty.estimate, rtol=1e-14)
     # t(0.975, 21) = 2.0796 from printed tables.
-    np.testing.assert_allclose((high - low) / 2 / uncertainty.std_error, 2.0796, atol=1e-4)
+    np.testing.assert_allclose((high - low) / 2 / uncertainty.residual_std_error, 2.0796, atol=1e-4)
 
 
 def test_no_residual_degrees_of_freedom_gives_no_standard_errors_and_a_warning():
     result = run_experiment(Settings(motion="rich", noise=0.2, samples=3))
     assert result.rank == 3
     uncertainty = result.uncertainty
-    assert uncertainty.std_error is None and uncertainty.interval95 is None
-    assert uncertainty.expected_std_error is not None  # the design still has a known variance
-    assert any("no residual degrees of freedom" in w for w in result.warnings)
-    assert "no residual degrees of freedom" in result.message
+    assert uncertainty.residual_std_error is None and uncertainty.interval95 is None
+    assert uncertainty.noise_bound_std_error is not None  # the design still has a known variance
+    assert any("no residual degrees of freedom" in w for w in fit_warnings(result))
+    assert "no residual degrees of freedom" in status_message(result)
 
 
 def test_rank_deficient_fit_has_no_uncertainty():
@@ -120,14 +121,14 @@ def test_rank_deficient_fit_has_no_uncertainty():
 
 
 def test_slow_message_says_the_unique_fit_is_not_accurate_and_keeps_the_lab_sentences():
-    message = run_experiment(Settings(motion="slow", noise=0.2)).message
+    message = status_message(run_experiment(Settings(motion="slow", noise=0.2)))
     assert message.startswith("Rank 3 of 3: a unique least-squares fit. Held-out torque RMSE is 2.261865 N m.")
     assert "Fitted inertia -1.607788 kg m² fails this joint model's requirement I > 0." in message
     assert "inertia and damping are not determined (expected standard errors I 5.425077, B 1.013808)" in message
 
 
 def test_noiseless_rich_message_is_the_lab_text_alone():
-    message = run_experiment(Settings()).message
+    message = status_message(run_experiment(Settings()))
     assert message == (
         "Rank 3 of 3: a unique least-squares fit. Held-out torque RMSE is 0.000000 N m. " + LAB_SENTENCE
     )
@@ -142,9 +143,9 @@ def test_condition_number_of_the_scaled_regressor(motion, expected):
 
 
 def test_modest_condition_number_comes_with_its_caveat_when_a_parameter_is_undetermined():
-    warnings = run_experiment(Settings(motion="slow", noise=0.2)).warnings
+    warnings = fit_warnings(run_experiment(Settings(motion="slow", noise=0.2)))
     assert any("condition number 3.78 is modest" in w for w in warnings)
-    assert run_experiment(Settings()).warnings == ()
+    assert fit_warnings(run_experiment(Settings())) == ()
 
 
 def test_condition_number_is_infinite_for_holds():

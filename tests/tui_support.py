@@ -7,9 +7,9 @@ import signal
 from contextlib import contextmanager
 from pathlib import Path
 
-from jointid.settings import DEFAULT_SETTINGS, Settings
+from jointid.synthetic.settings import DEFAULT_SETTINGS, Settings
 from tui.app import JointIdApp
-from tui.commands import TOUR
+from tui.palette import TOUR
 from tui.screens.main import MainScreen
 from tui.widgets.readouts import ReadoutPanel
 

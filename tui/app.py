@@ -12,16 +12,16 @@ from textual.app import App, SystemCommand
 from textual.binding import Binding
 from textual.screen import Screen
 
-from jointid.choices import DEFAULT_ORDER, DEFAULT_WINDOW
-from jointid.settings import DEFAULT_SETTINGS, Settings
+from jointid.options import DEFAULT_ORDER, DEFAULT_WINDOW
+from jointid.synthetic.settings import DEFAULT_SETTINGS, Settings
 
-from .commands import TourCommands
-from . import third_party
+from .palette import TourCommands
+from .third_party import adapter as third_party
 from .screens.main import MainScreen
 
 if TYPE_CHECKING:  # the log reader and its low-pass are imported only when a log is opened
-    from jointid.logfit import LoadedLogs
-    from jointid.parallel_filter import FilterRequest
+    from jointid.studies.log_fit import LoadedLogs
+    from jointid.estimation.low_pass import FilterRequest
 
 FULL_COLLECTION_EVERY = 10_000
 """Young-generation collections between full garbage collections while keys keep coming

@@ -4,15 +4,15 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from jointid.choices import DEFAULT_ORDER, DEFAULT_WINDOW
-from jointid.settings import Settings
+from jointid.options import DEFAULT_ORDER, DEFAULT_WINDOW
+from jointid.synthetic.settings import Settings
 
-from . import third_party
-from .controls import check_explorer_settings
+from .third_party import adapter as third_party
+from .ranges import check_explorer_settings
 
 if TYPE_CHECKING:
-    from jointid.logfit import LoadedLogs
-    from jointid.parallel_filter import FilterRequest
+    from jointid.studies.log_fit import LoadedLogs
+    from jointid.estimation.low_pass import FilterRequest
 
 
 def explore(settings: Settings, logs: LoadedLogs | None = None,

@@ -12,7 +12,7 @@ from importlib import import_module
 
 from .arguments import OneLineParser, UserError, add_model_argument, add_settings_arguments
 from .floating_point import strict_arithmetic
-from .log_fit import add_log_arguments
+from .log_arguments import add_log_arguments
 from .output import OUTPUT_FAILED, end_process, output_error_line
 from .version import VersionAction
 

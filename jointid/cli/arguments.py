@@ -7,13 +7,13 @@ import math
 import re
 import sys
 
-from ..choices import SETTING_DEFAULTS, TRAINING_MOTION_NAMES, describe_models
-from ..number_text import parse_float, parse_int
-from ..setting_checks import FIELDS, SettingsError, parse_setting
+from ..options import SETTING_DEFAULTS, TRAINING_MOTION_NAMES, describe_models
+from ..options import parse_float, parse_int
+from ..options import FIELDS, SettingsError, parse_setting
 
 TYPE_CHECKING = False  # typing itself would cost 3 ms of every start
 if TYPE_CHECKING:
-    from ..settings import Settings
+    from ..synthetic.settings import Settings
 
 
 class UserError(Exception):
@@ -202,7 +202,7 @@ def add_motion_file_argument(parser) -> None:
 
 def motion_from_file(path: str):
     """The FourierMotion a --motion-file names; UserError (one line naming the file and the problem) if it is bad."""
-    from ..fourier import MotionFileError, load_motion
+    from ..synthetic.fourier import MotionFileError, load_motion
 
     try:
         return load_motion(path)
@@ -212,7 +212,7 @@ def motion_from_file(path: str):
 
 def settings_from(args: argparse.Namespace) -> Settings:
     """The Settings named by the parsed synthetic-setting arguments (and --model, where the command has it)."""
-    from ..settings import Settings  # dataclasses: only once a command runs
+    from ..synthetic.settings import Settings  # dataclasses: only once a command runs
 
     values = {field: getattr(args, field, SETTING_DEFAULTS[field]) for field in FIELDS}
     if getattr(args, "motion_file", None) is not None:

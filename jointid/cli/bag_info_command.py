@@ -25,8 +25,8 @@ def add_parser(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Survey the bag and print text or JSON; exit status 0 (2 with one line for an unreadable bag)."""
-    from ..bag import bag_info  # numpy and rosbags only now, so `jointid --help` stays light
-    from ..csvlog import LogError
+    from ..logs.bag import bag_info  # numpy and rosbags only now, so `jointid --help` stays light
+    from ..logs.table import LogError
     from ..present.baginfo import bag_info_text
     from .output import print_json
 

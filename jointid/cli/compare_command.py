@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import argparse
 
-from ..choices import LADDER
+from ..options import LADDER
 from .arguments import UserError, add_settings_arguments, settings_from
-from .log_fit import add_log_arguments, filter_options, has_log, load_logs, with_default_settings
+from .log_arguments import add_log_arguments, filter_options, has_log, load_logs, with_default_settings
 from .output import print_json
 
 NAME = "compare"
@@ -29,14 +29,15 @@ def add_parser(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Compare the ladder on the experiment (or the --csv log) and print text or JSON; exit status 0."""
-    from ..ladder import compare_experiment, compare_models  # numpy and the numeric modules load only to run
+    from ..studies.ladder import compare_experiment, compare_models  # numpy and the numeric modules load only to run
     from ..present.comparison import comparison_text
     from ..present.documents import comparison_document
+    from ..present.notes import low_pass_short_note
     from ..present.text import settings_header
 
     if has_log(args):
-        from ..csvlog import LogError
-        from ..logfit import low_pass_for
+        from ..logs.table import LogError
+        from ..studies.log_fit import low_pass_for
 
         training, heldout = load_logs(args)
         try:
@@ -44,7 +45,7 @@ def run(args: argparse.Namespace) -> int:
         except LogError as error:
             raise UserError(str(error)) from None
         comparison = compare_models(training.data, None if heldout is None else heldout.data, low_pass=low_pass)
-        heading = f"Training log {training.source_text()}; {low_pass.short_description}"
+        heading = f"Training log {training.source_text()}; {low_pass_short_note(low_pass)}"
         settings, source = None, {"training": training.path, "heldout": None if heldout is None else heldout.path}
     else:
         settings = settings_from(with_default_settings(args))

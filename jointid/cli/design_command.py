@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..design_options import (
+from ..options import (
     CRITERIA,
     DEFAULT_CRITERION,
     DEFAULT_HARMONICS,
@@ -79,11 +79,11 @@ def add_parser(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Design the motion, print text or JSON, and write --out; exit status 0."""
-    from ..design import DesignError, DesignSpec, Limits, design_motion
-    from ..export import ExportError
-    from ..fourier import save_motion
+    from ..studies.design import DesignError, DesignSpec, Limits, design_motion
+    from ..files import ExportError
+    from ..synthetic.fourier import save_motion
     from ..present.design import design_document, design_text
-    from ..settings import Settings
+    from ..synthetic.settings import Settings
     from .output import print_json
 
     try:

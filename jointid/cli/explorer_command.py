@@ -13,10 +13,10 @@ a few per cent of an explorer start that `python -m jointid` still spends.
 
 from __future__ import annotations
 
-from ..setting_checks import SettingsError
+from ..options import SettingsError
 from .arguments import UserError, settings_from
 from .floating_point import strict_arithmetic
-from .log_fit import LOG_ONLY_FLAGS, derivative_options, filter_options, fit_loaded_logs, has_log, with_default_settings
+from .log_arguments import LOG_ONLY_FLAGS, derivative_options, filter_options, fit_loaded_logs, has_log, with_default_settings
 from .version import ENTRY_POINT_GROUP
 
 ENTRY_POINT_NAME = "explorer"

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import argparse
 
-from ..choices import DEFAULT_HORIZON, HORIZON_LIMITS
+from ..options import DEFAULT_HORIZON, HORIZON_LIMITS
 from .arguments import add_model_argument, add_settings_arguments, bounded_number, settings_from
-from .log_fit import add_log_arguments, has_log, run_log_fit, with_default_settings
+from .log_arguments import add_log_arguments, has_log, run_log_fit, with_default_settings
 from .output import print_json
 
 NAME = "fit"
@@ -38,7 +38,7 @@ def run(args: argparse.Namespace) -> int:
     """Run the experiment (or fit the --csv log) and print text or JSON; exit status 0."""
     if has_log(args):
         return run_log_fit(args)
-    from ..experiment import run_experiment  # numpy and the numeric modules load only to run
+    from ..studies.experiment import run_experiment  # numpy and the numeric modules load only to run
 
     settings = settings_from(with_default_settings(args))
     result = run_experiment(settings)
@@ -46,7 +46,7 @@ def run(args: argparse.Namespace) -> int:
     horizon = DEFAULT_HORIZON if args.horizon is None else args.horizon
     check = None
     if simulate:
-        from ..simulation import simulation_check
+        from ..studies.simulation import simulation_check
 
         check = simulation_check(result, settings.true_joint, horizon)
     if args.json:  # each output loads only its own presentation modules
@@ -55,14 +55,10 @@ def run(args: argparse.Namespace) -> int:
         extra = simulation_object(check) if simulate else {}
         print_json(fit_document(result, settings=settings, **extra))
     else:
-        from ..present.readouts import readouts_text, uncertainty_text
         from ..present.status import simulation_text
-        from ..present.text import settings_header
+        from ..present.summary import fit_summary
 
-        print(settings_header(settings))
-        print(readouts_text(result))
-        print()
-        print(uncertainty_text(result))
+        print(fit_summary(result))
         if simulate:
             print()
             print(simulation_text(check))

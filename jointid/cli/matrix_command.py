@@ -27,7 +27,7 @@ def add_parser(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Build the table and print text or JSON; exit status 0."""
-    from ..cross_excitation import cross_excitation  # numpy and the numeric modules load only to run
+    from ..studies.cross_excitation import cross_excitation  # numpy and the numeric modules load only to run
     from ..present.documents import matrix_document
     from ..present.tables import matrix_text
 

@@ -12,8 +12,8 @@ from __future__ import annotations
 import argparse
 import math
 
-from ..choices import ALL_MOTION_NAMES, DURATION, SETTING_DEFAULTS
-from ..setting_checks import SettingsError, check_setting
+from ..options import ALL_MOTION_NAMES, DURATION, SETTING_DEFAULTS
+from ..options import SettingsError, check_setting
 from .arguments import (
     UserError,
     add_motion_file_argument,
@@ -147,10 +147,10 @@ def run(args: argparse.Namespace) -> int:
     """Write the log; print one line saying what was written; exit status 0."""
     import numpy as np  # numpy and the numeric modules load only to run
 
-    from ..export import ExportError, atomic_output
-    from ..motions import ALL_MOTIONS
-    from ..noise import torque_noise
-    from ..truth import TrueJoint
+    from ..files import ExportError, atomic_output
+    from ..synthetic.motions import ALL_MOTIONS
+    from ..synthetic.noise import torque_noise
+    from ..model.truth import TrueJoint
 
     samples, duration = timing(args.samples, args.rate, args.duration)
     t = np.linspace(0.0, duration, samples)

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..choices import DEFAULT_SEED_COUNT, SEED_COUNT_LIMITS, WORK_BUDGET
+from ..options import DEFAULT_SEED_COUNT, SEED_COUNT_LIMITS, WORK_BUDGET
 from .arguments import UserError, add_model_argument, add_settings_arguments, settings_from, whole_number
 from .output import print_json
 
@@ -45,7 +45,7 @@ def run(args: argparse.Namespace) -> int:
     """Run the sweep and print text or JSON; exit status 0."""
     from ..present.documents import sweep_document  # numpy and the numeric modules load only to run
     from ..present.tables import sweep_text
-    from ..sweep import run_sweep, sweep_work
+    from ..studies.sweep import run_sweep, sweep_work
 
     settings = settings_from(args)
     work = sweep_work(settings, args.seeds)

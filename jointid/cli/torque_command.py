@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from ..choices import TRUE_VALUES
+from ..options import TRUE_VALUES
 from .arguments import UserError, finite_float
 from .output import print_json
 
@@ -50,7 +50,7 @@ def run(args: argparse.Namespace) -> int:
     """Compute and print the breakdown; exit status 0."""
     import numpy as np  # numpy and the numeric modules load only to run
 
-    from ..breakdown import torque_breakdown
+    from ..model.breakdown import torque_breakdown
     from ..present.text import format_number
 
     q = math.radians(args.q) if args.deg else args.q

@@ -16,10 +16,10 @@ import numpy as np
 from .text import format_number, ordinal
 
 if TYPE_CHECKING:
-    from ..dataset import JointData
-    from ..fit import FitResult
-    from ..residuals import ResidualData
-    from ..sweep import SweepResult
+    from ..samples import JointData
+    from ..estimation.fit import FitResult
+    from ..estimation.residuals import ResidualData
+    from ..studies.sweep import SweepResult
 
 
 @dataclass(frozen=True, eq=False)
@@ -181,7 +181,7 @@ class ScatterData:
 def residual_scatter(data: ResidualData, axis: str) -> ScatterData:
     """The scatter of training residuals against one axis ('t', 'q', 'qd' or 'qdd')."""
     # Imported here: the explorer's first frame shows no residuals.
-    from ..residuals import AXIS_LABELS
+    from ..estimation.residuals import AXIS_LABELS
 
     x_label = AXIS_LABELS[axis] if data.has_times or axis != "t" else "sample index"
     return ScatterData(

@@ -5,12 +5,12 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
-from ..uncertainty import NOT_DETERMINED
+from ..estimation.uncertainty import NOT_DETERMINED
 from .status import condition_text
 from .text import UNAVAILABLE, format_number, join_words, text_table
 
 if TYPE_CHECKING:
-    from ..ladder import Comparison, LadderRow
+    from ..studies.ladder import Comparison, LadderRow
 
 PREFERRED_MARK = "←"
 """Marks the row BIC prefers."""

@@ -11,10 +11,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..design import ACTIVE_SHARE, CHECK_GRID, DesignResult
-from ..design_options import CRITERIA, LIMIT_RANGES, LIMIT_SYMBOLS
-from ..fourier import motion_document
-from ..motions import DURATION, TRAINING_MOTIONS
+from ..studies.design import ACTIVE_SHARE, CHECK_GRID, DesignResult
+from ..options import CRITERIA, LIMIT_RANGES, LIMIT_SYMBOLS
+from ..synthetic.fourier import motion_document
+from ..synthetic.motions import DURATION, TRAINING_MOTIONS
 from .text import capitalise, format_number, join_words, text_table
 
 NOT_APPLICABLE = "-"
@@ -60,9 +60,9 @@ def design_table(result: DesignResult) -> str:
     rows = []
     design, rich = result.design, result.rich
     for index, parameter in enumerate(result.model.parameters):
-        if design.expected_std_error is None or rich.expected_std_error is None:
+        if design.noise_bound_std_error is None or rich.noise_bound_std_error is None:
             break
-        mine, theirs = float(design.expected_std_error[index]), float(rich.expected_std_error[index])
+        mine, theirs = float(design.noise_bound_std_error[index]), float(rich.noise_bound_std_error[index])
         ratio = mine / theirs if theirs > 0 else math.nan
         rows.append([parameter.symbol_with_unit, significant(mine), percent(float(design.relative_std_pct[index])),
                      significant(theirs), percent(float(rich.relative_std_pct[index])),
@@ -96,14 +96,14 @@ def design_verdict(result: DesignResult) -> str:
     """How the design compares with rich motion, naming any parameter it determines worse (and, for cond, why)."""
     names = result.model.names
     design, rich = result.design, result.rich
-    if design.expected_std_error is None:
+    if design.noise_bound_std_error is None:
         return "The design does not determine every parameter."
     worse = result.worse_than_rich
     if worse:
         parts = []
         for name in worse:
             index = names.index(name)
-            mine, theirs = design.expected_std_error[index], rich.expected_std_error[index]
+            mine, theirs = design.noise_bound_std_error[index], rich.noise_bound_std_error[index]
             parts.append(f"{name} (SE {significant(mine)} against {significant(theirs)}, "
                          f"{100 * mine / theirs:.0f} % of rich motion's)")
         text = f"Worse than rich motion: {join_words(parts)}."
@@ -111,7 +111,7 @@ def design_verdict(result: DesignResult) -> str:
             text += (f" The condition number is {design.condition_number:.3f} against rich motion's "
                      f"{rich.condition_number:.3f}. {COND_CAVEAT}")
         return text
-    ratios = design.expected_std_error / rich.expected_std_error
+    ratios = design.noise_bound_std_error / rich.noise_bound_std_error
     best = int(ratios.argmin())
     return (f"Every parameter is determined at least as well as under rich motion; {names[best]}'s standard error "
             f"is {100 * ratios[best]:.0f} % of rich motion's.")
@@ -134,9 +134,9 @@ def _finite(value) -> float | None:
 def design_document(result: DesignResult) -> dict:
     """`jointid design --json`: the motion file's object, both motions' precision, the limits and the verdict."""
     def precision(of):
-        if of.expected_std_error is None:
+        if of.noise_bound_std_error is None:
             return {"std_error": None, "relative_pct": None, "condition_number": _finite(of.condition_number)}
-        return {"std_error": dict(zip(result.model.names, map(_finite, of.expected_std_error))),
+        return {"std_error": dict(zip(result.model.names, map(_finite, of.noise_bound_std_error))),
                 "relative_pct": dict(zip(result.model.names, map(_finite, of.relative_std_pct))),
                 "condition_number": _finite(of.condition_number)}
 

@@ -12,13 +12,15 @@ from __future__ import annotations
 import math
 from typing import TYPE_CHECKING
 
-from ..uncertainty import finite_or_none
+from ..estimation.uncertainty import finite_or_none
+from .status import fit_warnings, status_message
+from .tables import sweep_message
 
 if TYPE_CHECKING:
-    from ..cross_excitation import CrossExcitationTable
-    from ..fit import FitResult
-    from ..settings import Settings
-    from ..sweep import SweepResult
+    from ..studies.cross_excitation import CrossExcitationTable
+    from ..estimation.fit import FitResult
+    from ..synthetic.settings import Settings
+    from ..studies.sweep import SweepResult
 
 
 class NonFiniteValue(ValueError):
@@ -81,7 +83,7 @@ def settings_object(settings: Settings) -> dict:
     """The synthetic settings as a JSON object (a designed motion as its name plus its motion file's object)."""
     document = vars(settings).copy()
     if not isinstance(settings.motion, str):
-        from ..fourier import motion_document  # only a designed motion needs it
+        from ..synthetic.fourier import motion_document  # only a designed motion needs it
 
         document["motion"] = settings.motion_name
         document["designed_motion"] = motion_document(settings.motion)
@@ -128,7 +130,7 @@ def result_to_dict(result: FitResult) -> dict:
         "accel_rms": result.accel_rms,
         "speed_rms": result.speed_rms,
         "sign_failures": list(result.sign_failures),
-        "message": result.message,
+        "message": status_message(result),
         **uncertainty_to_dict(result),
     }
 
@@ -138,11 +140,11 @@ def uncertainty_to_dict(result: FitResult) -> dict:
     uncertainty = result.uncertainty
     names = result.model.names
     return {
-        "std_error": per_parameter(names, uncertainty and uncertainty.std_error),
+        "std_error": per_parameter(names, uncertainty and uncertainty.residual_std_error),
         # The issues' schema: null, not an object of nulls, when no noise bound is known (logs).
-        "expected_std_error": (
+        "noise_bound_std_error": (
             None if result.noise_bound is None
-            else per_parameter(names, uncertainty and uncertainty.expected_std_error)
+            else per_parameter(names, uncertainty and uncertainty.noise_bound_std_error)
         ),
         "relative_std_pct": per_parameter(names, uncertainty and uncertainty.relative_std_pct),
         "interval95": per_parameter(names, uncertainty and uncertainty.interval95),
@@ -150,7 +152,7 @@ def uncertainty_to_dict(result: FitResult) -> dict:
         "verdict_basis": uncertainty and uncertainty.verdict_basis,
         "condition_number": finite_or_none(result.condition_number),
         "identifiable": result.identifiable.values,
-        "warnings": list(result.warnings),
+        "warnings": list(fit_warnings(result)),
     }
 
 
@@ -211,11 +213,11 @@ def sweep_document(sweep: SweepResult) -> dict:
         "condition_number": finite_or_none(sweep.condition_number),
         "statistics": statistics,
         "empirical_std": per_parameter(names, sweep.empirical_std),
-        "expected_std_error": per_parameter(names, sweep.expected_std_error),
+        "noise_bound_std_error": per_parameter(names, sweep.noise_bound_std_error),
         "sign_failure_fraction": sweep.sign_failure_fraction,
         "sign_failure_fractions": sweep.sign_failure_fractions,
         **({} if sweep.held is None else {"constraint_active_fraction": sweep.constraint_active_fraction}),
-        "message": sweep.message,
+        "message": sweep_message(sweep),
     }
 
 
@@ -274,3 +276,10 @@ def comparison_document(comparison, *, settings: Settings | None = None, source=
         "models": models,
         "message": " ".join(comparison_sentences(comparison)),
     }
+
+
+def logs_document(logs) -> dict:
+    """The JSON document of `jointid fit --csv ... --json` for a studies.log_fit.LoadedLogs."""
+    from .notes import log_notes
+
+    return log_fit_document(logs.result, logs.training, logs.heldout, logs.filter, logs.sensitivity, log_notes(logs))

@@ -10,12 +10,12 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from ..uncertainty import AT_BOUND
-from .status import CONDITION_CAVEAT, CONDITION_CAVEAT_SHORT, DEPENDENT_COLUMNS, condition_text
+from ..estimation.uncertainty import AT_BOUND
+from .status import CONDITION_CAVEAT, CONDITION_CAVEAT_SHORT, DEPENDENT_COLUMNS, condition_text, status_message
 from .text import UNAVAILABLE, format_number
 
 if TYPE_CHECKING:
-    from ..fit import FitResult
+    from ..estimation.fit import FitResult
 
 
 @dataclass(frozen=True)
@@ -66,7 +66,7 @@ def readouts_text(result: FitResult) -> str:
         f"{r.label:<{width}}{r.text:>12}" + (f"  fails {r.failed_requirement}" if r.sign_failure else "")
         for r in items
     ]
-    return "\n".join(lines) + "\n\n" + result.message
+    return "\n".join(lines) + "\n\n" + status_message(result)
 
 
 @dataclass(frozen=True)
@@ -180,9 +180,9 @@ def uncertainty_text(result: FitResult) -> str:
                 f"Standard errors above: expected from the noise bound {format_number(result.noise_bound, 2)} N m "
                 "(uniform, variance b²/3)."
             )
-        if uncertainty.std_error is not None:
+        if uncertainty.residual_std_error is not None:
             free = [i for i, v in enumerate(uncertainty.verdicts or ()) if v != AT_BOUND] or range(model.size)
-            from_residuals = ", ".join(f"{model.names[i]} {format_number(uncertainty.std_error[i])}" for i in free)
+            from_residuals = ", ".join(f"{model.names[i]} {format_number(uncertainty.residual_std_error[i])}" for i in free)
             lines.append(f"From the residuals (N - p = {uncertainty.degrees_of_freedom}): {from_residuals}.")
             intervals = ", ".join(
                 f"{model.names[i]} [{format_number(uncertainty.interval95[i][0])}, "

@@ -10,11 +10,11 @@ import math
 import os
 from typing import TYPE_CHECKING
 
-from ..uncertainty import NOT_DETERMINED, WEAK, WELL_DETERMINED
+from ..estimation.uncertainty import NOT_DETERMINED, WEAK, WELL_DETERMINED
 from .text import capitalise, format_number, join_words
 
 if TYPE_CHECKING:
-    from ..fit import FitResult
+    from ..estimation.fit import FitResult
 
 MODEST_CONDITION = 100.0
 """Below this a condition number looks harmless, which is when it most needs its caveat."""
@@ -35,7 +35,7 @@ def accuracy_sentences(result: FitResult) -> tuple[str, ...]:
         return subset_sentences(result)
     uncertainty = result.uncertainty
     sentences = []
-    if uncertainty.std_error is None:
+    if uncertainty.residual_std_error is None:
         sentences.append(
             f"With {result.training.count} samples and {result.parameter_count} parameters there are "
             "no residual degrees of freedom, so standard errors cannot be estimated from the residuals."
@@ -187,15 +187,16 @@ def log_status(logs, compact: bool = False) -> str:
     """
     # Only log fits carry a sensitivity check: a synthetic fit need not import it.
     from .sensitivity import sensitivity_summary, sensitivity_warning
+    from .notes import log_notes, short_log_notes
 
     check = logs.sensitivity
     warning = () if check is None or not check.flagged else (sensitivity_warning(check),)
     if compact:
         warning = () if not warning else (sensitivity_warning(check, compact=True),)
-        return " ".join((logs.result.message, *warning, *map(as_sentence, logs.short_notes())))
+        return " ".join((status_message(logs.result), *warning, *map(as_sentence, short_log_notes(logs))))
     sources = logs.source_texts()
     summary = () if check is None else (sensitivity_summary(check),)
-    return " ".join((logs.result.message, *warning, *summary, *map(as_sentence, (*sources, *logs.notes()))))
+    return " ".join((status_message(logs.result), *warning, *summary, *map(as_sentence, (*sources, *log_notes(logs)))))
 
 
 def simulation_text(check, label_width: int = 28) -> str:

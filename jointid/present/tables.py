@@ -4,12 +4,12 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from ..motions import VALIDATION_SAMPLES
+from ..options import VALIDATION_SAMPLES
 from .text import UNAVAILABLE, format_number, settings_header, text_table
 
 if TYPE_CHECKING:
-    from ..cross_excitation import CrossExcitationTable
-    from ..sweep import SweepResult
+    from ..studies.cross_excitation import CrossExcitationTable
+    from ..studies.sweep import SweepResult
 
 SWEEP_ROW_LABELS = ("true value", "mean", "std (empirical)", "std (expected)", "p5", "p50 (median)", "p95",
                     "sign check fails")
@@ -64,7 +64,7 @@ def sweep_table(sweep: SweepResult) -> str:
     names = (*model.names, *RMSE_COLUMNS)
     stats = sweep.statistics
     blank_rmse = ["", ""]
-    expected = sweep.expected_std_error if sweep.expected_std_error is not None else (None,) * model.size
+    expected = sweep.noise_bound_std_error if sweep.noise_bound_std_error is not None else (None,) * model.size
     fractions = sweep.sign_failure_fractions
 
     def cell(value) -> str:
@@ -94,7 +94,7 @@ def sign_failure_line(sweep: SweepResult) -> str:
 
 def sweep_summary(sweep: SweepResult) -> str:
     """The sweep's message, then how often a sign check fails."""
-    return " ".join(part for part in (sweep.message, sign_failure_line(sweep)) if part)
+    return " ".join(part for part in (sweep_message(sweep), sign_failure_line(sweep)) if part)
 
 
 def sweep_text(sweep: SweepResult) -> str:

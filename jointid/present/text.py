@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from ..settings import Settings
+from ..synthetic.settings import Settings
 
 UNAVAILABLE = "unavailable"
 """Readout text when the rank gives no unique fit (or there is no held-out data)."""

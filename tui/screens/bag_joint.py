@@ -72,7 +72,7 @@ class BagJointScreen(ModalScreen[tuple[str, str] | None]):
     @work(thread=True, exclusive=True, group="bag-survey")
     def survey(self) -> None:
         """List joints from the first SURVEY_MESSAGES messages of each JointState topic."""
-        from jointid.bag import bag_info
+        from jointid.logs.bag import bag_info
 
         try:
             info = bag_info(self.path, limit=SURVEY_MESSAGES)

@@ -1,7 +1,7 @@
 """The design view: the Fourier-series motion that reveals the parameters best within the joint's limits.
 
 The limits and the criterion are fields here; the optimiser runs in a child
-process (`jointid.design_process`), so it never holds the GIL the app's loop
+process (`jointid.studies.design_process`), so it never holds the GIL the app's loop
 needs, waited on by a worker thread, with a progress bar; cancelling kills the
 process, and so does closing the view. The result shows q(t) against
 rich motion's, both motions' expected standard errors, the limits' margins and
@@ -27,10 +27,11 @@ from textual.screen import Screen
 from textual.widgets import ProgressBar, Static
 from textual.worker import Worker, WorkerState, get_current_worker
 
-from jointid.design_options import CRITERIA, DEFAULT_NOISE, RICH_ENVELOPE
+from jointid.options import CRITERIA, DEFAULT_NOISE, RICH_ENVELOPE
 from jointid.present.design import DESIGN_INTRO, design_chart
-from jointid.number_text import parse_float
-from jointid.settings import Settings, SettingsError
+from jointid.options import parse_float
+from jointid.synthetic.settings import Settings
+from jointid.options import SettingsError
 
 from ..widgets.direct_controls import ChoiceList
 from ..widgets.footer import KeyFooter
@@ -109,7 +110,7 @@ class DesignScreen(Screen):
         self.limits = dict(limits or {**RICH_ENVELOPE, "tau_max": 0.0})
         self.criterion = criterion
         self.designer = None
-        """The jointid.design_process.DesignProcess that runs this view's designs (started at the first run)."""
+        """The jointid.studies.design_process.DesignProcess that runs this view's designs (started at the first run)."""
 
     def compose(self) -> ComposeResult:
         """Title; limits, criterion and progress beside the chart; the comparison below; footer."""
@@ -160,7 +161,7 @@ class DesignScreen(Screen):
 
     def spec(self):
         """The DesignSpec of the fields; DesignError when the limits admit no design."""
-        from jointid.design import DesignSpec, Limits
+        from jointid.studies.design import DesignSpec, Limits
 
         tau = self.limits["tau_max"] or None
         return DesignSpec(limits=Limits(self.limits["q_max"], self.limits["qd_max"], self.limits["qdd_max"], tau),
@@ -168,7 +169,7 @@ class DesignScreen(Screen):
 
     def action_run(self) -> None:
         """Start a design with the current fields (an exclusive worker drops one still running)."""
-        from jointid.design import DesignError
+        from jointid.studies.design import DesignError
 
         try:
             spec = self.spec()
@@ -179,7 +180,7 @@ class DesignScreen(Screen):
         self.query_one("#design-state", Static).update(f"running: 0 of {spec.starts} starts…")
         self.refresh_bindings()
         if self.designer is None:
-            from jointid.design_process import DesignProcess
+            from jointid.studies.design_process import DesignProcess
 
             self.designer = DesignProcess()
         self.design(self.designer, spec)
@@ -187,8 +188,8 @@ class DesignScreen(Screen):
     @work(thread=True, exclusive=True, group="design")
     def design(self, designer, spec) -> None:
         """Wait in a thread for the design process, reporting each start; the outcome is shown on the main thread."""
-        from jointid.design import DesignCancelled, DesignError
-        from jointid.design_process import DesignFailed
+        from jointid.studies.design import DesignCancelled, DesignError
+        from jointid.studies.design_process import DesignFailed
 
         worker = get_current_worker()
 
@@ -296,8 +297,8 @@ class DesignScreen(Screen):
         if self.result is None:
             self.notify("Run a design first (g).", severity="warning")
             return
-        from jointid.export import AlreadyExists, ExportError
-        from jointid.fourier import save_motion
+        from jointid.files import AlreadyExists, ExportError
+        from jointid.synthetic.fourier import save_motion
 
         for number in range(1, 1000):
             path = Path(f"jointid-design-{self.criterion}{'' if number == 1 else f'-{number}'}.json")

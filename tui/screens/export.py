@@ -12,7 +12,7 @@ from textual.containers import Vertical
 from textual.screen import ModalScreen
 from textual.widgets import Input, Label, Static
 
-from jointid.export import AlreadyExists, ExportError, json_text, write_texts
+from jointid.files import AlreadyExists, ExportError, json_text, write_texts
 
 from ..widgets.footer import KeyFooter
 

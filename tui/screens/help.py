@@ -10,7 +10,7 @@ from textual.containers import VerticalScroll
 from textual.screen import Screen
 from textual.widgets import Markdown
 
-from ..controls import NOISE_RANGE, SAMPLES_RANGE, SEED_RANGE
+from ..ranges import NOISE_RANGE, SAMPLES_RANGE, SEED_RANGE
 from ..widgets.footer import KeyFooter
 from ..widgets.stepper import Stepper
 

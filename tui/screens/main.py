@@ -24,18 +24,18 @@ from textual.events import ScreenResume
 from textual.screen import Screen
 from textual.widgets import Static
 
-from jointid.experiment import run_experiment
-from jointid.fit import FitResult
-from jointid.model import PLAIN, G
-from jointid.motions import TRAINING_MOTIONS
+from jointid.studies.experiment import run_experiment
+from jointid.estimation.fit import FitResult
+from jointid.model.terms import PLAIN, G
+from jointid.synthetic.motions import TRAINING_MOTIONS
 from jointid.present.charts import heldout_chart, training_chart
 from jointid.present.readouts import precision, readouts
-from jointid.present.status import log_sources, log_status
-from jointid.settings import DEFAULT_SETTINGS, Settings
-from jointid.truth import LESSON_JOINT, TrueJoint
+from jointid.present.status import log_sources, log_status, status_message
+from jointid.synthetic.settings import DEFAULT_SETTINGS, Settings
+from jointid.model.truth import LESSON_JOINT, TrueJoint
 
 from ..widgets.charts import TorqueChart
-from ..controls import FIELD_LABELS, STEP_RANGES
+from ..ranges import FIELD_LABELS, STEP_RANGES
 from ..widgets.direct_controls import ActionButton, ChoiceList
 from ..widgets.fitting import FittingLine
 from ..widgets.footer import KeyFooter
@@ -45,7 +45,7 @@ from ..widgets.stepper import Stepper
 # The log reader, file dialog, progress dialog and export are imported when first used:
 # the explorer's first frame needs none of them (about 15 ms of start-up).
 if TYPE_CHECKING:
-    from jointid.logfit import LoadedLogs, LoadRequest
+    from jointid.studies.log_fit import LoadedLogs, LoadRequest
 
     from .loading import LoadingScreen
 
@@ -323,7 +323,7 @@ class MainScreen(Screen):
     def show_status(self) -> None:
         """The status sentence of the fit shown (a log's names its files in full only on roomy screens)."""
         if self.logs is None:
-            status = self.result.message
+            status = status_message(self.result)
         else:
             status = log_status(self.logs, compact=self.has_class("-compact"))
         self.query_one("#status", FittingLine).show((Content(status),))
@@ -368,7 +368,7 @@ class MainScreen(Screen):
     def refit_worker(self, logs: LoadedLogs, settings: Settings) -> None:
         """Refit the shown log with the settings' model and constraint off the main thread (a large log's fit
         and its sensitivity refits take seconds); the result is shown if nothing changed meanwhile."""
-        from jointid.logfit import fit_logs
+        from jointid.studies.log_fit import fit_logs
 
         try:
             refitted = fit_logs(logs.training, logs.heldout, settings.joint_model, settings.constrained,
@@ -441,7 +441,7 @@ class MainScreen(Screen):
 
     def action_ladder(self) -> None:
         """Open the model-ladder view on the data shown (the synthetic experiment or the log)."""
-        from jointid.experiment import training_data, validation_data
+        from jointid.synthetic.samples import training_data, validation_data
         from jointid.present.text import settings_header
 
         from .ladder import LadderScreen
@@ -547,8 +547,8 @@ class MainScreen(Screen):
     @work(thread=True, exclusive=True, group="log-load")
     def load_worker(self, request: LoadRequest, current: LoadedLogs | None, dialog: LoadingScreen) -> None:
         """Read and fit the log off the main thread; the outcome is applied on the main thread."""
-        from jointid.csvlog import LoadCancelled
-        from jointid.logfit import load_request
+        from jointid.logs.table import LoadCancelled
+        from jointid.studies.log_fit import load_request
 
         app = self.app
         try:
@@ -579,7 +579,9 @@ class MainScreen(Screen):
     def export_content(self) -> tuple[str, dict]:
         """File stem and JSON document of the current result, as `jointid fit [--csv] --json` prints it."""
         if self.logs is not None:
-            return f"{Path(self.logs.training.path).stem}-fit", self.logs.document()
+            from jointid.present.documents import logs_document
+
+            return f"{Path(self.logs.training.path).stem}-fit", logs_document(self.logs)
         from jointid.present.documents import fit_document  # json and the documents: only when exporting
 
         s = self.settings
@@ -599,7 +601,7 @@ class MainScreen(Screen):
         """Write the export pair and say where, or say why not."""
         if folder is None:
             return
-        from jointid.export import ExportError
+        from jointid.files import ExportError
 
         from .export import write_export
 

@@ -9,9 +9,9 @@ from textual.binding import Binding
 from textual.screen import Screen
 from textual.widgets import Static
 
-from jointid.cross_excitation import cross_excitation
+from jointid.studies.cross_excitation import cross_excitation
 from jointid.present.tables import MATRIX_EXPLANATION, matrix_notes, matrix_table, matrix_title
-from jointid.settings import Settings
+from jointid.synthetic.settings import Settings
 
 from ..widgets.footer import KeyFooter
 

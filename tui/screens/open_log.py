@@ -15,10 +15,10 @@ from textual.containers import Horizontal, Vertical
 from textual.screen import ModalScreen
 from textual.widgets import DirectoryTree, Input, Label, RadioSet, Static
 
-from jointid.choices import DEFAULT_ORDER, DEFAULT_WINDOW
-from jointid.parallel_filter import FilterRequest
+from jointid.options import DEFAULT_ORDER, DEFAULT_WINDOW
+from jointid.estimation.low_pass import FilterRequest
 
-from jointid.logfit import HELDOUT, TRAINING, LoadRequest
+from jointid.logs.request import HELDOUT, TRAINING, LoadRequest
 
 from ..widgets.footer import KeyFooter
 from ..widgets.marks import ClearCheckbox, ClearRadioButton
@@ -125,7 +125,7 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
 
     def choose(self, path: str) -> None:
         """Load a CSV log now; for a bag, pick its joint first (the dialog stays open behind the picker)."""
-        from jointid.bag import looks_like_bag
+        from jointid.logs.bag import looks_like_bag
 
         if os.path.basename(path) == "metadata.yaml":  # chosen inside a ROS 2 bag folder: the folder is the bag
             path = os.path.dirname(path)

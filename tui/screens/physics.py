@@ -16,10 +16,10 @@ from textual.containers import Horizontal, Vertical
 from textual.screen import ModalScreen
 from textual.widgets import Static
 
-from jointid.model import LADDER
-from jointid.settings import Settings
+from jointid.options import LADDER
+from jointid.synthetic.settings import Settings
 
-from ..controls import PHYSICS_LABELS, PHYSICS_RANGES
+from ..ranges import PHYSICS_LABELS, PHYSICS_RANGES
 from ..widgets.direct_controls import ChoiceList
 from ..widgets.footer import KeyFooter
 from ..widgets.stepper import Stepper

@@ -10,9 +10,9 @@ from textual.reactive import reactive
 from textual.screen import Screen
 from textual.widgets import Static
 
-from jointid.fit import FitResult
+from jointid.estimation.fit import FitResult
 from jointid.present.charts import residual_scatter, residual_summary
-from jointid.residuals import AXES, AXIS_LABELS, residual_data
+from jointid.estimation.residuals import AXES, AXIS_LABELS, residual_data
 
 from ..widgets.footer import KeyFooter
 from ..widgets.small_plots import SmallPlot

@@ -16,12 +16,13 @@ from textual.screen import Screen
 from textual.widgets import Label, ProgressBar, Static
 from textual.worker import Worker, WorkerState, get_current_worker
 
-from jointid.number_text import parse_int
+from jointid.options import parse_int
 from jointid.present.charts import sweep_histograms
 from jointid.present.tables import sweep_summary, sweep_table
 from jointid.present.text import settings_header
-from jointid.settings import Settings, SettingsError
-from jointid.sweep import DEFAULT_SEED_COUNT, SweepCancelled, SweepResult, run_sweep
+from jointid.synthetic.settings import Settings
+from jointid.options import SettingsError
+from jointid.studies.sweep import DEFAULT_SEED_COUNT, SweepCancelled, SweepResult, run_sweep
 
 from ..widgets.footer import KeyFooter
 from ..widgets.plot_guard import MIN_PLOT_SIZE

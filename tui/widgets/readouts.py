@@ -7,7 +7,7 @@ from functools import lru_cache
 from textual.content import Content
 
 from jointid.present.readouts import Precision, PrecisionNote, Readout
-from jointid.uncertainty import NOT_DETERMINED, WEAK, WELL_DETERMINED
+from jointid.estimation.uncertainty import NOT_DETERMINED, WEAK, WELL_DETERMINED
 
 from .rows import RowStrips
 

@@ -9,9 +9,9 @@ from textual.binding import Binding
 from textual.events import Blur, Key
 from textual.widgets import Input
 
-from jointid.settings import SettingsError, parse_setting
+from jointid.options import SettingsError, parse_setting
 
-from ..third_party import RepaintOnValue
+from ..third_party.adapter import RepaintOnValue
 
 
 NUMBER_CHARACTERS = frozenset("0123456789.+-eE")
@@ -23,7 +23,7 @@ class StepRange:
     """The explorer's range and step sizes for one numeric setting.
 
     Attributes:
-        field: Name of the setting in `jointid.settings` ("noise", "samples", "seed").
+        field: Name of the setting in `jointid.synthetic.settings` ("noise", "samples", "seed").
         low: Smallest value the control accepts.
         high: Largest value the control accepts.
         step: Change per Left/Right press.

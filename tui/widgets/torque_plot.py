@@ -9,7 +9,7 @@ from rich.segment import Segment
 from textual.strip import Strip
 from textual_plotext import PlotextPlot
 
-from .. import third_party
+from ..third_party import adapter as third_party
 from .plot_guard import TOO_SMALL, failure_text, too_small
 from .rows import refresh_changed_rows
 

@@ -1,0 +1,228 @@
+"""`jointid fit --csv` / `--bag`: the options and the run for fitting joint logs (CSV files or ROS bags).
+
+Synthetic settings (--motion, --noise, --samples, --seed, --true-*) describe generated
+data, so they cannot apply to a log: giving them with --csv is an error (one
+line, exit 2) rather than something silently ignored. To tell a flag the user
+typed from its default, `fit` parses them with default None and fills the
+defaults in afterwards (`with_default_settings`).
+"""
+
+from __future__ import annotations
+
+import argparse
+
+from ..options import DEFAULT_ORDER, SETTING_DEFAULTS
+from .arguments import UserError, finite_float, whole_number
+from .output import print_json
+
+TYPE_CHECKING = False  # typing itself would cost 3 ms of every start
+if TYPE_CHECKING:
+    from ..logs.pipeline import JointLog
+    from ..studies.log_fit import LoadedLogs
+
+SETTING_FLAGS = ("motion", "noise", "samples", "seed", "true_coulomb", "true_bias", "true_angle_offset")
+"""Synthetic-experiment options that a log fit rejects."""
+
+LOG_ONLY_FLAGS = ("heldout", "degrees", "window", "order", "cutoff", "decimate", "joint", "topic", "train_window",
+                  "heldout_window", "effort_scale")
+"""Options that mean something only with --csv or --bag."""
+
+BAG_ONLY_FLAGS = ("joint", "topic")
+"""Options that mean something only with --bag."""
+
+SYNTHETIC_ONLY_FLAGS = ("simulate", "horizon")
+"""Options that need the synthetic joint's true torque, which a log does not have."""
+
+
+def add_log_arguments(parser: argparse.ArgumentParser) -> None:
+    """Add --csv, --bag and the options of a log fit, and make setting flags detectable."""
+    group = parser.add_argument_group(
+        "joint logs (CSV: t, q, qd, qdd, tau by header name; or one joint of a ROS bag's sensor_msgs/JointState)",
+        "Fit a logged joint instead of a synthetic experiment; --motion, --noise, --samples, --seed and "
+        "--true-* describe synthetic data and are refused with a log.",
+    )
+    source = group.add_mutually_exclusive_group()
+    source.add_argument("--csv", metavar="TRAIN.csv", help="fit this log instead of a synthetic experiment")
+    source.add_argument("--bag", metavar="BAG",
+                        help="fit one joint of this ROS bag (ROS 1 .bag, ROS 2 folder, .mcap or .db3; "
+                        "needs pip install 'jointid[ros]')")
+    group.add_argument("--joint", metavar="NAME", help="the bag's joint to fit (its name in JointState)")
+    group.add_argument("--topic", metavar="TOPIC",
+                       help="the bag's JointState topic; default: its only one, or /joint_states")
+    group.add_argument("--heldout", metavar="TEST",
+                       help="predict this log's measured torques with the fit (a CSV log, or a bag read like --bag)")
+    group.add_argument("--train-window", type=_time_window, metavar="START:END",
+                       help="fit only the samples from START to END seconds after the log's start")
+    group.add_argument("--heldout-window", type=_time_window, metavar="START:END",
+                       help="predict the samples from START to END seconds after the start of the held-out log "
+                       "(without --heldout: of the training log itself)")
+    group.add_argument("--effort-scale", type=_effort_scale, metavar="K",
+                       help="torque in N m per unit of the logged effort or tau, e.g. torque constant x gear "
+                       "ratio for a motor current; default 1")
+    group.add_argument("--degrees", action="store_true", help="the logs give q, qd, qdd in degrees")
+    group.add_argument("--window", type=whole_number(3), default=None, metavar="W",
+                       help="Savitzky-Golay window (odd number of samples) when qd or qdd is missing; "
+                       "default: chosen from the motion's bandwidth and q's noise (the note says which)")
+    group.add_argument("--order", type=whole_number(2), default=None, metavar="P",
+                       help=f"Savitzky-Golay polynomial order; default {DEFAULT_ORDER}")
+    group.add_argument("--cutoff", type=cutoff_number, default=None, metavar="HZ",
+                       help="low-pass the torque and every regressor column alike at HZ (zero phase) before the "
+                       "fit; 0 turns it off; default: 12 times the motion's bandwidth")
+    group.add_argument("--decimate", type=whole_number(1), default=None, metavar="N",
+                       help="keep every Nth sample after the low-pass; default: down to twice the cutoff")
+    parser.set_defaults(**dict.fromkeys(SETTING_FLAGS))
+
+
+def _time_window(text: str):
+    """argparse type of --train-window and --heldout-window."""
+    from ..logs.timewindow import parse_time_window
+
+    try:
+        return parse_time_window(text)
+    except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+
+
+def _effort_scale(text: str) -> float:
+    """argparse type of --effort-scale: a finite number other than 0."""
+    value = finite_float(text)
+    if value == 0:
+        raise argparse.ArgumentTypeError(f"must be a finite number other than 0; got {text!r}")
+    return value
+
+
+def has_log(args: argparse.Namespace) -> bool:
+    """True when the command line names a log (--csv or --bag)."""
+    return getattr(args, "csv", None) is not None or getattr(args, "bag", None) is not None
+
+
+def with_default_settings(args: argparse.Namespace) -> argparse.Namespace:
+    """Reject log-only flags without --csv, and fill unset synthetic settings with their defaults."""
+    stray = [_flag(name) for name in LOG_ONLY_FLAGS if getattr(args, name) not in (None, False)]
+    if stray:
+        raise UserError(f"{', '.join(stray)}: only for fitting a log; add --csv TRAIN.csv or --bag BAG --joint NAME")
+    for name in SETTING_FLAGS:
+        if getattr(args, name) is None:
+            setattr(args, name, SETTING_DEFAULTS[name])
+    return args
+
+
+def cutoff_number(text: str) -> float:
+    """An argparse type for --cutoff: a finite number of hertz, 0 (off) or more."""
+    value = finite_float(text)
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be a number of hertz, 0 (off) or more; got {text!r}")
+    return value
+
+
+def filter_options(args: argparse.Namespace):
+    """The parallel low-pass asked for by --cutoff and --decimate (None: automatic): a FilterRequest."""
+    from ..estimation.low_pass import FilterRequest
+
+    return FilterRequest(getattr(args, "cutoff", None), getattr(args, "decimate", None))
+
+
+def derivative_options(args: argparse.Namespace) -> tuple[int | None, int]:
+    """The Savitzky-Golay window (None: automatic) and order from --window and --order; UserError if they do
+    not fit together."""
+    from ..logs.derivatives import FilterSettingError, check_filter  # numpy: only once a command runs
+
+    window = args.window
+    order = DEFAULT_ORDER if args.order is None else args.order
+    try:
+        check_filter(window, order)
+    except FilterSettingError as error:
+        raise UserError(f"argument --{error.field}: {error.problem}") from None
+    return window, order
+
+
+def _flag(name: str) -> str:
+    """'train_window' -> '--train-window'."""
+    return "--" + name.replace("_", "-")
+
+
+def log_requests(args: argparse.Namespace):
+    """The training and held-out logsource.LoadRequest (or None) of --csv/--bag and the log options; UserError
+    on a bad mix."""
+    given = [_flag(name) for name in SETTING_FLAGS if getattr(args, name) is not None]
+    if getattr(args, "motion_file", None) is not None:
+        given.append("--motion-file")
+    if given:
+        raise UserError(f"synthetic settings ({', '.join(given)}) cannot apply to a log; drop them")
+    simulated = [f"--{name}" for name in SYNTHETIC_ONLY_FLAGS if getattr(args, name, None) not in (None, False)]
+    if simulated:
+        raise UserError(f"{', '.join(simulated)}: needs the synthetic joint's true torque, which a log does not "
+                        "have; drop it")
+    if args.bag is None:
+        stray = [_flag(name) for name in BAG_ONLY_FLAGS if getattr(args, name) is not None]
+        if stray:
+            raise UserError(f"{', '.join(stray)}: only for a ROS bag; use --bag BAG")
+    elif args.joint is None:
+        raise UserError("--bag needs --joint NAME (`jointid bag-info BAG` lists the joints)")
+    from ..logs.request import HELDOUT, TRAINING, LoadRequest
+
+    window, order = derivative_options(args)
+    common = dict(degrees=args.degrees, window=window, order=order, joint=args.joint, topic=args.topic,
+                  effort_scale=1.0 if args.effort_scale is None else args.effort_scale, filtering=filter_options(args))
+    path = args.bag if args.bag is not None else args.csv
+    training = LoadRequest(path, TRAINING, time_window=args.train_window, **common)
+    if args.heldout is None and args.heldout_window is None:
+        return training, None
+    heldout_path = path if args.heldout is None else args.heldout
+    if args.heldout is not None and args.bag is not None and not _looks_like_bag(args.heldout):
+        raise UserError(f"--heldout {args.heldout}: with --bag the held-out log is a bag too (a ROS 2 folder, "
+                        ".bag, .mcap or .db3)")
+    if args.heldout is not None and args.bag is None and _looks_like_bag(args.heldout):
+        raise UserError(f"--heldout {args.heldout}: a bag; fit a bag with --bag BAG --joint NAME")
+    return training, LoadRequest(heldout_path, HELDOUT, time_window=args.heldout_window, **common)
+
+
+def _looks_like_bag(path: str) -> bool:
+    """bag.looks_like_bag, imported only when a held-out log is named."""
+    from ..logs.bag import looks_like_bag
+
+    return looks_like_bag(path)
+
+
+def load_logs(args: argparse.Namespace) -> tuple[JointLog, JointLog | None]:
+    """The training and held-out logs, after checking the options; UserError (one line) on any problem."""
+    from ..logs.table import LogError
+    from ..logs.request import load_joint_log
+
+    training_request, heldout_request = log_requests(args)
+    try:
+        training = load_joint_log(training_request)
+        heldout = None if heldout_request is None else load_joint_log(heldout_request)
+    except LogError as error:
+        raise UserError(str(error)) from None
+    return training, heldout
+
+
+def fit_loaded_logs(args: argparse.Namespace) -> LoadedLogs:
+    """The --csv/--bag (and held-out) logs loaded and fitted with --model (and --constrained); UserError (one line)
+    on any problem."""
+    training, heldout = load_logs(args)
+    # Imported after the load: code loaded before it would add to the load's peak resident set.
+    from ..logs.table import LogError
+    from ..studies.log_fit import fit_logs
+    from ..model.terms import model_named
+
+    try:
+        return fit_logs(training, heldout, model=model_named(args.model),
+                        constrained=getattr(args, "constrained", False), filtering=filter_options(args))
+    except LogError as error:  # numbers beyond double precision
+        raise UserError(str(error)) from None
+
+
+def run_log_fit(args: argparse.Namespace) -> int:
+    """Load the training (and held-out) log, fit, and print text or JSON; exit status 0."""
+    logs = fit_loaded_logs(args)
+    if args.json:
+        from ..present.documents import logs_document
+
+        print_json(logs_document(logs))
+    else:
+        from ..present.summary import log_fit_summary
+
+        print(log_fit_summary(logs))
+    return 0

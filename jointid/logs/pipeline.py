@@ -1,0 +1,208 @@
+"""Every reader's table becomes a log ready to fit here: values checked, time checked (resampled if
+jittered), missing derivatives estimated, units converted."""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..samples import JointData
+from .derivatives import METHOD, DerivativeEstimate, check_filter, choose_window, differentiate
+from ..options import DEFAULT_ORDER, DEFAULT_WINDOW
+from ..norms import all_finite
+from .timing import TimeCheck, TimeProblem, check_times
+from .table import LogError, LogTable, MIN_FIT_ROWS
+
+
+@dataclass(frozen=True, eq=False)
+class LogSource:
+    """A table and its columns after the time checks (resampled if jittered): what differentiation starts from."""
+
+    table: LogTable
+    columns: dict
+    """Name -> (N,) array, on a uniform grid when derivatives are estimated."""
+    timing: TimeCheck | None
+
+
+@dataclass(frozen=True, eq=False)
+class JointLog:
+    """A log ready to fit: joint data (SI units, trimmed) plus how it was obtained."""
+
+    path: str
+    """The file's path as given."""
+    data: JointData
+    """The samples to fit; rows trimmed by derivative estimation are gone."""
+    ignored: tuple[str, ...]
+    """Header names of unused columns."""
+    derivatives: DerivativeEstimate | None
+    """How missing qd/qdd were estimated, or None when the log had both."""
+    degrees: bool
+    """True when q, qd, qdd were read in degrees and converted."""
+    rows: int
+    """Data rows in the file, before any trimming."""
+    timing: TimeCheck | None = None
+    """What the time column showed (step, jitter, repeats dropped, resampling), or None without one."""
+    read_notes: tuple[str, ...] = ()
+    """Notes from reading the source (a bag's time source, a time window, an effort scale)."""
+    read_text: str = ""
+    """What was read, e.g. '1000 rows' or "joint 'j1' on /joint_states, 1000 messages"."""
+    read_brief: str = ""
+    """The same in a few words, e.g. '1000 rows' or "'j1', 1000 messages"."""
+    source: LogSource | None = None
+    """The checked columns before differentiation, so the log can be derived again with another window."""
+
+    def with_window(self, window: int | None, order: int | None = None) -> JointLog:
+        """The same log with its missing derivatives estimated by another window (and order); self if none."""
+        if self.source is None or self.derivatives is None:
+            return self
+        order = self.derivatives.order if order is None else order
+        return _derive(self.source, degrees=self.degrees, window=window, order=order)
+
+    @property
+    def notes(self) -> tuple[str, ...]:
+        """Sentences a person should read alongside the fit."""
+        notes = [f"{self.path}: {note}" for note in self.read_notes]
+        if self.ignored:
+            notes.append(f"{self.path}: ignored columns " + ", ".join(repr(n) for n in self.ignored) + ".")
+        if self.timing is not None:
+            notes.extend(f"{self.path}: {text}" for text in self.timing.descriptions)
+        if self.derivatives is not None:
+            notes.append(f"{self.path}: {self.derivatives.description}")
+        return tuple(notes)
+
+    @property
+    def short_notes(self) -> tuple[str, ...]:
+        """The notes in a few words each, naming the file without its folder, for a narrow status line."""
+        name = os.path.basename(os.path.normpath(self.path))
+        notes = [f"{name}: {note}" for note in self.read_notes]
+        if self.ignored:
+            notes.append(f"{name}: ignored " + ", ".join(repr(n) for n in self.ignored))
+        if self.timing is not None:
+            notes.extend(f"{name}: {text}" for text in self.timing.short_descriptions)
+        if self.derivatives is not None:
+            notes.append(f"{name}: {self.derivatives.short_description}")
+        return tuple(notes)
+
+    @property
+    def origin(self) -> dict:
+        """JSON-ready: the file, its format (with a bag's topic and joint), time window and effort scale."""
+        if self.source is None:
+            return {"path": self.path, "format": "csv", "time_window": None, "effort_scale": 1.0}
+        return self.source.table.origin
+
+    def source_text(self) -> str:
+        """One line describing what was read, e.g. for the line above the readouts."""
+        units = "degrees converted to radians" if self.degrees else "radians"
+        return f"{self.path}: {self.read_text or f'{self.rows} rows'} ({units}), {self.data.count} samples fitted"
+
+
+
+def check_finite(table: LogTable) -> None:
+    """Raise LogError at the first NaN or infinite value (earliest row, then leftmost column)."""
+    first = None
+    for name, values in table.columns.items():
+        if not all_finite(values):
+            index = int(np.flatnonzero(~np.isfinite(values))[0])
+            if first is None or index < first[0] or (index == first[0] and table.positions[name] < table.positions[first[1]]):
+                first = (index, name)
+    if first is not None:
+        index, name = first
+        value = table.columns[name][index]
+        kind = "NaN" if math.isnan(value) else "infinity"
+        raise table.error(f"{kind} is not a measurement", index, name)
+
+
+def check_time(table: LogTable, uniform: bool) -> tuple[dict, TimeCheck | None]:
+    """The table's columns after the time checks of jointid.logs.timing (resampled when `uniform` is needed and
+    the steps jitter), and what they showed; LogError naming the row and time of a problem.
+
+    Without a t column there is nothing to check: (columns, None).
+    """
+    t = table.columns.get("t")
+    if t is None:
+        return table.columns, None
+    try:
+        return check_times(t, table.columns, uniform=uniform)
+    except TimeProblem as problem:
+        raise table.error(problem.problem, problem.index, "t") from None
+
+
+def _check_estimates(table: LogTable, step: float, estimates, missing: tuple[str, ...]) -> None:
+    """Raise LogError when an estimated derivative is not finite (a tiny time step, or a huge q)."""
+    for name, values in estimates:
+        if name in missing and not np.isfinite(values).all():
+            raise table.error(
+                f"{name} estimated from q at a time step of {step:.3g} s overflows double precision; "
+                "give t in seconds and q in radians (or degrees with --degrees)",
+                None,
+                "t",
+            )
+
+
+
+def joint_log_from_table(
+    table: LogTable, *, degrees: bool = False, window: int | None = DEFAULT_WINDOW, order: int = DEFAULT_ORDER
+) -> JointLog:
+    """Check a table's time column, estimate any missing qd/qdd, convert units: the log ready to fit.
+
+    Every log source ends here (a CSV file today), so all logs are checked and
+    differentiated alike; LogError on any problem. A window of None is chosen
+    from the motion (`derivatives.choose_window`).
+    """
+    check_filter(window, order)
+    missing = tuple(n for n in ("qd", "qdd") if n not in table.columns)
+    columns, timing = check_time(table, uniform=bool(missing))
+    return _derive(LogSource(table, columns, timing), degrees=degrees, window=window, order=order)
+
+
+def _derive(source: LogSource, *, degrees: bool, window: int | None, order: int) -> JointLog:
+    """The JointLog of checked columns: missing derivatives estimated with `window` (None: automatic), units SI."""
+    table, columns, timing = source.table, source.columns, source.timing
+    missing = tuple(n for n in ("qd", "qdd") if n not in columns)
+    step = None if timing is None else timing.step
+    count = len(columns["q"])
+    scale = math.pi / 180 if degrees else 1.0
+    q = columns["q"] * scale if degrees else columns["q"]
+    choice = None
+    if missing and window is None:
+        choice = choose_window(q, 1.0 if step is None else step, order)  # no step: too few rows, refused below
+        window = choice.window
+    needed = MIN_FIT_ROWS + (window - 1 if missing else 0)
+    if count < needed:
+        why = f"a window of {window} samples trims {window - 1} and " if missing else ""
+        rows = f"{table.count} data rows" if count == table.count else f"{count} samples after the time checks"
+        raise LogError(table.path, f"has {rows}; {why}fitting 3 parameters needs at least {needed}")
+    estimate = None
+    if missing:
+        check_filter(window, order)
+        # A step like 1e-302 s makes the filter's 1/dt^2 overflow: checked just below, by name.
+        with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
+            velocity, acceleration = differentiate(q, step, window, order)
+        _check_estimates(table, step, (("qd", velocity), ("qdd", acceleration)), missing)
+        half = window // 2
+        keep = slice(half, count - half)
+        qd = columns["qd"][keep] * scale if "qd" in columns else velocity
+        qdd = columns["qdd"][keep] * scale if "qdd" in columns else acceleration
+        t, q, tau = columns["t"][keep], q[keep], columns["tau"][keep]
+        estimate = DerivativeEstimate(METHOD, window, order, step, window - 1, missing, choice)
+    else:
+        qd, qdd = columns["qd"], columns["qdd"]
+        if degrees:
+            qd, qdd = qd * scale, qdd * scale
+        t, tau = columns.get("t"), columns["tau"]
+    return JointLog(
+        path=table.path,
+        data=JointData(t=t, q=q, qd=qd, qdd=qdd, tau=tau),
+        ignored=table.ignored,
+        derivatives=estimate,
+        degrees=degrees,
+        rows=table.count,
+        timing=timing,
+        read_notes=table.notes,
+        read_text=table.description,
+        read_brief=table.brief,
+        source=source,
+    )

@@ -1,0 +1,108 @@
+"""Which joint log to load and how: a CSV file or one joint of a ROS bag, cut to a time window, torque scaled.
+
+Every source is read into a checked table (csvlog.read_table or
+bag.read_bag_table), cut and scaled here, and then goes through
+csvlog.joint_log_from_table, so CSV logs and bags get the same time checks,
+resampling and differentiation.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from dataclasses import dataclass
+
+from ..options import DEFAULT_ORDER, DEFAULT_WINDOW
+from ..estimation.low_pass import FilterRequest
+from .timewindow import TimeWindow
+
+TRAINING, HELDOUT = "training", "heldout"
+"""The two roles a log can be loaded in."""
+
+ROLE_WORDS = {TRAINING: "training", HELDOUT: "held-out"}
+"""How notes name each role."""
+
+
+@dataclass(frozen=True)
+class LoadRequest:
+    """Which log to load, in which role, and how: angle unit, derivative filter, joint, time window, torque scale."""
+
+    path: str
+    role: str = TRAINING
+    degrees: bool = False
+    window: int | None = DEFAULT_WINDOW
+    """Savitzky-Golay window, when the log lacks qd or qdd (`--window`); None: chosen from the motion."""
+    order: int = DEFAULT_ORDER
+    """Savitzky-Golay order (`--order`)."""
+    filtering: FilterRequest = FilterRequest()
+    """The parallel low-pass asked for (`--cutoff`, `--decimate`)."""
+    joint: str | None = None
+    """The joint to read from a ROS bag (`--joint`); None for a CSV log."""
+    topic: str | None = None
+    """The bag's JointState topic (`--topic`); None picks the only one, or /joint_states."""
+    time_window: TimeWindow | None = None
+    """Seconds from the log's start to keep (`--train-window`, `--heldout-window`); None keeps all."""
+    effort_scale: float = 1.0
+    """Torque (N m) per unit of the logged effort or tau (`--effort-scale`)."""
+
+    @property
+    def is_bag(self) -> bool:
+        """True when the request reads a joint from a ROS bag."""
+        return self.joint is not None
+
+
+def load_joint_log(request: LoadRequest, progress=None, cancel=None):
+    """The request's log ready to fit (csvlog.JointLog); LogError on any problem, LoadCancelled if cancelled."""
+    from .csv_reader import read_table
+    from .pipeline import joint_log_from_table
+    from .derivatives import check_filter
+
+    check_filter(request.window, request.order)
+    if request.is_bag:
+        from .bag import read_bag_table
+
+        table = read_bag_table(request.path, request.joint, request.topic, progress=progress, cancel=cancel)
+    else:
+        table = read_table(request.path, progress=progress, cancel=cancel)
+    if request.time_window is not None:
+        table = cut_time_window(table, request.time_window, request.role)
+    table = scale_torque(table, request.effort_scale, request.is_bag)
+    return joint_log_from_table(table, degrees=request.degrees, window=request.window, order=request.order)
+
+
+def cut_time_window(table, window: TimeWindow, role: str = TRAINING):
+    """The table's samples from window.start to window.end seconds after its first sample; LogError if none."""
+    import numpy as np
+
+    from .table import LogError
+
+    t = table.columns.get("t")
+    if t is None:
+        raise LogError(table.path, f"a time window ({window.text}) needs the log's t column")
+    since = t - t[0]
+    inside = np.flatnonzero((since >= window.start) & (since <= window.end))
+    if len(inside) == 0:
+        raise LogError(table.path, f"no samples in the {ROLE_WORDS[role]} window {window.text} s; the log spans 0 to "
+                       f"{float(np.max(since)):.6g} s from its start")
+    rows = slice(int(inside[0]), int(inside[-1]) + 1)
+    kept = rows.stop - rows.start
+    note = (f"{ROLE_WORDS[role]} window {window.text} s from the log's start: {kept} of {table.count} samples "
+            f"(t = {float(since[rows.start]):.6g} to {float(since[rows.stop - 1]):.6g} s).")
+    return dataclasses.replace(table.sliced(rows, note), time_window=window)
+
+
+def scale_torque(table, scale: float, bag: bool):
+    """The table with tau multiplied by `scale`, and a note saying which scale was used (always for a bag)."""
+    if not math.isfinite(scale) or scale == 0:
+        from .table import LogError
+
+        raise LogError(table.path, f"effort scale {scale!r} must be a finite number other than 0")
+    source = "effort" if bag else "tau"
+    if scale == 1.0:
+        if not bag:
+            return table
+        note = "effort read as torque in N m (--effort-scale 1)."
+        return dataclasses.replace(table, notes=(*table.notes, note))
+    note = f"torque = {scale:g} × {source}, in N m (--effort-scale {scale:g})."
+    columns = {**table.columns, "tau": table.columns["tau"] * scale}
+    return dataclasses.replace(table, columns=columns, notes=(*table.notes, note), effort_scale=scale)

@@ -1,0 +1,47 @@
+"""The plain model's inverse dynamics split into its contributions (the `jointid torque` readout).
+
+Kept out of jointid.model.terms so that a fit's start-up does not build this class
+(jointid.model.terms still offers both names).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .terms import G, TRUE_PARAMETERS
+
+
+@dataclass(frozen=True, eq=False)
+class TorqueBreakdown:
+    """Inverse dynamics of the plain model at given states, split into its three contributions.
+
+    Every field has the shape of the broadcast states.
+    """
+
+    inertia: np.ndarray
+    """I*qdd (N m)."""
+    gravity: np.ndarray
+    """h*g*cos(q), the gravity compensation (N m)."""
+    damping: np.ndarray
+    """B*qd, the damping compensation (N m)."""
+    damper_power: np.ndarray
+    """B*qd^2, mechanical power the damper dissipates (W)."""
+
+    @property
+    def total(self) -> np.ndarray:
+        """Actuator torque I*qdd + h*g*cos(q) + B*qd (N m)."""
+        return self.inertia + self.gravity + self.damping
+
+
+def torque_breakdown(q, qd, qdd, theta=TRUE_PARAMETERS) -> TorqueBreakdown:
+    """The plain model's torque contributions at states (q, qd, qdd) for theta = [I, h, B]."""
+    inertia, mass_moment, damping = (float(v) for v in theta)
+    q, qd, qdd = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (q, qd, qdd)))
+    return TorqueBreakdown(
+        inertia=inertia * qdd,
+        gravity=mass_moment * G * np.cos(q),
+        damping=damping * qd,
+        damper_power=damping * qd**2,
+    )

@@ -1,0 +1,245 @@
+"""Joint models as data: an ordered list of terms, each a parameter times a regressor column.
+
+The lesson's model, `plain`, is tau = I*qdd + h*g*cos(q) + B*qd. q is measured
+counter-clockwise from world +x (q = 0 points horizontally right), gravity acts
+along world -y, and positive torque drives q toward increasing q. The gravity
+and damping terms are *compensation* torques: the actuator supplies them, so a
+horizontal hold needs tau = h*g.
+
+Everything downstream (fit, standard errors, verdicts, sweeps, readouts, JSON,
+charts) takes the number of parameters, their names, units and sign rules from
+a `JointModel`; nothing else knows that the lesson's model has three terms.
+Other models are `plain` plus extra terms, named like ``coulomb+bias``.
+
+A model fits its *columns* (`terms`) and reports its *parameters*. They are the
+same except for the angle offset: its model fits h_c*g*cos(q) + h_s*g*sin(q),
+which is h*g*cos(q + q0) with h = hypot(h_c, h_s) and q0 = atan2(-h_s, h_c),
+and it reports h and q0 (with standard errors by the delta method).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from ..options import (
+    EXTRA_TERM_NAMES,
+    TRUE_VALUES,
+    model_extras,
+)
+
+G = 9.81
+"""Gravitational acceleration (m/s^2)."""
+
+POSITIVE = "positive"
+"""Sign rule: the parameter must be greater than zero."""
+NONNEGATIVE = "nonnegative"
+"""Sign rule: the parameter must be at least zero."""
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A parameter as reported: symbol, plain-language label, unit, sign rule and why data can hide it."""
+
+    name: str
+    """Symbol, the key in JSON objects (e.g. 'I')."""
+    label: str
+    """Plain-language name (e.g. 'inertia')."""
+    unit: str
+    """SI unit of the parameter."""
+    sign: str | None
+    """POSITIVE, NONNEGATIVE, or None for no sign rule."""
+    invisible_when: str
+    """Why data can carry no sign of it, e.g. 'no acceleration' (its column is then zero)."""
+
+    @property
+    def requirement(self) -> str | None:
+        """The sign rule as text ('I > 0', 'h ≥ 0'), or None without one."""
+        if self.sign is None:
+            return None
+        return f"{self.name} > 0" if self.sign == POSITIVE else f"{self.name} ≥ 0"
+
+    @property
+    def readout_label(self) -> str:
+        """The lab's readout label, e.g. 'Fitted inertia (kg m²)'."""
+        return f"Fitted {self.label} ({self.unit})"
+
+    @property
+    def symbol_with_unit(self) -> str:
+        """e.g. 'I (kg m²)'."""
+        return f"{self.name} ({self.unit})"
+
+    def sign_fails(self, values) -> np.ndarray:
+        """True where values break the sign rule (never for a parameter without one); any shape."""
+        values = np.asarray(values, dtype=float)
+        if self.sign == POSITIVE:
+            return ~(values > 0)
+        if self.sign == NONNEGATIVE:
+            return ~(values >= 0)
+        return np.zeros(values.shape, dtype=bool)
+
+
+@dataclass(frozen=True)
+class Term(Parameter):
+    """A parameter times a regressor column: `column(q, qd, qdd)` maps (N,) states to the (N,) column."""
+
+    column: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]
+
+
+INERTIA = Term("I", "inertia", "kg m²", POSITIVE, "no acceleration", lambda q, qd, qdd: qdd)
+MASS_MOMENT = Term("h", "mass moment", "kg m", NONNEGATIVE, "no gravity torque", lambda q, qd, qdd: G * np.cos(q))
+DAMPING = Term("B", "damping", "N m s/rad", NONNEGATIVE, "no velocity", lambda q, qd, qdd: qd)
+COULOMB = Term("Fc", "Coulomb friction", "N m", NONNEGATIVE, "no velocity", lambda q, qd, qdd: np.sign(qd))
+BIAS = Term("tau0", "torque bias", "N m", None, "no samples", lambda q, qd, qdd: np.ones_like(q))
+GRAVITY_COSINE = Term("h_c", "gravity cosine coefficient", "kg m", None, "no gravity torque",
+                      lambda q, qd, qdd: G * np.cos(q))
+GRAVITY_SINE = Term("h_s", "gravity sine coefficient", "kg m", None, "no angle away from horizontal",
+                    lambda q, qd, qdd: G * np.sin(q))
+ANGLE_OFFSET = Parameter("q0", "angle offset", "rad", None, "no angle away from horizontal")
+
+
+@dataclass(frozen=True)
+class AngleOffset:
+    """Report the columns h_c*g*cos(q) + h_s*g*sin(q) as h = hypot(h_c, h_s) and q0 = atan2(-h_s, h_c)."""
+
+    cosine: int
+    """Index of the h_c column (where h is reported)."""
+    sine: int
+    """Index of the h_s column (where q0 is reported)."""
+
+    def report(self, theta: np.ndarray) -> np.ndarray:
+        """(p,) or (p, K) column coefficients -> the same shape with h and q0 in place of h_c and h_s."""
+        reported = np.array(theta, dtype=float)
+        h_c, h_s = theta[self.cosine], theta[self.sine]
+        reported[self.cosine] = np.hypot(h_c, h_s)
+        reported[self.sine] = np.arctan2(-h_s, h_c)
+        return reported
+
+    def jacobian(self, theta: np.ndarray) -> np.ndarray:
+        """(p, p) d(reported)/d(columns) at theta (p,), for delta-method standard errors."""
+        jacobian = np.eye(len(theta))
+        h_c, h_s = float(theta[self.cosine]), float(theta[self.sine])
+        squared = h_c**2 + h_s**2
+        h = np.sqrt(squared)
+        c, s = self.cosine, self.sine
+        jacobian[c, c], jacobian[c, s] = h_c / h, h_s / h
+        jacobian[s, c], jacobian[s, s] = h_s / squared, -h_c / squared
+        return jacobian
+
+
+@dataclass(frozen=True)
+class JointModel:
+    """A joint model: its name (as the user gives it), its regressor terms, and how it reports them."""
+
+    name: str
+    terms: tuple[Term, ...]
+    angle_offset: AngleOffset | None = None
+    """Set when the model reports h and q0 in place of its h_c and h_s columns."""
+
+    @cached_property
+    def parameters(self) -> tuple[Parameter, ...]:
+        """The reported parameters in theta order (the terms, with h and q0 for an angle offset)."""
+        reported = list(self.terms)
+        if self.angle_offset is not None:
+            reported[self.angle_offset.cosine] = MASS_MOMENT
+            reported[self.angle_offset.sine] = ANGLE_OFFSET
+        return tuple(reported)
+
+    @cached_property
+    def names(self) -> tuple[str, ...]:
+        """Reported parameter symbols in theta order."""
+        return tuple(parameter.name for parameter in self.parameters)
+
+    @cached_property
+    def column_names(self) -> tuple[str, ...]:
+        """Regressor column symbols in theta order (the same as `names` unless there is an angle offset)."""
+        return tuple(term.name for term in self.terms)
+
+    @property
+    def size(self) -> int:
+        """p, the number of parameters."""
+        return len(self.terms)
+
+    def parameter(self, name: str) -> Parameter:
+        """The reported parameter with symbol `name`."""
+        return self.parameters[self.names.index(name)]
+
+    def term(self, name: str) -> Term:
+        """The regressor term with symbol `name`."""
+        return self.terms[self.column_names.index(name)]
+
+    def columns_behind(self, name: str) -> tuple[str, ...]:
+        """The column symbols a reported parameter is computed from (h and q0 come from h_c and h_s)."""
+        offset = self.angle_offset
+        if offset is not None and name in (self.names[offset.cosine], self.names[offset.sine]):
+            return (self.column_names[offset.cosine], self.column_names[offset.sine])
+        return (self.column_names[self.names.index(name)],)
+
+    def regressor(self, q, qd, qdd) -> np.ndarray:
+        """(N, p) Regressor rows, one column per term, for states of shape (N,)."""
+        q, qd, qdd = (a.ravel() for a in np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (q, qd, qdd))))
+        # Column-major: each column is written contiguously, and the solver's
+        # column-major working copy is then a straight scaled copy.
+        rows = np.empty((q.size, self.size), order="F")
+        for j, term in enumerate(self.terms):
+            rows[:, j] = term.column(q, qd, qdd)
+        return rows
+
+    def data_regressor(self, data) -> np.ndarray:
+        """(N, p) The regressor of a JointData's states."""
+        return self.regressor(data.q, data.qd, data.qdd)
+
+    def report(self, theta: np.ndarray) -> np.ndarray:
+        """(p,) or (p, K) column coefficients -> the reported parameters (the same values without an angle offset)."""
+        return theta if self.angle_offset is None else self.angle_offset.report(theta)
+
+    def report_jacobian(self, theta: np.ndarray) -> np.ndarray | None:
+        """(p, p) d(reported)/d(columns) at theta (p,), or None when the parameters are the columns."""
+        return None if self.angle_offset is None else self.angle_offset.jacobian(theta)
+
+    def sign_failure_mask(self, reported) -> np.ndarray:
+        """(p,) or (p, K) True where a reported parameter breaks its sign rule."""
+        reported = np.asarray(reported, dtype=float)
+        return np.stack([parameter.sign_fails(value) for parameter, value in zip(self.parameters, reported)])
+
+    def sign_failures(self, reported) -> tuple[str, ...]:
+        """Names of the reported parameters (p,) that break their sign rules."""
+        return tuple(name for name, failed in zip(self.names, self.sign_failure_mask(reported)) if failed)
+
+
+PLAIN = JointModel("plain", (INERTIA, MASS_MOMENT, DAMPING))
+"""The lesson's model tau = I*qdd + h*g*cos(q) + B*qd."""
+
+EXTRA_TERMS = dict(zip(EXTRA_TERM_NAMES, (COULOMB, BIAS, GRAVITY_SINE)))
+"""Terms that can be added to `plain`, by the name used in model names, in column order."""
+
+TRUE_PARAMETERS = np.array([TRUE_VALUES[name] for name in PLAIN.names])
+"""The lesson's joint's parameters [I, h, B] in the plain model's order."""
+
+# Kept for the library's users: the plain model's names in theta order.
+PARAMETER_NAMES = PLAIN.names
+
+
+def model_named(name: str) -> JointModel:
+    """The model a name like 'plain', 'bias' or 'coulomb+angle-offset' stands for; ModelError if unknown."""
+    ordered = model_extras(name)
+    terms = PLAIN.terms + tuple(EXTRA_TERMS[key] for key in ordered)
+    if "angle-offset" not in ordered:
+        return JointModel(str(name), terms)
+    cosine = PLAIN.names.index("h")
+    terms = terms[:cosine] + (GRAVITY_COSINE,) + terms[cosine + 1:]
+    return JointModel(str(name), terms, AngleOffset(cosine=cosine, sine=len(terms) - 1))
+
+
+def regressor(q, qd, qdd, model: JointModel = PLAIN) -> np.ndarray:
+    """(N, p) Regressor rows of `model` (default the lesson's [qdd, g*cos(q), qd])."""
+    return model.regressor(q, qd, qdd)
+
+
+def predict_torque(q, qd, qdd, theta=TRUE_PARAMETERS, model: JointModel = PLAIN) -> np.ndarray:
+    """Actuator torque (N m) at states (q, qd, qdd) for `model`'s column coefficients theta."""
+    return model.regressor(q, qd, qdd) @ np.asarray(theta, dtype=float)
+

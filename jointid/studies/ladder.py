@@ -1,0 +1,134 @@
+"""The model ladder: fit every model of `model.LADDER` on the same data and let BIC choose.
+
+Every model of the ladder is `plain` plus some of the columns sign(qd), 1 and
+g*sin(q), so one pass over the data serves them all: the triangular factor R
+of the column-scaled [X_all | y] (X_all holding every column once) gives each
+model's least-squares problem exactly, ||y - X_S theta|| = ||r_y - R_S theta||,
+and column norms are the same in R as in X, so the pivoted factorisation of
+R_S makes the rank decisions the full data would. Only R (7 x 7) is kept.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from functools import cached_property
+
+import numpy as np
+
+from ..samples import JointData, rms
+from ..synthetic.samples import training_data, validation_data
+from ..estimation.fit import fitted_torque
+from ..model.terms import JointModel, model_named
+from ..options import LADDER
+from ..synthetic.settings import Settings
+from ..estimation.solver import LeastSquaresSolution, solve_least_squares, triangle_of
+from ..estimation.uncertainty import ParameterUncertainty, parameter_uncertainty
+
+ALL_COLUMNS = model_named("coulomb+bias+angle-offset")
+"""A model with every column any ladder model uses, each once (h_c is the plain model's h column)."""
+
+
+def column_indices(model: JointModel) -> list[int]:
+    """Where each of a model's columns sits in ALL_COLUMNS (the plain h column is h_c there)."""
+    return [ALL_COLUMNS.column_names.index("h_c" if name == "h" else name) for name in model.column_names]
+
+
+@dataclass(frozen=True, eq=False)
+class LadderRow:
+    """One model's fit: its solution, reported estimate and uncertainty, errors and BIC."""
+
+    model: JointModel
+    solution: LeastSquaresSolution
+    """The model's least-squares solution (row_count is the data's N)."""
+    training_rmse: float | None
+    heldout_rmse: float | None
+    uncertainty: ParameterUncertainty | None
+
+    @property
+    def rank(self) -> int:
+        """Numerical rank of the model's regressor."""
+        return self.solution.rank
+
+    @property
+    def estimate(self) -> np.ndarray | None:
+        """(p,) Reported parameters, or None below full rank."""
+        return None if self.solution.estimate is None else self.model.report(self.solution.estimate)
+
+    @property
+    def condition_number(self) -> float:
+        """Condition number of the column-scaled regressor (inf when rank-deficient)."""
+        return self.solution.condition_number
+
+    @cached_property
+    def bic(self) -> float | None:
+        """N ln(RSS/N) + k ln N (k parameters), -inf for a perfect fit; None without a unique fit."""
+        if self.solution.estimate is None:
+            return None
+        count, rss = self.solution.row_count, float(self.solution.residual_norm) ** 2
+        fit_term = -math.inf if rss == 0 else count * math.log(rss / count)
+        return fit_term + self.model.size * math.log(count)
+
+    @cached_property
+    def worst_determined(self) -> tuple[str, float] | None:
+        """(name, relative standard error %) of the least well determined parameter, or None."""
+        if self.uncertainty is None or self.uncertainty.relative_std_pct is None:
+            return None
+        relative = self.uncertainty.relative_std_pct
+        index = int(np.argmax(relative))
+        return self.model.names[index], float(relative[index])
+
+
+@dataclass(frozen=True, eq=False)
+class Comparison:
+    """Every ladder model fitted to the same training data (and scored on the same held-out data)."""
+
+    rows: tuple[LadderRow, ...]
+    samples: int
+    """N, the training samples every model saw."""
+
+    def row(self, name: str) -> LadderRow:
+        """The row of the model named `name`."""
+        return next(row for row in self.rows if row.model.name == name)
+
+    @cached_property
+    def preferred(self) -> LadderRow | None:
+        """The model with the lowest BIC (the simpler one on a tie), or None when no model has a unique fit."""
+        ranked = [row for row in self.rows if row.bic is not None]
+        return min(ranked, key=lambda row: (row.bic, row.model.size)) if ranked else None
+
+
+def compare_models(training: JointData, heldout: JointData | None = None, *, noise_bound: float | None = None,
+                   models: tuple[str, ...] = LADDER, low_pass=None) -> Comparison:
+    """Fit each named model to the training data from one factorisation, and score it on the held-out data.
+
+    `low_pass` (a parallel_filter.ParallelFilter) filters every column and the
+    torque alike before the fits, as a log fit does.
+    """
+    X = ALL_COLUMNS.data_regressor(training)
+    tau = training.tau
+    if low_pass is not None and (low_pass.active or low_pass.decimation > 1):
+        X, tau = low_pass.apply(X), low_pass.apply_column(tau)
+    count = len(tau)
+    factor = triangle_of(X, tau)
+    heldout_X = None if heldout is None else ALL_COLUMNS.data_regressor(heldout)
+    rows = []
+    for name in models:
+        model = model_named(name)
+        columns = column_indices(model)
+        small = solve_least_squares(factor[:, columns], factor[:, -1])
+        solution = replace(small, row_count=count)
+        heldout_rmse = None
+        if heldout_X is not None and solution.estimate is not None:
+            heldout_rmse = rms(fitted_torque(heldout_X[:, columns], solution.estimate) - heldout.tau)
+        training_rmse = None
+        if solution.estimate is not None:
+            training_rmse = float(solution.residual_norm) / math.sqrt(count)
+        rows.append(LadderRow(model, solution, training_rmse, heldout_rmse,
+                              parameter_uncertainty(solution, noise_bound, model)))
+    return Comparison(tuple(rows), count)
+
+
+def compare_experiment(settings: Settings) -> Comparison:
+    """The ladder on a synthetic experiment's training data, scored on its noiseless validation motion."""
+    return compare_models(training_data(settings), validation_data(settings.true_joint), noise_bound=settings.noise)

@@ -1,0 +1,309 @@
+"""Fitting joint logs: load a training log and an optional held-out log, fit one, predict the other.
+
+Both faces use this: `jointid fit --csv` and the explorer's log mode fit the
+same way, so their readouts and JSON agree. The parallel low-pass
+(jointid.estimation.low_pass) is applied here, to the model's regressor columns and
+the torque alike, because it must act on the columns rather than on q; and the
+sensitivity check (jointid.studies.sensitivity) refits here with the derivative window
+and the cutoff halved and doubled.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..logs.table import LogError
+from ..logs.pipeline import JointLog
+from ..samples import JointData
+from ..logs.derivatives import MAX_WINDOW, motion_bandwidth
+from ..estimation.fit import FitResult, fit_joint
+from ..logs.request import HELDOUT, TRAINING, LoadRequest, load_joint_log
+from ..options import DEFAULT_ORDER
+from ..model.terms import PLAIN, JointModel
+from ..norms import rms
+from ..estimation.low_pass import FilterRequest, FilterRequestError, ParallelFilter, choose_filter
+from .sensitivity import FACTORS, SensitivityCheck, Variant, sensitivity_check
+from ..estimation.solver import NonFiniteError
+
+
+@dataclass(frozen=True, eq=False)
+class LoadedLogs:
+    """The training log, the optional held-out log, and the fit of one to the other."""
+
+    training: JointLog
+    heldout: JointLog | None
+    result: FitResult
+    filter: ParallelFilter | None = None
+    """The low-pass and decimation the training data went through, or None when not applied."""
+    filtering: FilterRequest = FilterRequest()
+    """The request the filter was chosen from, kept for refits (another model)."""
+    sensitivity: SensitivityCheck | None = None
+    """The refits with the window and cutoff halved and doubled, or None without a unique fit."""
+
+    def __repr__(self) -> str:
+        return f"<LoadedLogs {self.name!r} {self.result!r}>"
+
+    @property
+    def params(self) -> Mapping[str, float]:
+        """Fitted parameters by name, as `FitResult.params`."""
+        return self.result.params
+
+    @property
+    def bse(self) -> Mapping[str, float]:
+        """Standard errors by name, as `FitResult.bse` (from the residuals: a log has no known noise bound)."""
+        return self.result.bse
+
+    def conf_int(self, alpha: float = 0.05) -> Mapping[str, tuple[float, float]]:
+        """(low, high) intervals by name, as `FitResult.conf_int`."""
+        return self.result.conf_int(alpha)
+
+    def notes(self) -> tuple[str, ...]:
+        """How each log was read, timed, differentiated and low-passed: the `Note:` lines of `jointid fit --csv`."""
+        from ..present.summary import log_notes  # presentation, loaded only when asked
+
+        return log_notes(self)
+
+    def summary(self) -> str:
+        """The text `jointid fit --csv` prints for these logs."""
+        from ..present.summary import log_fit_summary  # presentation, loaded only when asked
+
+        return log_fit_summary(self)
+
+    @property
+    def name(self) -> str:
+        """The training file's name, e.g. for the explorer's motion list."""
+        return os.path.basename(os.path.normpath(self.training.path))
+
+    @property
+    def heldout_name(self) -> str | None:
+        """The held-out file's name, or None."""
+        return None if self.heldout is None else os.path.basename(os.path.normpath(self.heldout.path))
+
+    @property
+    def logs(self) -> tuple[JointLog, ...]:
+        """The training log, then the held-out log when there is one."""
+        return (self.training,) if self.heldout is None else (self.training, self.heldout)
+
+    def source_lines(self) -> tuple[str, ...]:
+        """What was read: 'Training log PATH: N rows ...' and the same for the held-out log."""
+        roles = ("Training log", "Held-out log")
+        return tuple(f"{role} {text}" for role, text in zip(roles, self.source_texts()))
+
+    def source_texts(self) -> tuple[str, ...]:
+        """Each log's source_text, the training log's with the samples left after the low-pass and decimation."""
+        texts = [log.source_text() for log in self.logs]
+        chosen = self.filter
+        if chosen is not None and (chosen.active or chosen.decimation > 1):
+            # The low-pass keeps only samples with a full window of taps; decimation every D-th of those.
+            steps = [step for step, used in (("the low-pass", chosen.active), ("decimation", chosen.decimation > 1))
+                     if used]
+            texts[0] += f" ({self.result.training.count} after {' and '.join(steps)})"
+        return tuple(texts)
+
+
+
+def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointModel = PLAIN,
+             constrained: bool = False, filtering: FilterRequest = FilterRequest(),
+             sensitivity: bool = True) -> LoadedLogs:
+    """Fit the training log (subject to the sign rules when `constrained`) and score it on the held-out log.
+
+    The training regressor and torque are low-passed alike as `filtering` asks
+    (automatic by default); with `sensitivity`, the fit is repeated with the
+    derivative window and the cutoff halved and doubled. LogError when the
+    numbers leave double precision (an estimate or an RMSE that overflows would
+    otherwise be shown as if it were a result) or the filter cannot apply.
+    """
+    chosen = low_pass_for(training, filtering)
+    # Built once at full rate: the fit and the sensitivity check's cutoff refits filter the same columns.
+    regressor = model.data_regressor(training.data) if chosen.active else None
+    result = _fit(training, heldout, model, constrained, chosen, regressor)
+    with np.errstate(over="ignore", invalid="ignore"):  # checked here, with the file named
+        scores = ((training, result.training_rmse), (heldout, result.heldout_rmse))
+    for log, rmse in scores:
+        if rmse is not None and not math.isfinite(rmse):
+            raise LogError(
+                log.path, "its predicted torques overflow double precision; rescale its columns (other units)"
+            )
+    check = _sensitivity(training, model, constrained, chosen, result, regressor) if sensitivity else None
+    return LoadedLogs(training, heldout, result, chosen, filtering, check)
+
+
+def low_pass_for(log: JointLog, request: FilterRequest) -> ParallelFilter:
+    """The low-pass for a log: as requested, or from the motion's bandwidth; LogError when it cannot apply."""
+    timing = log.timing
+    step = None if timing is None else timing.step
+    uniform = timing is not None and timing.uniform
+    bandwidth = None
+    if uniform and request.cutoff is None:
+        choice = None if log.derivatives is None else log.derivatives.choice
+        bandwidth = choice.bandwidth if choice is not None else motion_bandwidth(log.data.q, step)
+    try:
+        return choose_filter(request, step, uniform, bandwidth, log.data.count)
+    except FilterRequestError as error:
+        raise LogError(log.path, f"cannot be low-passed: the cutoff {error}") from None
+
+
+def _fit(training: JointLog, heldout: JointLog | None, model: JointModel, constrained: bool,
+         chosen: ParallelFilter, regressor: np.ndarray | None = None) -> FitResult:
+    """The fit of the training log's regressor and torque after the parallel low-pass and decimation.
+
+    `regressor`: the training log's full-rate regressor when already built (the
+    sensitivity check's cutoff refits share one); only the kept rows are filtered.
+    """
+    data = training.data
+    kept = None
+    if chosen.active or chosen.decimation > 1:
+        X = model.data_regressor(data) if regressor is None else regressor
+        rows = chosen.rows(data.count)
+        kept = chosen.apply(X)
+        data = JointData(t=None if data.t is None else data.t[rows], q=data.q[rows], qd=data.qd[rows],
+                         qdd=data.qdd[rows], tau=chosen.apply_column(data.tau))
+    try:
+        return fit_joint(data, None if heldout is None else heldout.data, model=model,
+                         constrained=constrained, heldout_is_noiseless=False, regressor=kept)
+    except NonFiniteError as error:
+        raise LogError(training.path, f"cannot be fitted: {error}; rescale its columns (other units)") from None
+
+
+def _sensitivity(training: JointLog, model: JointModel, constrained: bool, chosen: ParallelFilter,
+                 result: FitResult, regressor: np.ndarray | None) -> SensitivityCheck | None:
+    """Refits with the derivative window, then the cutoff, halved and doubled; None without a unique fit.
+
+    `regressor`: the training log's full-rate regressor, which the cutoff refits filter again.
+    """
+    if result.estimate is None or result.uncertainty is None or result.uncertainty.residual_std_error is None:
+        return None
+    estimate = training.derivatives
+    window = None if estimate is None else estimate.window
+    base = Variant("", 1.0, window, chosen.cutoff, result.estimate)
+    same = FilterRequest(chosen.cutoff if chosen.active else 0, chosen.decimation)
+    variants = []
+    if estimate is not None:
+        for factor in FACTORS:
+            other = _scaled_window(window, factor, estimate.order, training.data.count + window - 1)
+            if other is None or other == window:
+                continue
+            try:
+                log = training.with_window(other)
+                fit = _fit(log, None, model, constrained, low_pass_for(log, same))
+            except LogError:  # too short for the wider window: that variant is skipped
+                continue
+            variants.append(Variant("window", factor, other, chosen.cutoff, fit.estimate))
+    if chosen.active:
+        for factor in FACTORS:
+            # The same decimation, so the refits keep the same grid of samples (a few more or fewer at the
+            # ends, where the filter windows differ in length) and differ only by the cutoff.
+            request = FilterRequest(chosen.cutoff * factor, chosen.decimation)
+            try:
+                fit = _fit(training, None, model, constrained, low_pass_for(training, request), regressor)
+            except LogError:  # a doubled cutoff beyond the Nyquist frequency: skipped
+                continue
+            variants.append(Variant("cutoff", factor, window, request.cutoff, fit.estimate))
+    return sensitivity_check(model.names, base, result.uncertainty.residual_std_error, variants,
+                             rmse=result.training_rmse, torque_rms=rms(result.training.tau))
+
+
+def _scaled_window(window: int, factor: float, order: int, samples: int) -> int | None:
+    """An odd window spanning `factor` times as long, longer than the order and at most MAX_WINDOW; None if none
+    fits the log."""
+    other = int(round((window - 1) * factor)) + 1
+    other += 1 - other % 2
+    least = order + 1
+    other = max(other, least + 1 - least % 2)
+    other = min(other, MAX_WINDOW)
+    return other if other + 3 <= samples else None
+
+
+def load_request(
+    request: LoadRequest,
+    current: LoadedLogs | None = None,
+    model: JointModel = PLAIN,
+    constrained: bool = False,
+    progress: Callable[[int, int], None] | None = None,
+    cancel: Callable[[], bool] | None = None,
+) -> LoadedLogs:
+    """Load one log into its role beside the current other log and refit; LogError/LoadCancelled as load_log."""
+    log = load_joint_log(request, progress=progress, cancel=cancel)
+    if request.role == HELDOUT:
+        if current is None:
+            raise ValueError("a held-out log needs a training log")
+        return fit_logs(current.training, log, model, constrained, current.filtering)
+    return fit_logs(log, None if current is None else current.heldout, model, constrained, request.filtering)
+
+
+def fit_log(
+    source,
+    heldout=None,
+    *,
+    model: str | JointModel = "plain",
+    degrees: bool = False,
+    window: int | None = None,
+    order: int = DEFAULT_ORDER,
+    cutoff: float | None = None,
+    decimate: int | None = None,
+    constrained: bool = False,
+    joint: str | None = None,
+    sensitivity: bool = True,
+) -> LoadedLogs:
+    """Fit a joint log as `jointid fit --csv` does: the same time checks, resampling, derivatives, low-pass and
+    sensitivity check.
+
+    Parameters
+    ----------
+    source : str, os.PathLike or mapping of arrays
+        A CSV file's path, a ROS bag's (with `joint`), or the columns themselves: a dict or a pandas DataFrame
+        with q and tau and any of t, qd, qdd (missing derivatives are estimated from q, which needs t).
+    heldout : same kinds as `source`, optional
+        A log the fit never sees, to predict.
+    model : str or JointModel
+        'plain' (the lesson's I, h, B) or plain plus terms, e.g. 'coulomb+bias'.
+    degrees : bool
+        q (and qd, qdd) given in degrees rather than radians.
+    window, order : int
+        Savitzky-Golay window (None: chosen from the motion) and order, for derivatives estimated from q.
+    cutoff, decimate : float, int
+        The low-pass cutoff in hertz (None: automatic, 0: none) and the decimation (None: automatic).
+    constrained : bool
+        Fit subject to the model's sign rules.
+    joint : str
+        The joint to read from a ROS bag.
+    sensitivity : bool
+        Refit with the derivative window and the cutoff halved and doubled.
+
+    Returns
+    -------
+    LoadedLogs
+        `params`, `bse`, `conf_int()`, `summary()` (the command line's text), `notes()`, and the fit as `result`.
+
+    Raises
+    ------
+    LogError
+        A problem with the log (one line naming the file, row and column), as the command line reports it.
+    """
+    from ..logs.arrays import read_arrays
+    from ..logs.derivatives import check_filter
+    from ..logs.pipeline import check_finite, joint_log_from_table
+    from ..model.terms import model_named
+
+    fitted_model = model_named(model) if isinstance(model, str) else model
+    if not isinstance(fitted_model, JointModel):
+        raise TypeError(f"model must be a model name or a JointModel; got {type(model).__name__}")
+    check_filter(window, order)
+    filtering = FilterRequest(cutoff, decimate)
+
+    def load(given, role: str) -> JointLog:
+        if isinstance(given, (str, os.PathLike)):
+            return load_joint_log(LoadRequest(os.fspath(given), role, degrees=degrees, window=window, order=order,
+                                              filtering=filtering, joint=joint))
+        table = read_arrays(given, "arrays" if role == TRAINING else "held-out arrays")
+        check_finite(table)
+        return joint_log_from_table(table, degrees=degrees, window=window, order=order)
+
+    training = load(source, TRAINING)
+    return fit_logs(training, None if heldout is None else load(heldout, HELDOUT), model=fitted_model,
+                    constrained=constrained, filtering=filtering, sensitivity=sensitivity)

@@ -1,0 +1,32 @@
+"""The synthetic joint's samples: a motion's states at the sample times, with its measured torque and seeded noise."""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+from ..model.truth import LESSON_JOINT, TrueJoint
+from ..samples import JointData
+from .motions import VALIDATION_MOTION, Motion, sample_times
+from .noise import torque_noise
+from .settings import Settings
+from ..options import VALIDATION_SAMPLES
+
+
+def measured_states(motion: Motion, count: int, joint: TrueJoint) -> JointData:
+    """A motion sampled at `count` instants over 0..8 s as the joint's sensors report it, without noise."""
+    states = motion.states(sample_times(count))
+    return JointData(t=states.t, q=joint.logged_angle(states.q), qd=states.qd, qdd=states.qdd,
+                     tau=joint.measured_torque(states.q, states.qd, states.qdd))
+
+
+def training_data(settings: Settings) -> JointData:
+    """Training states of the chosen motion with the true joint's measured torque plus seeded bounded noise."""
+    exact = measured_states(settings.training_motion, settings.samples, settings.true_joint)
+    noisy = exact.tau + torque_noise(settings.noise, settings.samples, settings.seed)
+    return JointData(t=exact.t, q=exact.q, qd=exact.qd, qdd=exact.qdd, tau=noisy)
+
+
+@lru_cache(maxsize=8)
+def validation_data(joint: TrueJoint = LESSON_JOINT) -> JointData:
+    """The 16 held-out states of the validation motion with the joint's noiseless measured torque."""
+    return measured_states(VALIDATION_MOTION, VALIDATION_SAMPLES, joint)
