@@ -40,7 +40,7 @@ GOAL_TIME, GOAL_MEMORY = 1.5, 2.0
 
 def write_bag(path: Path, seconds: float) -> float:
     """Write the bag; returns seconds taken. Each message is the template's bytes with its stamp and numbers
-    patched in (the layout is fixed), which rosbags' serialiser is checked to produce in tests/test_bag.py."""
+    patched in (the layout is fixed), which rosbags' serialiser is checked to produce in tests/core/logs/test_bag.py."""
     from rosbags.rosbag2 import StoragePlugin, Writer
     from rosbags.typesys import Stores, get_typestore
 

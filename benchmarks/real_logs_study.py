@@ -1,6 +1,6 @@
 """How often the defaults meet issue 14's acceptance on robot-like logs, over many seeds (not a timing).
 
-tests/test_real_logs.py checks one seed per rate; this runs the same closed-form
+tests/core/logs/test_robot_logs.py checks one seed per rate; this runs the same closed-form
 logs (the lesson's joint, +-10 % jitter, 12-bit angles, torque noise of 10 % of
 its RMS, 20 s) over SEEDS seeds at 50, 300 and 1000 Hz through `jointid fit`'s
 defaults and prints, per rate: fits missing "within 3 % or 3 standard errors",
@@ -21,7 +21,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
 
-from test_real_logs import TRUE, robot_log  # noqa: E402  (the tests' own generator)
+from support.robot_logs import TRUE, robot_log  # noqa: E402  (the tests' own generator)
 
 from jointid.logs.table import LogTable  # noqa: E402
 from jointid.logs.pipeline import joint_log_from_table

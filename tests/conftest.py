@@ -8,7 +8,7 @@ from pathlib import Path
 import pytest
 import pytest_textual_snapshot
 
-SNAPSHOT_DIR = Path(__file__).resolve().parent.parent / "snapshots"
+SNAPSHOT_DIR = Path(__file__).resolve().parents[1] / "snapshots"
 """Pinned SVG screenshots (one folder per test module) and pinned readout texts."""
 
 SNAPSHOT_PLUGIN_VERSION = "1.1.0"

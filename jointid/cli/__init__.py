@@ -81,7 +81,7 @@ def parse(argv: list[str]):
     A subcommand named first is the only one argparse can reach, so only its parser is built. With no
     subcommand's name anywhere and no help flag (the help lists the subcommands), the explorer's flags are
     parsed alone, importing no subcommand's module; whatever that refuses is parsed again by the whole
-    parser, so every outcome and message is the whole parser's (tests/test_cli_fuzz.py).
+    parser, so every outcome and message is the whole parser's (tests/cli/test_fuzz.py).
     """
     if not any(word in SUBCOMMANDS or word in HELP_FLAGS for word in argv):
         try:

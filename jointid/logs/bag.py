@@ -10,7 +10,7 @@ always share a layout (the same frame_id, joint names and array lengths, so the
 same byte length); they are gathered in blocks, every message of a block is
 checked byte for byte against the first outside its stamp and numbers, and the
 joint's doubles are then sliced out of the whole block at once. A message that
-differs is read on its own. tests/test_bag.py checks this against rosbags'
+differs is read on its own. tests/core/logs/test_bag.py checks this against rosbags'
 deserialiser on random messages.
 
 Time is header.stamp, or the bag's receive time when every stamp is zero.

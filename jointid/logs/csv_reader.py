@@ -73,7 +73,7 @@ _FAST_UNSAFE = b" \t\v\f\x00aAuU"
 """Bytes that keep a chunk from pandas' reader, which accepts cells numpy.loadtxt rejects:
 whitespace inside a number ('3e 2' is 300 to pandas), and true/false in any case (as 1/0;
 every spelling has an a or a u, and the numbers 'inf' and 'infinity' have neither).
-Found by fuzzing the two readers against each other; see tests/test_csvlog.py."""
+Found by fuzzing the two readers against each other; see tests/core/logs/test_csv_reader.py."""
 
 # ASCII: to re, "٣" is a digit (\d), but neither reader takes it as one.
 _NUMBER = re.compile(r"[+-]?(\d+\.?\d*([eE][+-]?\d+)?|\.\d+([eE][+-]?\d+)?|nan|inf|infinity)", re.I | re.ASCII)

@@ -55,7 +55,7 @@ class Distribution:
 def percentiles(values: np.ndarray, levels=(5, 50, 95)) -> np.ndarray:
     """numpy.percentile(values, levels) of a 1-D float array, its default linear method written out.
 
-    The same numbers (tests/test_sweep.py checks), without the np.unique inside
+    The same numbers (tests/core/studies/test_sweep.py checks), without the np.unique inside
     np.percentile, which imports numpy.ma: 8 ms of every `jointid sweep`'s start.
     """
     ordered = np.sort(values)

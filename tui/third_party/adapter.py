@@ -283,7 +283,7 @@ def _wrap_partial_updates() -> None:
     then thrown away: only the dirty spans are written. A widget that overlaps
     no dirty region puts nothing in those spans, so skipping it changes no cell.
     The wrappers run Textual's own code while the adapter is off (`uninstall()`).
-    `tests/test_third_party.py` compares every update's output with Textual's.
+    `tests/tui/test_third_party.py` compares every update's output with Textual's.
     """
     global _partial_updates_wrapped
     if _partial_updates_wrapped:

@@ -14,7 +14,7 @@ helpers written for generality rather than speed:
 
 The versions here compute the same values in plain loops and slices (1.5 ms a
 chart, 56 % less, with the first three; the last two take another 5 % off).
-`tests/test_plotext_speedups.py` builds many random figures with and without
+`tests/tui/test_plotext_speedups.py` builds many random figures with and without
 them and requires every character and colour to be equal.
 Nothing here is installed on import: `tui.third_party.adapter.activate()` puts them in
 place (when the app starts) only on the plotext release they were written

@@ -132,7 +132,7 @@ class KeyFooter(Widget):
     of every key, it tightens the spacing, then shows the keys that fit and "…".
 
     Why not the stock Footer: at 80 columns it cut Ctrl+O to "^oO" and dropped
-    Export, where this one shows every key of the main screen (tests/test_footer.py);
+    Export, where this one shows every key of the main screen (tests/tui/test_footer.py);
     and it is one widget instead of one per key (with the other start-up changes
     made with it, the main screen went from about 55 widgets and 183 style rules
     to 32 and 85; benchmarks/bench_tui_startup.py measures start-up).

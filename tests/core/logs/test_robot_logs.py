@@ -1,0 +1,80 @@
+"""Acceptance on logs as robots record them: jittered stamps, 12-bit encoder angles, noisy torque, 50 Hz to 1 kHz.
+
+The logs are generated here from the lesson's joint in closed form, independent
+of jointid: q = 0.7 sin(1.3 t) + 0.25 sin(2.7 t) with its exact derivatives,
+tau = I qdd + h g cos q + B qd with I = 0.8, h = 0.4, B = 0.15, g = 9.81.
+Each sample is taken at a jittered instant (the stamp is the true instant,
+off its nominal tick by up to +-10 % of a step), the angle is quantised to
+4096 counts per turn, and the torque gets Gaussian noise with a standard
+deviation of 10 % of the torque's RMS. Fits use jointid's defaults only.
+"""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from jointid.cli import main
+from support.robot_logs import TRUE, robot_log, write_log
+
+def fit_document(capsys, path, *options) -> dict:
+    """`jointid fit --csv PATH --json OPTIONS`, parsed."""
+    capsys.readouterr()
+    assert main(["fit", "--csv", str(path), "--json", *options]) == 0
+    return json.loads(capsys.readouterr().out)
+
+
+@pytest.mark.parametrize("rate", [50, 300, 1000])
+def test_defaults_recover_the_joint_at_every_rate_and_the_sensitivity_check_stays_quiet(capsys, tmp_path, rate):
+    document = fit_document(capsys, write_log(tmp_path / f"robot_{rate}.csv", robot_log(rate)))
+    assert document["timing"]["resampled"] and 0.05 < document["timing"]["max_jitter"] <= 0.2
+    for name, true in TRUE.items():
+        estimate, error = document["estimate"][name], document["std_error"][name]
+        assert abs(estimate - true) <= max(0.03 * true, 3 * error), (name, estimate, error)
+    assert document["derivatives"]["window_chosen"] == "automatic"
+    assert document["low_pass"]["cutoff_hz"] is not None
+    assert document["sensitivity"]["flagged"] is False
+    assert not any(document["sensitivity"]["flags"].values())
+
+
+def test_the_automatic_window_spans_about_the_same_time_at_every_rate(capsys, tmp_path):
+    spans = []
+    for rate in (50, 300, 1000):
+        document = fit_document(capsys, write_log(tmp_path / f"robot_{rate}.csv", robot_log(rate)))
+        derivatives = document["derivatives"]
+        spans.append((derivatives["window"] - 1) * derivatives["step"])
+    # In samples the windows differ twentyfold; in time they stay within a factor 1.5 of each other, and
+    # under 0.92 periods of the motion's band (0.5 Hz here), where the order-6 filter starts to flatten it.
+    assert max(spans) / min(spans) < 1.5 and max(spans) < 0.92 / 0.5, spans
+
+
+def test_a_deliberately_short_window_raises_the_sensitivity_flag(capsys, tmp_path):
+    """31 samples at 300 Hz (0.1 s) let 12-bit quantisation into qdd: halving or doubling it moves I far."""
+    path = write_log(tmp_path / "robot_300.csv", robot_log(300))
+    document = fit_document(capsys, path, "--window", "31")
+    sensitivity = document["sensitivity"]
+    assert sensitivity["flagged"] is True and sensitivity["flags"]["I"] is True
+    assert sensitivity["largest_move_std_errors"]["I"] > 2
+    settings = [(s["setting"], s["window"]) for s in sensitivity["settings"]]
+    assert settings[:3] == [(None, 31), ("window", 17), ("window", 61)]  # spans of 15 and 60 steps, odd
+    # The move is what the refits gave, in the chosen fit's standard errors.
+    base = sensitivity["settings"][0]["estimate"]["I"]
+    moves = [abs(s["estimate"]["I"] - base) / sensitivity["std_error"]["I"] for s in sensitivity["settings"][1:]]
+    assert max(moves) == pytest.approx(sensitivity["largest_move_std_errors"]["I"], rel=1e-9)
+    capsys.readouterr()
+    assert main(["fit", "--csv", str(path), "--window", "31"]) == 0
+    text = capsys.readouterr().out
+    assert "Your derivative settings decide this estimate: I moves" in text
+
+
+def test_the_text_output_states_what_was_chosen_and_why(capsys, tmp_path):
+    path = write_log(tmp_path / "robot_50.csv", robot_log(50))
+    capsys.readouterr()
+    assert main(["fit", "--csv", str(path)]) == 0
+    out = capsys.readouterr().out
+    assert "resampled by cubic spline interpolation onto a uniform" in out
+    assert "automatic: geometric mean of" in out and "periods of the motion's bandwidth" in out
+    assert "low-passed alike at" in out and "automatic: 12 times the motion's bandwidth" in out
+    assert "Sensitivity check (window" in out and "each halved and doubled" in out
+    assert "Your derivative settings decide" not in out

@@ -1,0 +1,116 @@
+"""The explorer opens ROS bags like CSV logs: Ctrl+O, the joint picker, progress, Escape, bad bags notified."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+pytest.importorskip("rosbags")
+
+from support.bag_support import bag_path, two_joints, write_joint_bag  # noqa: E402
+from test_logs import SIZE, main_screen, synchronous  # noqa: E402
+from textual.widgets import Input, OptionList  # noqa: E402
+from support.tui_support import displayed_readouts, make_app  # noqa: E402
+
+from jointid.logs import bag as bag_module  # noqa: E402
+from jointid.cli import main  # noqa: E402
+from jointid.studies.log_fit import LoadRequest  # noqa: E402
+from tui.screens.bag_joint import BagJointScreen  # noqa: E402
+from tui.screens.main import MainScreen  # noqa: E402
+
+
+@pytest.fixture(scope="module")
+def bags(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("tui-bags")
+    t = np.arange(2000) / 500.0
+    good = write_joint_bag(bag_path(folder, "arm", "mcap"), "mcap", t, two_joints(t))
+    corrupt = folder / "corrupt.bag"
+    corrupt.write_bytes(b"#ROSBAG V2.0\n" + bytes(range(256)) * 4)
+    no_effort = write_joint_bag(bag_path(folder, "noeffort", "sqlite3"), "sqlite3", t, two_joints(t), effort=False)
+    return {"good": good, "corrupt": corrupt, "no effort": no_effort}
+
+
+async def settle(pilot, until=None):
+    """Wait for the explorer's own workers (the open dialog's folder tree keeps one running for ever)."""
+    for _ in range(400):
+        busy = [w for w in pilot.app.workers if w.group in ("bag-survey", "log-load") and not w.is_finished]
+        if not busy and (until is None or until()):
+            break
+        await pilot.pause(0.02)
+    await pilot.pause()
+
+
+@synchronous
+async def test_ctrl_o_on_a_bag_picks_a_joint_and_fits_it_as_the_command_line_does(bags, capsys):
+    app = make_app()
+    async with app.run_test(size=SIZE) as pilot:
+        await pilot.press("ctrl+o")
+        field = app.screen.query_one("#open-path", Input)
+        field.value = str(bags["good"])
+        await pilot.press("enter")
+        await settle(pilot, lambda: app.screen.query_one(OptionList).option_count)
+        assert isinstance(app.screen, BagJointScreen)
+        options = app.screen.query_one(OptionList)
+        assert [str(options.get_option_at_index(i).prompt) for i in range(options.option_count)] == [
+            "shoulder: position, velocity, effort (2000 messages)",
+            "elbow: position, velocity, effort (2000 messages)",
+        ]
+        await pilot.press("enter")
+        await settle(pilot, lambda: isinstance(app.screen, MainScreen))
+        screen = main_screen(app)
+        assert isinstance(app.screen, MainScreen) and screen.logs is not None
+        assert screen.logs.training.read_brief == "'shoulder', 2000 messages"
+        estimate = screen.logs.result.estimate
+    capsys.readouterr()
+    assert main(["fit", "--bag", str(bags["good"]), "--joint", "shoulder", "--json"]) == 0
+    expected = json.loads(capsys.readouterr().out)["estimate"]
+    assert [float(v) for v in estimate] == [expected[name] for name in ("I", "h", "B")]
+
+
+@synchronous
+async def test_the_picker_on_a_corrupt_bag_notifies_and_closes(bags):
+    app = make_app()
+    async with app.run_test(size=SIZE) as pilot:
+        await pilot.press("ctrl+o")
+        app.screen.query_one("#open-path", Input).value = str(bags["corrupt"])
+        await pilot.press("enter")
+        await settle(pilot, lambda: not isinstance(app.screen, BagJointScreen))
+        assert not isinstance(app.screen, BagJointScreen)
+        (note,) = app._notifications
+        assert note.severity == "error" and "corrupt.bag: cannot be read as a ROS bag" in note.message
+        await pilot.press("escape")
+        assert isinstance(app.screen, MainScreen)
+
+
+@pytest.mark.parametrize("case, joint", [("corrupt", "shoulder"), ("no effort", "shoulder"), ("good", "wrist")])
+@synchronous
+async def test_a_bad_bag_is_one_notification_and_nothing_on_screen_changes(bags, capsys, case, joint):
+    capsys.readouterr()
+    assert main(["fit", "--bag", str(bags[case]), "--joint", joint]) == 2
+    line = capsys.readouterr().err.strip().removeprefix("jointid: ")
+    app = make_app()
+    async with app.run_test(size=SIZE) as pilot:
+        before = displayed_readouts(app.screen)
+        app.screen.start_loading(LoadRequest(str(bags[case]), joint=joint))
+        await settle(pilot)
+        assert isinstance(app.screen, MainScreen) and app.screen.logs is None
+        assert displayed_readouts(app.screen) == before
+        assert [(n.message, n.severity) for n in app._notifications] == [(line, "error")]
+
+
+@synchronous
+async def test_escape_cancels_loading_a_bag(bags, monkeypatch):
+    monkeypatch.setattr(bag_module, "BLOCK", 1)  # one message per block: long enough to cancel part-way
+    app = make_app()
+    async with app.run_test(size=SIZE) as pilot:
+        before = displayed_readouts(app.screen)
+        app.screen.start_loading(LoadRequest(str(bags["good"]), joint="shoulder"))
+        await pilot.pause()
+        assert type(app.screen).__name__ == "LoadingScreen"
+        await pilot.press("escape")
+        await settle(pilot)
+        assert isinstance(app.screen, MainScreen) and app.screen.logs is None
+        assert displayed_readouts(app.screen) == before
+        assert [n.message for n in app._notifications] == ["Loading cancelled; nothing changed."]

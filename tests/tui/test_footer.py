@@ -1,0 +1,92 @@
+"""The one-line key footer: the keys that work now, fitted to the width."""
+
+from __future__ import annotations
+
+import asyncio
+
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+from support.tui_support import make_app
+
+from tui.screens.main import VIEWS_GROUP, MainScreen
+from tui.widgets.footer import KeyEntry, KeyFooter, footer_line
+
+
+def footer_text(size, focus: str | None = None) -> str:
+    async def main():
+        app = make_app(None)
+        async with app.run_test(size=size) as pilot:
+            await pilot.pause()
+            if focus is not None:
+                app.screen.query_one(focus).focus()
+                await pilot.pause()
+            return app.screen.query_one(KeyFooter).text
+
+    return asyncio.run(main())
+
+
+def shown_bindings(number_field_focused: bool) -> list[str]:
+    """'key description' for each of the main screen's footer bindings, as Textual displays keys."""
+    hidden = {"close_log"} | ({"motion('rich')", "residuals"} if number_field_focused else set())
+    entries = []
+    for binding in MainScreen.BINDINGS:
+        if binding.action in hidden or binding.action.startswith("motion(") or not binding.show:
+            continue
+        key = {"question_mark": "?", "ctrl+o": "^o", "ctrl+s": "^s"}.get(binding.key, binding.key)
+        entries.append(f"{key} {binding.description}")
+    return entries
+
+
+def test_a_wide_footer_names_every_key_and_the_palette_at_the_right_end():
+    text = footer_text((120, 40))
+    assert text.startswith("1 2 3 Motion r Reset")
+    for entry in shown_bindings(number_field_focused=False):
+        assert f" {entry}" in text  # the views' keys each with its own name
+    assert text.rstrip().endswith("│ ^p")  # the palette's word gave way to the keys' names (help lists it)
+    assert len(text) == 120 - 2  # the footer's padding
+
+
+def test_80_columns_show_every_key_of_the_main_screen():
+    text = footer_text((80, 24))
+    views = {binding.key for binding in MainScreen.BINDINGS if binding.group is VIEWS_GROUP}
+    for entry in shown_bindings(number_field_focused=False):
+        key, description = entry.split(" ", 1)
+        assert key in views or f"{key}{description}" in text
+    assert "1 2 3 Motion" in text and "s m e l d Views" in text and "…" not in text
+
+
+def test_a_number_field_hides_the_keys_it_takes_as_typing():
+    text = footer_text((120, 40), focus="#noise")
+    assert "Motion" not in text and "Residuals" not in text
+    assert "r Reset" in text and "s Sweep" in text
+
+
+def test_below_80_columns_the_keys_that_fit_and_an_ellipsis():
+    text = footer_text((70, 22))
+    assert text.rstrip().endswith("…") and len(text) == 70 - 2
+    assert text.startswith("1 2 3 Motion")
+
+
+keys = st.text(alphabet="abcxyz^123 ", min_size=1, max_size=5).map(str.strip).filter(bool)
+entries = st.lists(st.builds(KeyEntry, keys, st.text(alphabet="abcdef ", max_size=12), st.booleans()), max_size=14)
+
+
+@given(entries=entries, palette=st.none() | st.builds(KeyEntry, keys, st.just("palette")),
+       width=st.integers(10, 200))
+def test_the_line_always_fills_the_width_exactly(entries, palette, width):
+    line = footer_line(tuple(entries), palette, width)
+    assert line.cell_length == width
+
+
+@pytest.mark.parametrize("width", [30, 60, 118])
+def test_the_roomiest_arrangement_that_fits_is_chosen(width):
+    entries = tuple(KeyEntry(key, description) for key, description in
+                    [("a", "Alpha"), ("b", "Beta"), ("c", "Gamma"), ("d", "Delta")])
+    text = footer_line(entries, KeyEntry("^p", "palette"), width).plain
+    if width >= 118:
+        assert text.startswith("a Alpha  b Beta  c Gamma  d Delta ") and text.endswith("│ ^p palette")
+    elif width == 60:
+        assert text.startswith("a Alpha  b Beta")
+    else:
+        assert text.startswith("aAlpha bBeta cGamma dDelta")

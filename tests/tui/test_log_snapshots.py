@@ -1,0 +1,60 @@
+"""Snapshot tests of the explorer on joint logs, pinned under snapshots/test_log_snapshots/.
+
+The logs are written by `jointid simulate` into a temporary folder that is made
+the current directory, so the paths on screen are the same on every run.
+Regenerate on purpose with `--snapshot-update` and look at the PNGs first.
+"""
+
+from __future__ import annotations
+
+import pytest
+from support.log_files import CORPUS
+from support.robot_logs import robot_log, write_log
+from test_snapshots import COMPACT, WIDE, steady
+from support.tui_support import make_app
+
+from jointid.cli import main
+from jointid.logs.csv_reader import load_log
+from jointid.studies.log_fit import LoadRequest, fit_logs
+
+
+@pytest.fixture
+def in_log_folder(tmp_path, monkeypatch):
+    """A folder holding train.csv (rich motion, noise 0.1, 2000 samples), test.csv and bad.csv, made current."""
+    monkeypatch.chdir(tmp_path)
+    assert main(["simulate", "--noise", "0.1", "--samples", "2000", "--out", "train.csv"]) == 0
+    assert main(["simulate", "--motion", "test", "--noise", "0.05", "--seed", "3", "--samples", "200",
+                 "--out", "test.csv"]) == 0
+    (tmp_path / "bad.csv").write_text(CORPUS["nan.csv"])
+    return tmp_path
+
+
+def log_app(heldout: bool):
+    """The explorer opened as `jointid --csv train.csv [--heldout test.csv]` opens it."""
+    return make_app(logs=fit_logs(load_log("train.csv"), load_log("test.csv") if heldout else None))
+
+
+@pytest.mark.parametrize("heldout, size", [(True, WIDE), (False, COMPACT), (True, COMPACT)],
+                         ids=["heldout-120x40", "training-80x24", "heldout-80x24"])
+def test_explorer_on_a_log(snap_compare, in_log_folder, heldout, size):
+    assert snap_compare(log_app(heldout), terminal_size=size, run_before=steady)
+
+
+def test_a_bad_file_is_a_notification_and_the_log_stays(snap_compare, in_log_folder):
+    async def load_bad(pilot):
+        steady(pilot)
+        pilot.app.screen.start_loading(LoadRequest("bad.csv"))
+        await pilot.app.workers.wait_for_complete()
+        await pilot.pause()
+
+    assert snap_compare(log_app(True), terminal_size=WIDE, run_before=load_bad)
+
+
+@pytest.mark.parametrize("window, size", [(None, WIDE), (31, COMPACT)], ids=["default-120x40", "window31-80x24"])
+def test_a_jittered_robot_log_with_its_notes_and_sensitivity_check(snap_compare, tmp_path, monkeypatch, window, size):
+    """300 Hz, +-10 % jitter, 12-bit angles: the notes say how it was resampled, differentiated and filtered;
+    a 31-sample window gets "your derivative settings decide this estimate"."""
+    monkeypatch.chdir(tmp_path)
+    write_log(tmp_path / "robot.csv", robot_log(300, duration=8.0))
+    app = make_app(logs=fit_logs(load_log("robot.csv", window=window)))
+    assert snap_compare(app, terminal_size=size, run_before=steady)

@@ -1,0 +1,149 @@
+"""Pilot tests of missing physics in the explorer: the physics dialog, the constraint key, the ladder
+view, the palette's stops beyond the lesson, and a log refitted with another model."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from jointid.studies.experiment import run_experiment
+from jointid.studies.ladder import compare_experiment
+from jointid.present.comparison import comparison_table
+from jointid.present.readouts import readouts
+from jointid.synthetic.settings import DEFAULT_SETTINGS
+from tui.palette import PHYSICS_STOPS
+from tui.screens.ladder import LadderScreen
+from tui.screens.physics import PhysicsScreen
+from tui.widgets.direct_controls import ChoiceList
+from tui.widgets.readouts import ReadoutPanel
+from tui.widgets.stepper import Stepper
+from support.tui_support import run_app as run
+
+def shown_readouts(screen) -> tuple:
+    return screen.query_one(ReadoutPanel).items
+
+
+def test_the_physics_dialog_changes_the_true_joint_and_the_model_at_once():
+    async def scenario(pilot, app):
+        main = app.screen
+        await pilot.press("p")
+        await pilot.pause()
+        dialog = app.screen
+        assert isinstance(dialog, PhysicsScreen)
+        # Coulomb friction: the focused first field, stepped six times by 0.05 N m.
+        for _ in range(6):
+            await pilot.press("right")
+        await pilot.pause()
+        after_friction = main.settings
+        dialog.query_one("#model", ChoiceList).focus()
+        await pilot.press("down", "enter")
+        await pilot.pause()
+        after_model = main.settings
+        await pilot.press("escape")
+        await pilot.pause()
+        return after_friction, after_model, shown_readouts(main), app.screen is main
+
+    after_friction, after_model, items, back = run(scenario)
+    assert after_friction == replace(DEFAULT_SETTINGS, true_coulomb=0.3)
+    assert after_model == replace(DEFAULT_SETTINGS, true_coulomb=0.3, model="coulomb")
+    assert items == readouts(run_experiment(after_model)) and back
+    np.testing.assert_allclose([float(i.text) for i in items[1:5]], [0.8, 0.4, 0.15, 0.3], atol=1e-6)
+
+
+def test_escape_closes_the_dialog_from_its_focused_first_field_and_first_discards_typing():
+    async def scenario(pilot, app):
+        main = app.screen
+        seen = []
+        for typed in ((), ("1",)):
+            await pilot.press("p")
+            await pilot.pause()
+            field = app.screen.focused
+            await pilot.press(*typed, "escape")
+            await pilot.pause()
+            seen.append((isinstance(field, Stepper) and field.id == "true_coulomb", field.value,
+                         isinstance(app.screen, PhysicsScreen)))
+            if app.screen is not main:
+                await pilot.press("escape")
+                await pilot.pause()
+            seen.append(app.screen is main)
+        return main.settings, seen
+
+    settings, seen = run(scenario)
+    # Nothing typed: one Escape closes. Typed: the first Escape discards it in the still open dialog.
+    assert seen == [(True, "0.00", False), True, (True, "0.00", True), True]
+    assert settings == DEFAULT_SETTINGS
+
+
+def test_a_refused_physics_value_keeps_the_setting():
+    async def scenario(pilot, app):
+        main = app.screen
+        await pilot.press("p")
+        await pilot.pause()
+        field = app.screen.query_one("#true_angle_offset", Stepper)
+        field.focus()
+        await pilot.pause()
+        field.value = "0.9"
+        await pilot.press("enter")
+        await pilot.pause()
+        return main.settings, field.value, [n.severity for n in app._notifications]
+
+    settings, text, severities = run(scenario)
+    assert settings.true_angle_offset == 0.0 and text == "0.00" and severities == ["error"]
+
+
+def test_k_toggles_the_sign_constraint_and_the_title_says_so():
+    async def scenario(pilot, app):
+        await pilot.press("2")  # slow motion
+        main = app.screen
+        main.query_one("#noise", Stepper).focus()
+        await pilot.press("shift+right", "shift+right")
+        await pilot.press("k")
+        await pilot.pause()
+        constrained = (main.settings, shown_readouts(main), str(main.query_one("#title").render()))
+        await pilot.press("k")
+        await pilot.pause()
+        return constrained, main.settings
+
+    (settings, items, title), after = run(scenario)
+    assert settings == replace(DEFAULT_SETTINGS, motion="slow", noise=0.2, constrained=True)
+    assert items == readouts(run_experiment(settings)) and "constrained" in title
+    assert dict((i.key, i.text) for i in items)["I"] == "0.000001"
+    assert after.constrained is False
+
+
+def test_the_ladder_view_shows_the_core_s_comparison_and_simulates_every_model():
+    settings = replace(DEFAULT_SETTINGS, noise=0.05, true_coulomb=0.3)
+
+    async def scenario(pilot, app):
+        await pilot.press("l")
+        await pilot.pause()
+        view = app.screen
+        await app.workers.wait_for_complete()
+        await pilot.pause()
+        return (isinstance(view, LadderScreen), str(view.query_one("#ladder-table").render()),
+                str(view.query_one("#ladder-simulation").render()), dict(view.simulations))
+
+    is_ladder, table, simulation, checks = run(scenario, settings)
+    assert is_ladder and table == comparison_table(compare_experiment(settings))
+    assert set(checks) == {"plain", "coulomb", "bias", "angle-offset", "coulomb+bias", "coulomb+angle-offset"}
+    assert checks["plain"].rmse >= 10 * checks["coulomb"].rmse
+    assert "…" not in simulation
+
+
+@pytest.mark.parametrize("index", range(len(PHYSICS_STOPS)))
+def test_the_palette_stops_beyond_the_lesson_set_their_settings(index):
+    title, settings, _ = PHYSICS_STOPS[index]
+
+    async def scenario(pilot, app):
+        await pilot.press("ctrl+p")
+        await pilot.pause()
+        await pilot.press(*title)
+        await pilot.pause()
+        await pilot.press("enter")
+        await pilot.pause()
+        return app.screen.settings, shown_readouts(app.screen)
+
+    shown, items = run(scenario)
+    assert shown == settings and items == readouts(run_experiment(settings))

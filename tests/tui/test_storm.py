@@ -1,0 +1,217 @@
+"""Key storms: thousands of seeded random keys and resizes through every view; the app never freezes or
+crashes, and at the end its readouts are the core's for the settings it shows.
+
+Keys arrive in bursts of one to six without waiting in between, as from fast typing or
+key repeat, so a burst can cross from one screen into the next. Dialogs are always left
+with Escape (the storm runs in a temporary folder all the same). `q` is not in the
+alphabet: quitting is tested elsewhere. The fast storm runs in the default suite; the
+10,000-key one is marked `slow` (`pytest -m slow tests/tui/test_storm.py`).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import random
+import unicodedata
+from dataclasses import dataclass
+
+import pytest
+from textual import events
+from textual.keys import REPLACED_KEYS, _character_to_key, _get_unicode_name_from_key
+
+from jointid.studies.experiment import run_experiment
+from jointid.present.charts import training_chart
+from jointid.present.readouts import precision, readouts
+from tui.screens.main import MainScreen
+from tui.widgets.charts import TorqueChart
+from tui.widgets.readouts import ReadoutPanel
+from tui.widgets.stepper import Stepper
+from support.tui_support import make_app, time_limit
+from jointid.present.status import status_message
+
+SIZES = ((20, 5), (250, 80))
+"""Smallest and largest terminal (width, height) the storm resizes to."""
+
+PLAIN_KEYS = (
+    ["tab"] * 6 + ["shift+tab"] * 3 + ["up", "down"] * 3 + ["left", "right"] * 4
+    + ["shift+left", "shift+right"] * 2 + ["enter"] * 4 + ["space", "escape", "escape", "backspace"]
+    + list("0123456789") + list("123") * 2 + [".", "-", "e", "r", "r", "c", "g", "a", "k", "x"]
+    + ["s", "m", "e", "question_mark", "4"] * 2
+)
+"""Single keys, weighted by repetition: navigation, typing, the motion and view keys, letters a
+number field must refuse. Not `q` (it quits) nor Ctrl+C."""
+
+MACROS = (
+    ("ctrl+p", "escape"), ("ctrl+p", "down", "down", "escape"), ("ctrl+p", "t", "o", "escape"),
+    ("escape", "escape", "ctrl+o", "escape"), ("escape", "escape", "ctrl+o", "tab", "escape"),
+    ("escape", "escape", "ctrl+s", "escape"),
+)
+"""Key sequences kept together: the palette, the open and the export dialogs, each left with Escape
+(the dialogs' keys belong to the main screen, so two Escapes first leave most views)."""
+
+
+@dataclass
+class StormReport:
+    """What a storm did, for its assertions and its failure messages."""
+
+    keys: int = 0
+    resizes: int = 0
+    views: set | None = None
+
+
+def key_event(key: str) -> events.Key:
+    """The Key event Textual's pilot sends for `key` (the same lookups as App._press_keys)."""
+    if len(key) == 1 and not key.isalnum():
+        key = _character_to_key(key)
+    try:
+        character = unicodedata.lookup(_get_unicode_name_from_key(REPLACED_KEYS.get(key, key)))
+    except KeyError:
+        character = key if len(key) == 1 else None
+    return events.Key(key, character)
+
+
+def burst(rng: random.Random) -> list[str]:
+    """One burst of keys: a macro now and then, otherwise one to six single keys."""
+    if rng.random() < 0.12:
+        return list(rng.choice(MACROS))
+    return [rng.choice(PLAIN_KEYS) for _ in range(rng.randint(1, 6))]
+
+
+async def send(pilot, keys: list[str]) -> None:
+    """Send a burst without waiting between its keys, then let the app settle."""
+    app = pilot.app
+    for key in keys:
+        event = key_event(key)
+        event.set_sender(app)
+        app._driver.send_message(event)
+    await pilot.pause()
+
+
+async def back_to_main(pilot) -> MainScreen:
+    """Leave every view and dialog with Escape (a running sweep takes one to cancel) and drop any typing."""
+    app = pilot.app
+    for _ in range(20):
+        await app.workers.wait_for_complete()
+        await pilot.pause()
+        if isinstance(app.screen, MainScreen):
+            break
+        await pilot.press("escape")
+    screen = app.screen
+    assert isinstance(screen, MainScreen), f"still on {type(screen).__name__} after 20 Escapes"
+    for stepper in screen.query(Stepper):
+        if stepper.editing:  # typed but never committed: not part of the settings
+            stepper.action_revert()
+    await pilot.pause()
+    return screen
+
+
+def assert_shows_the_cores_result(screen: MainScreen) -> None:
+    """Readouts, precision notes, status sentence, fields and chart equal the core's for screen.settings."""
+    settings = screen.settings
+    result = run_experiment(settings)
+    panel = screen.query_one(ReadoutPanel)
+    assert panel.items == readouts(result), settings
+    assert panel.precision == precision(result), settings
+    assert str(screen.query_one("#status").render()) == status_message(result)
+    for stepper in screen.query(Stepper):
+        assert stepper.number == getattr(settings, stepper.field)
+        assert stepper.value == stepper.steps.format(getattr(settings, stepper.field))
+    assert screen.query_one("#training-chart", TorqueChart).data.same_as(training_chart(result))
+
+
+async def storm(seed: int, key_count: int, resize_chance: float, check_every: int) -> StormReport:
+    """Press `key_count` random keys from a seeded generator, resizing now and then; check on the way and at the end."""
+    rng = random.Random(seed)
+    report = StormReport(views={"MainScreen"})
+    app = make_app()
+    push_screen = app.push_screen
+
+    def push_and_note(screen, *args, **kwargs):
+        report.views.add(type(screen).__name__)
+        return push_screen(screen, *args, **kwargs)
+
+    app.push_screen = push_and_note  # every screen opened, the palette's and dialogs' too
+    async with app.run_test(size=(80, 24)) as pilot:
+        await pilot.pause()
+        next_check = check_every
+        while report.keys < key_count:
+            keys = burst(rng)
+            with time_limit(30):  # a frozen app fails here, naming the keys, instead of hanging
+                await send(pilot, keys)
+                if rng.random() < resize_chance:
+                    size = (rng.randint(SIZES[0][0], SIZES[1][0]), rng.randint(SIZES[0][1], SIZES[1][1]))
+                    await pilot.resize_terminal(*size)
+                    report.resizes += 1
+            report.keys += len(keys)
+            assert app.is_running and app._exception is None, (seed, report.keys, keys)
+            if report.keys >= next_check and isinstance(app.screen, MainScreen):
+                next_check = report.keys + check_every
+                await app.workers.wait_for_complete()
+                await pilot.pause()
+                typing = any(stepper.editing for stepper in app.screen.query(Stepper))
+                if not typing:
+                    assert_shows_the_cores_result(app.screen)
+        with time_limit(60):
+            screen = await back_to_main(pilot)
+            for size in ((80, 24), (120, 40)):
+                await pilot.resize_terminal(*size)
+                assert_shows_the_cores_result(screen)
+    return report
+
+
+EVERY_VIEW = {"MainScreen", "SweepScreen", "MatrixScreen", "ResidualScreen", "HelpScreen",
+              "CommandPalette", "OpenLogScreen", "ExportScreen"}
+"""The screens a storm must have opened."""
+
+
+def test_a_storm_of_600_keys_through_every_view(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # should a dialog ever be submitted, it writes here
+    report = asyncio.run(storm(seed=2026, key_count=600, resize_chance=0.12, check_every=100))
+    assert report.keys >= 600 and report.resizes >= 15
+    assert EVERY_VIEW <= report.views
+    assert list(tmp_path.iterdir()) == []
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("seed", [7, 13])
+def test_a_storm_of_10000_keys_through_every_view(tmp_path, monkeypatch, seed):
+    monkeypatch.chdir(tmp_path)
+    report = asyncio.run(storm(seed=seed, key_count=10_000, resize_chance=0.1, check_every=500))
+    print(f"seed {seed}: {report.keys} keys, {report.resizes} resizes, views {sorted(report.views)}")
+    assert report.keys >= 10_000 and report.resizes >= 250
+    assert EVERY_VIEW <= report.views
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_sweep_result_arriving_while_its_view_is_taken_down_is_dropped():
+    """What the first storm found: s, then Escape as the sweep finished. The view's widgets are
+    removed before its workers are cancelled; a result delivered in between was shown on widgets
+    that were gone, and the app crashed (NoMatches: '#sweep-state'). Here the result is held back
+    until the view's widgets are gone, as the storm's timing had it."""
+
+    async def main():
+        app = make_app()
+        async with app.run_test(size=(80, 24)) as pilot:
+            await pilot.pause()
+            call_from_thread = app.call_from_thread
+            taken_down = []
+
+            def take_down_first(callback, *args, **kwargs):
+                screen = getattr(callback, "__self__", None)
+                if type(screen).__name__ == "SweepScreen" and not taken_down:
+                    taken_down.append(screen)
+                    call_from_thread(screen.remove_children)  # as closing the view does, before the cancel
+                return call_from_thread(callback, *args, **kwargs)
+
+            app.call_from_thread = take_down_first
+            await pilot.press("s")
+            await app.workers.wait_for_complete()
+            await pilot.pause()
+            await pilot.press("escape")
+            for _ in range(100):  # a loaded machine may take more than one turn to pop the view
+                await pilot.pause()
+                if type(app.screen).__name__ != "SweepScreen":
+                    break
+            return type(app.screen).__name__, app.is_running, len(taken_down)
+
+    assert asyncio.run(main()) == ("MainScreen", True, 1)
