@@ -84,8 +84,8 @@ def write_bag(path: Path, seconds: float) -> float:
 
 def ours(path: Path) -> np.ndarray:
     """What `jointid fit --bag PATH --joint elbow` does: load, check, differentiate, fit."""
-    from jointid.studies.log_fit import fit_logs
     from jointid.logs.request import LoadRequest, load_joint_log
+    from jointid.studies.log_fit import fit_logs
 
     return fit_logs(load_joint_log(LoadRequest(str(path), joint=TARGET))).result.estimate
 

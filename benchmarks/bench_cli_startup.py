@@ -38,8 +38,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from jointid.options import TRAINING_MOTION_NAMES  # noqa: E402
 from jointid.cli import SUBCOMMANDS  # noqa: E402
+from jointid.options import TRAINING_MOTION_NAMES  # noqa: E402
 
 ROUNDS = 9
 HELP_GOAL = 2.0

@@ -30,11 +30,11 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from jointid.logs.csv_reader import load_log  # noqa: E402
-from jointid.estimation.fit import fit_joint  # noqa: E402
-from jointid.model.terms import G, TRUE_PARAMETERS  # noqa: E402
-
 from common import peak_memory, write_log  # noqa: E402  (this folder is first on sys.path)
+
+from jointid.estimation.fit import fit_joint  # noqa: E402
+from jointid.logs.csv_reader import load_log  # noqa: E402
+from jointid.model.terms import TRUE_PARAMETERS, G  # noqa: E402
 
 REPEATS = 7
 """Timed runs of each pipeline; the best is reported."""

@@ -39,8 +39,8 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
 from jointid.studies.design import DesignSpec, design_motion  # noqa: E402
-from jointid.synthetic.settings import Settings  # noqa: E402
 from jointid.studies.sweep import run_sweep  # noqa: E402
+from jointid.synthetic.settings import Settings  # noqa: E402
 
 SEEDS = 10_000
 SWEEP_SETTINGS = Settings(noise=0.2)
@@ -100,15 +100,15 @@ def command_line(rounds: int) -> None:
 
 async def key_latency(rounds: int, presses: int) -> list[tuple[list[float], list[float]]]:
     """(idle, busy) latencies of each round, in seconds: key press to fully updated design view."""
-    from textual import events
-    from textual.widgets import ProgressBar
-
     # bench_tui_keys' way of timing a key to a settled screen: `press["watched"]` is set from inside the app
     # when the key took effect, and its `after_refresh` sets `press["updated"]` at the first frame after that
     # which leaves nothing to paint. It runs after each whole frame here, not after each compositor refresh
     # as there: the running design's progress readout lays the screen out most frames, and a frame that lays
     # out reads as unsettled from inside its compositor refresh (third_party.after_screen_update).
     from bench_tui_keys import IDLE, SETTLE_TIMEOUT, after_refresh, press
+    from textual import events
+    from textual.widgets import ProgressBar
+
     from tui import third_party
     from tui.app import JointIdApp
     from tui.screens.design import DesignScreen

@@ -20,15 +20,15 @@ import time
 
 import numpy as np
 
+from jointid.estimation.fit import fit_joint
+from jointid.model.truth import TrueJoint
+from jointid.options import LADDER
 from jointid.samples import JointData
 from jointid.studies.experiment import run_experiment
-from jointid.estimation.fit import fit_joint
 from jointid.studies.ladder import compare_models
-from jointid.options import LADDER
+from jointid.studies.simulation import simulation_check
 from jointid.synthetic.motions import TRAINING_MOTIONS, VALIDATION_MOTION
 from jointid.synthetic.settings import Settings
-from jointid.studies.simulation import simulation_check
-from jointid.model.truth import TrueJoint
 
 JOINT = TrueJoint(coulomb=0.3)
 

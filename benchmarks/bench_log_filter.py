@@ -77,10 +77,10 @@ def in_process(path: Path, rounds: int) -> None:
     import numpy as np
 
     sys.path.insert(0, str(ROOT))
-    from jointid.logs.csv_reader import load_log
-    from jointid.studies.log_fit import fit_logs
-    from jointid.model.terms import PLAIN
     from jointid.estimation.low_pass import FilterRequest
+    from jointid.logs.csv_reader import load_log
+    from jointid.model.terms import PLAIN
+    from jointid.studies.log_fit import fit_logs
 
     log = load_log(str(path))
     X = PLAIN.data_regressor(log.data)

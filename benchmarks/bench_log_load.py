@@ -41,13 +41,13 @@ import pandas
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from jointid.logs.csv_reader import load_log, read_table  # noqa: E402
-from jointid.logs.pipeline import check_time, joint_log_from_table
-from jointid.logs.derivatives import motion_bandwidth  # noqa: E402
-from jointid.studies.log_fit import fit_logs  # noqa: E402
-from jointid.model.terms import TRUE_PARAMETERS  # noqa: E402
-
 from common import write_log  # noqa: E402  (this folder is first on sys.path)
+
+from jointid.logs.csv_reader import load_log, read_table  # noqa: E402
+from jointid.logs.derivatives import motion_bandwidth  # noqa: E402
+from jointid.logs.pipeline import check_time, joint_log_from_table
+from jointid.model.terms import TRUE_PARAMETERS  # noqa: E402
+from jointid.studies.log_fit import fit_logs  # noqa: E402
 
 ROUNDS = 7
 ROWS = 1_000_000

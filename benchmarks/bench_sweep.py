@@ -13,8 +13,8 @@ import numpy as np
 from bench_noise import best_of  # the script's own folder is on sys.path
 
 from jointid.studies.experiment import run_experiment
-from jointid.synthetic.settings import Settings
 from jointid.studies.sweep import run_sweep
+from jointid.synthetic.settings import Settings
 
 SEEDS = 10_000
 GOAL_SECONDS = 0.050

@@ -186,9 +186,9 @@ async def measure(tune_gc: bool = True, model: str = "plain") -> tuple[list[floa
 def reference_workload_ms() -> float:
     """Median time to build one torque chart with plotext, outside the app: how fast this shared
     machine runs code like the explorer's (allocation-heavy Python) just now."""
+    from jointid.present.charts import training_chart
     from jointid.studies.experiment import run_experiment
     from jointid.synthetic.settings import DEFAULT_SETTINGS
-    from jointid.present.charts import training_chart
     from tui.widgets.charts import draw_torque_chart
 
     data, figure, times = training_chart(run_experiment(DEFAULT_SETTINGS)), third_party.new_figure(), []
@@ -292,8 +292,8 @@ def compare_with_stock_chart(rounds: int) -> bool:
 
     Returns whether both goals are met.
     """
-    from jointid.studies.experiment import run_experiment
     from jointid.present.charts import training_chart
+    from jointid.studies.experiment import run_experiment
 
     third_party.after_compositor_refresh(after_refresh)
     size = training_chart_size()

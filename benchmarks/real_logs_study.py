@@ -23,8 +23,8 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "tests"))
 
 from support.robot_logs import TRUE, robot_log  # noqa: E402  (the tests' own generator)
 
-from jointid.logs.table import LogTable  # noqa: E402
 from jointid.logs.pipeline import joint_log_from_table
+from jointid.logs.table import LogTable  # noqa: E402
 from jointid.options import DEFAULT_ORDER
 from jointid.studies.log_fit import fit_logs  # noqa: E402
 

@@ -11,8 +11,6 @@ from __future__ import annotations
 import math
 import re
 
-
-
 # --- Motions, models and the synthetic experiment's settings ---
 
 DURATION = 8.0

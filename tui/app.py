@@ -16,12 +16,12 @@ from jointid.options import DEFAULT_ORDER, DEFAULT_WINDOW
 from jointid.synthetic.settings import DEFAULT_SETTINGS, Settings
 
 from .palette import TourCommands
-from .third_party import adapter as third_party
 from .screens.main import MainScreen
+from .third_party import adapter as third_party
 
 if TYPE_CHECKING:  # the log reader and its low-pass are imported only when a log is opened
-    from jointid.studies.log_fit import LoadedLogs
     from jointid.estimation.low_pass import FilterRequest
+    from jointid.studies.log_fit import LoadedLogs
 
 FULL_COLLECTION_EVERY = 10_000
 """Young-generation collections between full garbage collections while keys keep coming

@@ -4,15 +4,16 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from jointid.cli.exit_status import ExitStatus
 from jointid.options import DEFAULT_ORDER, DEFAULT_WINDOW
 from jointid.synthetic.settings import Settings
 
-from .third_party import adapter as third_party
 from .ranges import check_explorer_settings
+from .third_party import adapter as third_party
 
 if TYPE_CHECKING:
-    from jointid.studies.log_fit import LoadedLogs
     from jointid.estimation.low_pass import FilterRequest
+    from jointid.studies.log_fit import LoadedLogs
 
 
 def explore(settings: Settings, logs: LoadedLogs | None = None,
@@ -43,5 +44,5 @@ def exit_status(app) -> int:
     sets it back to 0; the exception it keeps is the reliable sign of a crash.
     """
     if third_party.app_exception(app) is not None:
-        return 1
-    return app.return_code or 0
+        return ExitStatus.ERROR
+    return app.return_code or ExitStatus.SUCCESS

@@ -2,9 +2,8 @@
 
 from __future__ import annotations
 
+from jointid.options import ANGLE_OFFSET_LIMITS, BIAS_LIMITS, COULOMB_LIMITS, SEED_LIMITS, SettingsError
 from jointid.synthetic.settings import Settings
-from jointid.options import SEED_LIMITS, SettingsError
-from jointid.options import ANGLE_OFFSET_LIMITS, BIAS_LIMITS, COULOMB_LIMITS
 
 from .widgets.stepper import StepRange
 

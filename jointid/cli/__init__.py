@@ -11,9 +11,10 @@ import sys
 from importlib import import_module
 
 from .arguments import OneLineParser, UserError, add_model_argument, add_settings_arguments
+from .exit_status import ExitStatus
 from .floating_point import strict_arithmetic
 from .log_arguments import add_log_arguments
-from .output import OUTPUT_FAILED, end_process, output_error_line
+from .output import end_process, output_error_line
 from .version import VersionAction
 
 SUBCOMMANDS = {"fit": "fit_command", "compare": "compare_command", "torque": "torque_command",
@@ -117,17 +118,17 @@ def main(argv: list[str] | None = None, *, end_after_subcommand: bool = False, e
             status = subcommand(args.command).run(args)
     except UserError as error:
         print(f"jointid: {error}", file=sys.stderr)
-        return 2
+        return ExitStatus.USER_ERROR
     except BrokenPipeError:  # e.g. `jointid fit | head -1`
         sys.stderr.close()
-        return 0
+        return ExitStatus.SUCCESS
     except OSError as error:
         if error.filename is not None:  # a file's errors are LogErrors or UserErrors with the file named
             raise
         print(output_error_line(error), file=sys.stderr)  # e.g. printing onto a full disk
-        return OUTPUT_FAILED
+        return ExitStatus.USER_ERROR
     except KeyboardInterrupt:
-        return 130
+        return ExitStatus.INTERRUPTED
     if end_after_subcommand:
         end_process(status)
     return status

@@ -7,9 +7,17 @@ import math
 import re
 import sys
 
-from ..options import SETTING_DEFAULTS, TRAINING_MOTION_NAMES, describe_models
-from ..options import parse_float, parse_int
-from ..options import FIELDS, SettingsError, parse_setting
+from ..options import (
+    FIELDS,
+    SETTING_DEFAULTS,
+    TRAINING_MOTION_NAMES,
+    SettingsError,
+    describe_models,
+    parse_float,
+    parse_int,
+    parse_setting,
+)
+from .exit_status import ExitStatus
 
 TYPE_CHECKING = False  # typing itself would cost 3 ms of every start
 if TYPE_CHECKING:
@@ -81,9 +89,9 @@ class OneLineParser(argparse.ArgumentParser):
         return super().parse_known_args(attach_negative_values(list(args)), namespace)
 
     def error(self, message: str):
-        """Print `<prog>: <message>` and exit with status 2."""
+        """Print `<prog>: <message>` and exit with status 2 (ExitStatus.USER_ERROR)."""
         print(f"{self.prog}: {message}", file=sys.stderr)
-        raise SystemExit(2)
+        raise SystemExit(ExitStatus.USER_ERROR)
 
 
 def setting_type(field: str):

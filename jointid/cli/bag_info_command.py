@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from .arguments import UserError
+from .exit_status import ExitStatus
 
 NAME = "bag-info"
 
@@ -38,4 +39,4 @@ def run(args: argparse.Namespace) -> int:
         print_json(info.to_dict())
     else:
         print(bag_info_text(info))
-    return 0
+    return ExitStatus.SUCCESS

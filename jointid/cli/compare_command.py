@@ -6,6 +6,7 @@ import argparse
 
 from ..options import LADDER
 from .arguments import UserError, add_settings_arguments, settings_from
+from .exit_status import ExitStatus
 from .log_arguments import add_log_arguments, filter_options, has_log, load_logs, with_default_settings
 from .output import print_json
 
@@ -29,11 +30,11 @@ def add_parser(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Compare the ladder on the experiment (or the --csv log) and print text or JSON; exit status 0."""
-    from ..studies.ladder import compare_experiment, compare_models  # numpy and the numeric modules load only to run
     from ..present.comparison import comparison_text
     from ..present.documents import comparison_document
     from ..present.notes import low_pass_short_note
     from ..present.text import settings_header
+    from ..studies.ladder import compare_experiment, compare_models  # numpy and the numeric modules load only to run
 
     if has_log(args):
         from ..logs.table import LogError
@@ -55,4 +56,4 @@ def run(args: argparse.Namespace) -> int:
         print_json(comparison_document(comparison, settings=settings, source=source))
     else:
         print(comparison_text(comparison, heading))
-    return 0
+    return ExitStatus.SUCCESS

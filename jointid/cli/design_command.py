@@ -18,6 +18,7 @@ from ..options import (
     STARTS_LIMITS,
 )
 from .arguments import UserError, bounded_number, positive_number, setting_type, whole_number
+from .exit_status import ExitStatus
 
 NAME = "design"
 
@@ -79,10 +80,10 @@ def add_parser(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Design the motion, print text or JSON, and write --out; exit status 0."""
-    from ..studies.design import DesignError, DesignSpec, Limits, design_motion
     from ..files import ExportError
-    from ..synthetic.fourier import save_motion
     from ..present.design import design_document, design_text
+    from ..studies.design import DesignError, DesignSpec, Limits, design_motion
+    from ..synthetic.fourier import save_motion
     from ..synthetic.settings import Settings
     from .output import print_json
 
@@ -107,4 +108,4 @@ def run(args: argparse.Namespace) -> int:
         print(design_text(result))
         if args.out is not None:
             print(f"\nWrote {args.out}: train on it with --motion-file {args.out}.")
-    return 0
+    return ExitStatus.SUCCESS

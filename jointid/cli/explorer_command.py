@@ -16,7 +16,14 @@ from __future__ import annotations
 from ..options import SettingsError
 from .arguments import UserError, settings_from
 from .floating_point import strict_arithmetic
-from .log_arguments import LOG_ONLY_FLAGS, derivative_options, filter_options, fit_loaded_logs, has_log, with_default_settings
+from .log_arguments import (
+    LOG_ONLY_FLAGS,
+    derivative_options,
+    filter_options,
+    fit_loaded_logs,
+    has_log,
+    with_default_settings,
+)
 from .version import ENTRY_POINT_GROUP
 
 ENTRY_POINT_NAME = "explorer"

@@ -6,6 +6,7 @@ import argparse
 
 from ..options import DEFAULT_HORIZON, HORIZON_LIMITS
 from .arguments import add_model_argument, add_settings_arguments, bounded_number, settings_from
+from .exit_status import ExitStatus
 from .log_arguments import add_log_arguments, has_log, run_log_fit, with_default_settings
 from .output import print_json
 
@@ -62,4 +63,4 @@ def run(args: argparse.Namespace) -> int:
         if simulate:
             print()
             print(simulation_text(check))
-    return 0
+    return ExitStatus.SUCCESS

@@ -13,6 +13,7 @@ import argparse
 
 from ..options import DEFAULT_ORDER, SETTING_DEFAULTS
 from .arguments import UserError, finite_float, whole_number
+from .exit_status import ExitStatus
 from .output import print_json
 
 TYPE_CHECKING = False  # typing itself would cost 3 ms of every start
@@ -186,8 +187,8 @@ def _looks_like_bag(path: str) -> bool:
 
 def load_logs(args: argparse.Namespace) -> tuple[JointLog, JointLog | None]:
     """The training and held-out logs, after checking the options; UserError (one line) on any problem."""
-    from ..logs.table import LogError
     from ..logs.request import load_joint_log
+    from ..logs.table import LogError
 
     training_request, heldout_request = log_requests(args)
     try:
@@ -204,8 +205,8 @@ def fit_loaded_logs(args: argparse.Namespace) -> LoadedLogs:
     training, heldout = load_logs(args)
     # Imported after the load: code loaded before it would add to the load's peak resident set.
     from ..logs.table import LogError
-    from ..studies.log_fit import fit_logs
     from ..model.terms import model_named
+    from ..studies.log_fit import fit_logs
 
     try:
         return fit_logs(training, heldout, model=model_named(args.model),
@@ -225,4 +226,4 @@ def run_log_fit(args: argparse.Namespace) -> int:
         from ..present.summary import log_fit_summary
 
         print(log_fit_summary(logs))
-    return 0
+    return ExitStatus.SUCCESS

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from .arguments import add_model_argument, add_settings_arguments, settings_from
+from .exit_status import ExitStatus
 from .output import print_json
 
 NAME = "matrix"
@@ -27,13 +28,13 @@ def add_parser(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Build the table and print text or JSON; exit status 0."""
-    from ..studies.cross_excitation import cross_excitation  # numpy and the numeric modules load only to run
     from ..present.documents import matrix_document
     from ..present.tables import matrix_text
+    from ..studies.cross_excitation import cross_excitation  # numpy and the numeric modules load only to run
 
     table = cross_excitation(settings_from(args))
     if args.json:
         print_json(matrix_document(table))
     else:
         print(matrix_text(table))
-    return 0
+    return ExitStatus.SUCCESS

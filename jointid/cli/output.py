@@ -7,9 +7,7 @@ import sys
 from typing import NoReturn
 
 from .arguments import UserError
-
-OUTPUT_FAILED = 2
-"""Exit status when the printed output cannot be written (a full disk, say), as for any file jointid writes."""
+from .exit_status import ExitStatus
 
 
 def output_error_line(error: OSError) -> str:
@@ -18,7 +16,7 @@ def output_error_line(error: OSError) -> str:
 
 
 def end_process(status: int) -> NoReturn:
-    """Flush what was printed and end the process at once with `status` (OUTPUT_FAILED if the output fails).
+    """Flush what was printed and end the process at once with `status` (USER_ERROR if the output cannot be written).
 
     For the console script after a subcommand: every file it wrote is closed by then, and the interpreter's
     teardown (freeing every module's objects one by one, about a tenth of a large log's fit) only does what
@@ -29,13 +27,13 @@ def end_process(status: int) -> NoReturn:
     except BrokenPipeError:
         pass
     except OSError as error:
-        status = OUTPUT_FAILED
+        status = ExitStatus.USER_ERROR
         print(output_error_line(error), file=sys.stderr)
     try:
         sys.stderr.flush()
     except OSError:
         pass
-    os._exit(status)
+    os._exit(int(status))
 
 
 def print_json(document) -> None:

@@ -12,8 +12,7 @@ from __future__ import annotations
 import argparse
 import math
 
-from ..options import ALL_MOTION_NAMES, DURATION, SETTING_DEFAULTS
-from ..options import SettingsError, check_setting
+from ..options import ALL_MOTION_NAMES, DURATION, SETTING_DEFAULTS, SettingsError, check_setting
 from .arguments import (
     UserError,
     add_motion_file_argument,
@@ -23,6 +22,7 @@ from .arguments import (
     setting_type,
     whole_number,
 )
+from .exit_status import ExitStatus
 
 NAME = "simulate"
 
@@ -148,9 +148,9 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np  # numpy and the numeric modules load only to run
 
     from ..files import ExportError, atomic_output
+    from ..model.truth import TrueJoint
     from ..synthetic.motions import ALL_MOTIONS
     from ..synthetic.noise import torque_noise
-    from ..model.truth import TrueJoint
 
     samples, duration = timing(args.samples, args.rate, args.duration)
     t = np.linspace(0.0, duration, samples)
@@ -187,4 +187,4 @@ def run(args: argparse.Namespace) -> int:
         hint = " (add --force to replace it)" if "already exists" in str(error) else ""
         raise UserError(f"{error}{hint}") from None
     print(f"Wrote {args.out}: {samples} samples of {', '.join(names)} ({motion.name} motion, {duration:g} s).")
-    return 0
+    return ExitStatus.SUCCESS

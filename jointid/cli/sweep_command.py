@@ -7,6 +7,7 @@ import sys
 
 from ..options import DEFAULT_SEED_COUNT, SEED_COUNT_LIMITS, WORK_BUDGET
 from .arguments import UserError, add_model_argument, add_settings_arguments, settings_from, whole_number
+from .exit_status import ExitStatus
 from .output import print_json
 
 NAME = "sweep"
@@ -64,7 +65,7 @@ def run(args: argparse.Namespace) -> int:
         print_json(sweep_document(sweep))
     else:
         print(sweep_text(sweep))
-    return 0
+    return ExitStatus.SUCCESS
 
 
 def progress_line(done: int, total: int) -> None:

@@ -7,6 +7,7 @@ import math
 
 from ..options import TRUE_VALUES
 from .arguments import UserError, finite_float
+from .exit_status import ExitStatus
 from .output import print_json
 
 NAME = "torque"
@@ -64,7 +65,7 @@ def run(args: argparse.Namespace) -> int:
         state = {"q": q, "qd": args.qd, "qdd": args.qdd}
         parameters = {"I": args.I, "h": args.h, "B": args.B}
         print_json({"state": state, "parameters": parameters, **values})
-        return 0
+        return ExitStatus.SUCCESS
     angle = f"{format_number(args.q)} deg = {format_number(q)} rad" if args.deg else f"{format_number(q)} rad"
     print(f"State: q = {angle}, qd = {format_number(args.qd)} rad/s, qdd = {format_number(args.qdd)} rad/s²")
     print(f"Parameters: I = {args.I:g} kg m², h = {args.h:g} kg m, B = {args.B:g} N m s/rad")
@@ -77,4 +78,4 @@ def run(args: argparse.Namespace) -> int:
     ]
     for label, value, unit in rows:
         print(f"{label:<32}{format_number(value):>12} {unit}")
-    return 0
+    return ExitStatus.SUCCESS

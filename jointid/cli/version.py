@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import argparse
 
+from .exit_status import ExitStatus
+
 ENTRY_POINT_GROUP = "jointid.faces"
 """Where the terminal UI registers its entry functions (see pyproject.toml)."""
 ADAPTER_STATUS = "adapter-status"
@@ -58,4 +60,4 @@ class VersionAction(argparse.Action):
     def __call__(self, parser, namespace, values, option_string=None):
         """Print the versions and exit."""
         print(version_text())
-        parser.exit(0)
+        parser.exit(ExitStatus.SUCCESS)

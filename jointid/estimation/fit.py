@@ -11,17 +11,17 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..samples import JointData
 from ..model.terms import PLAIN, JointModel
 from ..norms import rms
+from ..samples import JointData
 from .solver import LeastSquaresSolution, solve_least_squares
 from .student_t import student_t_quantile
 from .uncertainty import ParameterUncertainty, parameter_uncertainty
 
 if TYPE_CHECKING:
+    from ..synthetic.settings import Settings
     from .bounded import BoundedSolution
     from .identifiable import IdentifiableSubset
-    from ..synthetic.settings import Settings
 
 
 @dataclass(frozen=True, eq=False)

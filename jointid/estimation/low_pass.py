@@ -44,7 +44,6 @@ from functools import cached_property
 
 import numpy as np
 
-
 FILTER_NAME = "Kaiser-windowed sinc"
 """What the low-pass is, for notes and JSON."""
 

@@ -28,8 +28,8 @@ from typing import Callable
 
 import numpy as np
 
-from .table import LoadCancelled, LogError, LogTable
 from .pipeline import check_finite
+from .table import LoadCancelled, LogError, LogTable
 
 JOINT_STATE = "sensor_msgs/msg/JointState"
 """The message type read, as rosbags names it for ROS 1 and ROS 2 alike."""

@@ -54,12 +54,20 @@ import warnings
 
 import numpy as np
 
-from .derivatives import check_filter
-from ..options import DEFAULT_ORDER, DEFAULT_WINDOW
 from ..norms import all_finite
-from .table import CHUNK_BYTES, COLUMNS, CancelCheck, LoadCancelled, LogError, LogTable, ProgressCallback, count_newlines
+from ..options import DEFAULT_ORDER, DEFAULT_WINDOW
+from .derivatives import check_filter
 from .pipeline import JointLog, check_finite, joint_log_from_table
-
+from .table import (
+    CHUNK_BYTES,
+    COLUMNS,
+    CancelCheck,
+    LoadCancelled,
+    LogError,
+    LogTable,
+    ProgressCallback,
+    count_newlines,
+)
 
 MAX_LINE_BYTES = 1 << 20
 """Longest line reading will hold whole (1 MiB, tens of thousands of columns): a file with no newline in

@@ -9,12 +9,12 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..norms import all_finite
+from ..options import DEFAULT_ORDER, DEFAULT_WINDOW
 from ..samples import JointData
 from .derivatives import METHOD, DerivativeEstimate, check_filter, choose_window, differentiate
-from ..options import DEFAULT_ORDER, DEFAULT_WINDOW
-from ..norms import all_finite
+from .table import MIN_FIT_ROWS, LogError, LogTable
 from .timing import TimeCheck, TimeProblem, check_times
-from .table import LogError, LogTable, MIN_FIT_ROWS
 
 
 @dataclass(frozen=True, eq=False)

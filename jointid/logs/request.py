@@ -12,8 +12,8 @@ import dataclasses
 import math
 from dataclasses import dataclass
 
-from ..options import DEFAULT_ORDER, DEFAULT_WINDOW
 from ..estimation.low_pass import FilterRequest
+from ..options import DEFAULT_ORDER, DEFAULT_WINDOW
 from .timewindow import TimeWindow
 
 TRAINING, HELDOUT = "training", "heldout"
@@ -54,8 +54,8 @@ class LoadRequest:
 def load_joint_log(request: LoadRequest, progress=None, cancel=None):
     """The request's log ready to fit (csvlog.JointLog); LogError on any problem, LoadCancelled if cancelled."""
     from .csv_reader import read_table
-    from .pipeline import joint_log_from_table
     from .derivatives import check_filter
+    from .pipeline import joint_log_from_table
 
     check_filter(request.window, request.order)
     if request.is_bag:

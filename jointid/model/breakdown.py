@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .terms import G, TRUE_PARAMETERS
+from .terms import TRUE_PARAMETERS, G
 
 
 @dataclass(frozen=True, eq=False)

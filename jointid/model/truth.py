@@ -19,7 +19,6 @@ from ..options import TRUE_VALUES
 from .terms import G
 
 
-
 @dataclass(frozen=True)
 class TrueJoint:
     """The joint behind synthetic data: I, h, B and the missing physics (all in SI units)."""

@@ -16,9 +16,9 @@ import numpy as np
 from .text import format_number, ordinal
 
 if TYPE_CHECKING:
-    from ..samples import JointData
     from ..estimation.fit import FitResult
     from ..estimation.residuals import ResidualData
+    from ..samples import JointData
     from ..studies.sweep import SweepResult
 
 

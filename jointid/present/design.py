@@ -11,8 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..studies.design import ACTIVE_SHARE, CHECK_GRID, DesignResult
 from ..options import CRITERIA, LIMIT_RANGES, LIMIT_SYMBOLS
+from ..studies.design import ACTIVE_SHARE, CHECK_GRID, DesignResult
 from ..synthetic.fourier import motion_document
 from ..synthetic.motions import DURATION, TRAINING_MOTIONS
 from .text import capitalise, format_number, join_words, text_table

@@ -17,10 +17,10 @@ from .status import fit_warnings, status_message
 from .tables import sweep_message
 
 if TYPE_CHECKING:
-    from ..studies.cross_excitation import CrossExcitationTable
     from ..estimation.fit import FitResult
-    from ..synthetic.settings import Settings
+    from ..studies.cross_excitation import CrossExcitationTable
     from ..studies.sweep import SweepResult
+    from ..synthetic.settings import Settings
 
 
 class NonFiniteValue(ValueError):

@@ -186,8 +186,8 @@ def log_status(logs, compact: bool = False) -> str:
     (full paths made it seven).
     """
     # Only log fits carry a sensitivity check: a synthetic fit need not import it.
-    from .sensitivity import sensitivity_summary, sensitivity_warning
     from .notes import log_notes, short_log_notes
+    from .sensitivity import sensitivity_summary, sensitivity_warning
 
     check = logs.sensitivity
     warning = () if check is None or not check.flagged else (sensitivity_warning(check),)

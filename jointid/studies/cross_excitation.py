@@ -15,12 +15,12 @@ from functools import cached_property
 
 import numpy as np
 
-from ..samples import JointData, rms
-from .experiment import run_experiment
-from ..synthetic.samples import training_data, validation_data
 from ..estimation.fit import FitResult, fitted_torque
+from ..samples import JointData, rms
 from ..synthetic.motions import TRAINING_MOTIONS, VALIDATION_MOTION
+from ..synthetic.samples import training_data, validation_data
 from ..synthetic.settings import Settings
+from .experiment import run_experiment
 
 PREDICTION_MOTIONS = ("rich", "slow", VALIDATION_MOTION.name)
 """Column order: the two moving training motions, then the validation motion."""

@@ -38,7 +38,9 @@ from functools import cached_property
 
 import numpy as np
 
-from ..synthetic.samples import training_data
+from ..estimation.solver import solve_least_squares
+from ..estimation.uncertainty import parameter_uncertainty
+from ..model.terms import COULOMB, NONNEGATIVE, G, JointModel, Term
 from ..options import (
     CRITERIA,
     DEFAULT_CRITERION,
@@ -54,10 +56,8 @@ from ..options import (
     STARTS_LIMITS,
 )
 from ..synthetic.fourier import FourierMotion, fourier_basis, from_coefficients
-from ..model.terms import COULOMB, NONNEGATIVE, G, JointModel, Term
+from ..synthetic.samples import training_data
 from ..synthetic.settings import Settings
-from ..estimation.solver import solve_least_squares
-from ..estimation.uncertainty import parameter_uncertainty
 
 DESIGN_GRID = 400
 """Time points per period on which the optimiser enforces the limits."""

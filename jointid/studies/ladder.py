@@ -16,14 +16,14 @@ from functools import cached_property
 
 import numpy as np
 
-from ..samples import JointData, rms
-from ..synthetic.samples import training_data, validation_data
 from ..estimation.fit import fitted_torque
-from ..model.terms import JointModel, model_named
-from ..options import LADDER
-from ..synthetic.settings import Settings
 from ..estimation.solver import LeastSquaresSolution, solve_least_squares, triangle_of
 from ..estimation.uncertainty import ParameterUncertainty, parameter_uncertainty
+from ..model.terms import JointModel, model_named
+from ..options import LADDER
+from ..samples import JointData, rms
+from ..synthetic.samples import training_data, validation_data
+from ..synthetic.settings import Settings
 
 ALL_COLUMNS = model_named("coulomb+bias+angle-offset")
 """A model with every column any ladder model uses, each once (h_c is the plain model's h column)."""

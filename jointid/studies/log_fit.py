@@ -17,18 +17,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..logs.table import LogError
-from ..logs.pipeline import JointLog
-from ..samples import JointData
-from ..logs.derivatives import MAX_WINDOW, motion_bandwidth
 from ..estimation.fit import FitResult, fit_joint
+from ..estimation.low_pass import FilterRequest, FilterRequestError, ParallelFilter, choose_filter
+from ..estimation.solver import NonFiniteError
+from ..logs.derivatives import MAX_WINDOW, motion_bandwidth
+from ..logs.pipeline import JointLog
 from ..logs.request import HELDOUT, TRAINING, LoadRequest, load_joint_log
-from ..options import DEFAULT_ORDER
+from ..logs.table import LogError
 from ..model.terms import PLAIN, JointModel
 from ..norms import rms
-from ..estimation.low_pass import FilterRequest, FilterRequestError, ParallelFilter, choose_filter
+from ..options import DEFAULT_ORDER
+from ..samples import JointData
 from .sensitivity import FACTORS, SensitivityCheck, Variant, sensitivity_check
-from ..estimation.solver import NonFiniteError
 
 
 @dataclass(frozen=True, eq=False)

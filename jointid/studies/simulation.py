@@ -21,11 +21,11 @@ from functools import cached_property
 
 import numpy as np
 
-from ..options import DEFAULT_HORIZON, HORIZON_LIMITS
 from ..estimation.fit import FitResult
 from ..model.terms import G, JointModel
-from ..synthetic.motions import DURATION, VALIDATION_MOTION, Motion
 from ..model.truth import TrueJoint
+from ..options import DEFAULT_HORIZON, HORIZON_LIMITS
+from ..synthetic.motions import DURATION, VALIDATION_MOTION, Motion
 
 DIVERGED_ANGLE = 1.0
 """A window whose angle error exceeds this (rad) has diverged: it is counted, not averaged in."""

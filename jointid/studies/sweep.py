@@ -20,15 +20,15 @@ from functools import cached_property
 
 import numpy as np
 
-from ..options import DEFAULT_SEED_COUNT, SEED_COUNT_LIMITS
-from ..synthetic.samples import training_data, validation_data
 from ..estimation.fit import fitted_torque
-from ..model.terms import JointModel
-from ..synthetic.noise import MODULUS, torque_noise
-from ..norms import row_rms
-from ..synthetic.settings import Settings
 from ..estimation.solver import solve_least_squares
 from ..estimation.uncertainty import parameter_uncertainty
+from ..model.terms import JointModel
+from ..norms import row_rms
+from ..options import DEFAULT_SEED_COUNT, SEED_COUNT_LIMITS
+from ..synthetic.noise import MODULUS, torque_noise
+from ..synthetic.samples import training_data, validation_data
+from ..synthetic.settings import Settings
 
 CHUNK_ELEMENTS = 2**21
 """Torque values (seeds x samples) handled per chunk: about 16 MB per array."""

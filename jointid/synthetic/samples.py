@@ -5,11 +5,11 @@ from __future__ import annotations
 from functools import lru_cache
 
 from ..model.truth import LESSON_JOINT, TrueJoint
+from ..options import VALIDATION_SAMPLES
 from ..samples import JointData
 from .motions import VALIDATION_MOTION, Motion, sample_times
 from .noise import torque_noise
 from .settings import Settings
-from ..options import VALIDATION_SAMPLES
 
 
 def measured_states(motion: Motion, count: int, joint: TrueJoint) -> JointData:

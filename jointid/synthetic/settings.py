@@ -12,18 +12,16 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..options import (
-    SETTING_DEFAULTS,
-)
-from ..options import (
     FIELDS,
+    SETTING_DEFAULTS,
     check_setting,
 )
 
 TYPE_CHECKING = False  # typing itself would cost 3 ms of every start
 if TYPE_CHECKING:
-    from .fourier import FourierMotion
     from ..model.terms import JointModel
     from ..model.truth import TrueJoint
+    from .fourier import FourierMotion
 
 
 @dataclass(frozen=True)

@@ -80,8 +80,8 @@ def test_every_public_name_resolves_to_the_object_its_module_defines():
 
 
 def test_the_choices_name_the_motions_the_numeric_modules_define():
-    from jointid.options import ALL_MOTION_NAMES, EXTRA_TERM_NAMES, TRAINING_MOTION_NAMES
     from jointid.model.terms import EXTRA_TERMS
+    from jointid.options import ALL_MOTION_NAMES, EXTRA_TERM_NAMES, TRAINING_MOTION_NAMES
     from jointid.synthetic.motions import ALL_MOTIONS, TRAINING_MOTIONS
 
     assert tuple(TRAINING_MOTIONS) == TRAINING_MOTION_NAMES

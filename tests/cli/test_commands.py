@@ -7,10 +7,10 @@ import sys
 import pytest
 
 from jointid.cli import main
-from jointid.studies.experiment import run_experiment
 from jointid.present.readouts import readouts
-from jointid.synthetic.settings import Settings
 from jointid.present.status import status_message
+from jointid.studies.experiment import run_experiment
+from jointid.synthetic.settings import Settings
 
 
 def run_cli(*args):

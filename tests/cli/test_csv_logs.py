@@ -7,10 +7,10 @@ import sys
 
 import numpy as np
 import pytest
+from support.log_files import CORPUS, HEADER, good_rows, rows_of, truth_states
 
 from jointid.cli import main
-from support.log_files import CORPUS, HEADER, good_rows, rows_of, truth_states
-from jointid.model.terms import G, TRUE_PARAMETERS
+from jointid.model.terms import TRUE_PARAMETERS, G
 from jointid.synthetic.noise import torque_noise
 
 

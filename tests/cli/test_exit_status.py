@@ -54,3 +54,15 @@ def test_the_command_line_passes_the_explorers_status_on(monkeypatch, keys, stat
     crash_on_reset(monkeypatch)
     run_headless(monkeypatch, *keys)
     assert main([]) == status
+
+
+def test_the_named_statuses_are_the_numbers_shells_and_the_docs_use():
+    from jointid.cli.exit_status import ExitStatus
+
+    assert [(status.name, int(status)) for status in ExitStatus] == [
+        ("SUCCESS", 0), ("ERROR", 1), ("USER_ERROR", 2), ("INTERRUPTED", 130)]
+    with pytest.raises(SystemExit) as refused:  # argparse's own errors exit from the parser
+        main(["fit", "--noise", "-1"])
+    assert refused.value.code is ExitStatus.USER_ERROR
+    assert main(["fit", "--csv", "/no/such/log.csv"]) is ExitStatus.USER_ERROR
+    assert main(["torque", "--q", "60", "--deg", "--qd", "-2", "--qdd", "3"]) is ExitStatus.SUCCESS

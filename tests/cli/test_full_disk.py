@@ -25,13 +25,13 @@ import time
 from pathlib import Path
 
 import pytest
+from support.tui_support import make_app
 from textual.widgets import Input
 
 from jointid.cli import main
 from jointid.files import TEMPORARY_SUFFIX, ExportError, atomic_output, write_json, write_text, write_texts
 from tui.screens.export import write_export
 from tui.screens.main import MainScreen
-from support.tui_support import make_app
 
 ROOT = Path(__file__).resolve().parents[2]
 

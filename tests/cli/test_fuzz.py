@@ -24,9 +24,8 @@ from hypothesis import strategies as st
 
 from jointid.cli import build_parser, main, parse
 from jointid.model.terms import G
-from jointid.synthetic.motions import ALL_MOTIONS
 from jointid.options import WORK_BUDGET
-
+from jointid.synthetic.motions import ALL_MOTIONS
 
 CHECKOUT = Path(__file__).resolve().parents[2]
 """The checkout these tests belong to."""

@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 
 from jointid.cli import main
-from jointid.studies.experiment import run_experiment
 from jointid.estimation.fit import fit_joint
 from jointid.present.documents import result_to_dict
-from jointid.synthetic.settings import Settings
+from jointid.studies.experiment import run_experiment
 from jointid.studies.sweep import run_sweep
+from jointid.synthetic.settings import Settings
 
 PER_PARAMETER_KEYS = ("std_error", "noise_bound_std_error", "relative_std_pct", "interval95", "verdicts")
 LEGACY_KEYS = ("samples", "rank", "estimate", "training_rmse", "heldout_rmse", "accel_rms", "speed_rms",

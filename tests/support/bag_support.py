@@ -78,7 +78,8 @@ class BagWriter:
 
     def __init__(self, path: Path, kind: str):
         from rosbags.rosbag1 import Writer as Writer1
-        from rosbags.rosbag2 import StoragePlugin, Writer as Writer2
+        from rosbags.rosbag2 import StoragePlugin
+        from rosbags.rosbag2 import Writer as Writer2
 
         self.kind, self.store = kind, typestore(kind)
         if kind == "ros1":

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from jointid.model.terms import G, TRUE_PARAMETERS
+from jointid.model.terms import TRUE_PARAMETERS, G
 from jointid.synthetic.motions import ALL_MOTIONS
 
 

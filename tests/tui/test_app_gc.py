@@ -6,9 +6,9 @@ import asyncio
 import gc
 
 import pytest
+from support.tui_support import THEME, make_app
 
 from tui.app import JointIdApp
-from support.tui_support import THEME, make_app
 
 
 def collector_state() -> tuple[tuple[int, int, int], int, bool]:

@@ -10,12 +10,12 @@ import pytest
 pytest.importorskip("rosbags")
 
 from support.bag_support import bag_path, two_joints, write_joint_bag  # noqa: E402
+from support.tui_support import displayed_readouts, make_app  # noqa: E402
 from test_logs import SIZE, main_screen, synchronous  # noqa: E402
 from textual.widgets import Input, OptionList  # noqa: E402
-from support.tui_support import displayed_readouts, make_app  # noqa: E402
 
-from jointid.logs import bag as bag_module  # noqa: E402
 from jointid.cli import main  # noqa: E402
+from jointid.logs import bag as bag_module  # noqa: E402
 from jointid.studies.log_fit import LoadRequest  # noqa: E402
 from tui.screens.bag_joint import BagJointScreen  # noqa: E402
 from tui.screens.main import MainScreen  # noqa: E402

@@ -8,16 +8,16 @@ from dataclasses import replace
 from functools import partial
 
 import numpy as np
+from support.design_stand_ins import broken_design, gone
+from support.tui_support import run_app, time_limit
 from textual.widgets import ProgressBar, Static
 
-from support.design_stand_ins import broken_design, gone
 from jointid.studies import design_process
 from jointid.synthetic.fourier import FourierMotion, load_motion
 from jointid.synthetic.settings import Settings
 from tui.screens.design import DesignScreen
 from tui.screens.main import MainScreen
 from tui.widgets.direct_controls import ChoiceList
-from support.tui_support import run_app, time_limit
 
 NOISY = Settings(noise=0.2)
 

@@ -10,8 +10,8 @@ from __future__ import annotations
 import pytest
 from support.log_files import CORPUS
 from support.robot_logs import robot_log, write_log
-from test_snapshots import COMPACT, WIDE, steady
 from support.tui_support import make_app
+from test_snapshots import COMPACT, WIDE, steady
 
 from jointid.cli import main
 from jointid.logs.csv_reader import load_log

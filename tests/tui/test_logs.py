@@ -9,20 +9,20 @@ import json
 
 import pytest
 from support.log_files import CORPUS, HEADER, good_rows
-from textual.widgets import Input
 from support.tui_support import displayed_readouts, make_app
+from textual.widgets import Input
 
-from jointid.logs import csv_reader
-from jointid.studies import log_fit as logfit
 from jointid.cli import main
-from jointid.logs.table import LogError
-from jointid.logs.csv_reader import load_log
-from jointid.options import DEFAULT_ORDER, DEFAULT_WINDOW
-from jointid.studies.log_fit import HELDOUT, LoadRequest
 from jointid.estimation.low_pass import FilterRequest
+from jointid.logs import csv_reader
+from jointid.logs.csv_reader import load_log
+from jointid.logs.table import LogError
+from jointid.options import DEFAULT_ORDER, DEFAULT_WINDOW
 from jointid.present import charts
 from jointid.present.charts import ordinal
 from jointid.present.readouts import readouts
+from jointid.studies import log_fit as logfit
+from jointid.studies.log_fit import HELDOUT, LoadRequest
 from tui.app import JointIdApp
 from tui.screens.main import FROM_LOG, STATUS_LINES, MainScreen
 from tui.widgets.direct_controls import ChoiceList

@@ -4,10 +4,11 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+from support.tui_support import run_app
+
 from jointid.synthetic.settings import DEFAULT_SETTINGS
 from tui.screens.sweep import SweepScreen
 from tui.widgets.stepper import Stepper
-from support.tui_support import run_app
 
 
 def run(scenario, settings=DEFAULT_SETTINGS, size=(120, 40)):

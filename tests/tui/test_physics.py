@@ -7,11 +7,12 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from support.tui_support import run_app as run
 
-from jointid.studies.experiment import run_experiment
-from jointid.studies.ladder import compare_experiment
 from jointid.present.comparison import comparison_table
 from jointid.present.readouts import readouts
+from jointid.studies.experiment import run_experiment
+from jointid.studies.ladder import compare_experiment
 from jointid.synthetic.settings import DEFAULT_SETTINGS
 from tui.palette import PHYSICS_STOPS
 from tui.screens.ladder import LadderScreen
@@ -19,7 +20,7 @@ from tui.screens.physics import PhysicsScreen
 from tui.widgets.direct_controls import ChoiceList
 from tui.widgets.readouts import ReadoutPanel
 from tui.widgets.stepper import Stepper
-from support.tui_support import run_app as run
+
 
 def shown_readouts(screen) -> tuple:
     return screen.query_one(ReadoutPanel).items

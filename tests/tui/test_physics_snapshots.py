@@ -10,10 +10,10 @@ from __future__ import annotations
 from dataclasses import replace
 
 import pytest
+from support.tui_support import make_app
+from test_view_snapshots import open_view
 
 from jointid.synthetic.settings import DEFAULT_SETTINGS
-from test_view_snapshots import open_view
-from support.tui_support import make_app
 
 SIZES = {"120x40": (120, 40), "80x24": (80, 24)}
 COULOMB = replace(DEFAULT_SETTINGS, noise=0.05, samples=120, true_coulomb=0.3)

@@ -5,14 +5,15 @@ from __future__ import annotations
 from dataclasses import replace
 
 import pytest
-from textual.widgets import Input
 from support.tui_support import run_app
+from textual.widgets import Input
 
+from jointid.options import SEED_LIMITS
+from jointid.present.readouts import readouts
+from jointid.present.status import status_message
 from jointid.studies.experiment import run_experiment
 from jointid.synthetic.motions import TRAINING_MOTIONS
-from jointid.present.readouts import readouts
 from jointid.synthetic.settings import DEFAULT_SETTINGS, Settings
-from jointid.options import SEED_LIMITS
 from tui.palette import TOUR, tour_title
 from tui.ranges import NOISE_RANGE, SAMPLES_RANGE, SEED_RANGE
 from tui.screens.main import MIN_SIZE, MOTION_KEYS, MainScreen
@@ -20,7 +21,6 @@ from tui.widgets.charts import TorqueChart
 from tui.widgets.direct_controls import ChoiceList
 from tui.widgets.readouts import ReadoutPanel
 from tui.widgets.stepper import Stepper
-from jointid.present.status import status_message
 
 SIZE = (120, 40)
 

@@ -9,10 +9,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from jointid.studies.experiment import run_experiment
 from jointid.present.charts import ChartData, heldout_chart, training_chart
+from jointid.studies.experiment import run_experiment
 from jointid.synthetic.settings import Settings
-from tui.third_party import adapter as third_party, plotext_speedups
+from tui.third_party import adapter as third_party
+from tui.third_party import plotext_speedups
 from tui.third_party.adapter import build_matrix, new_figure
 from tui.widgets.charts import draw_torque_chart
 

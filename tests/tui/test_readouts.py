@@ -11,7 +11,6 @@ from __future__ import annotations
 import asyncio
 
 import pytest
-
 from support.tui_support import READOUTS_DIR, pinned_readouts, read_displayed
 
 PINNED = pinned_readouts()

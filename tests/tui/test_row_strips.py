@@ -5,6 +5,7 @@ from __future__ import annotations
 import asyncio
 
 import pytest
+from support.tui_support import make_app
 from textual.geometry import Region
 from textual.strip import Strip
 from textual.visual import Visual
@@ -13,7 +14,6 @@ from tui.widgets.fitting import FittingLine
 from tui.widgets.readouts import ReadoutPanel
 from tui.widgets.rows import RowStrips
 from tui.widgets.torque_plot import TorquePlot
-from support.tui_support import make_app
 
 KEYS = [("#noise", ["right", "right", "shift+right", "left", "shift+left"]),
         ("#samples", ["right", "shift+right", "left"]),

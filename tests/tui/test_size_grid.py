@@ -15,6 +15,7 @@ import asyncio
 import re
 
 import pytest
+from support.tui_support import CANONICAL_STATES, make_app, time_limit
 from textual.geometry import Region
 from textual.widget import Widget
 
@@ -23,7 +24,6 @@ from tui.screens.main import MainScreen
 from tui.widgets.fitting import FittingLine
 from tui.widgets.readouts import ReadoutPanel
 from tui.widgets.small_plots import GuardedPlot
-from support.tui_support import CANONICAL_STATES, make_app, time_limit
 
 WIDTHS = (20, 30, 45, 69, 70, 80, 109, 120, 180, 250)
 HEIGHTS = (5, 10, 16, 21, 22, 24, 32, 40, 60, 80)

@@ -8,14 +8,15 @@ from dataclasses import replace
 import numpy as np
 import pytest
 from rich.text import Text
+from support.tui_support import make_app, time_limit
 
 from jointid.present.charts import HistogramData, sweep_histograms
-from jointid.synthetic.settings import DEFAULT_SETTINGS
 from jointid.studies.sweep import run_sweep
+from jointid.synthetic.settings import DEFAULT_SETTINGS
 from tui.screens.sweep import SweepScreen
 from tui.widgets.plot_guard import MIN_PLOT_SIZE, TOO_SMALL
 from tui.widgets.small_plots import GuardedPlot, SmallPlot, histogram_bars
-from support.tui_support import make_app, time_limit
+
 
 @pytest.fixture(autouse=True)
 def no_freeze():

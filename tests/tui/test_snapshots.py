@@ -8,9 +8,8 @@ at it before committing.
 from __future__ import annotations
 
 import pytest
-from textual.widgets import Input
-
 from support.tui_support import CANONICAL_STATES, make_app
+from textual.widgets import Input
 
 WIDE = (120, 40)
 COMPACT = (80, 24)

@@ -16,18 +16,18 @@ import unicodedata
 from dataclasses import dataclass
 
 import pytest
+from support.tui_support import make_app, time_limit
 from textual import events
 from textual.keys import REPLACED_KEYS, _character_to_key, _get_unicode_name_from_key
 
-from jointid.studies.experiment import run_experiment
 from jointid.present.charts import training_chart
 from jointid.present.readouts import precision, readouts
+from jointid.present.status import status_message
+from jointid.studies.experiment import run_experiment
 from tui.screens.main import MainScreen
 from tui.widgets.charts import TorqueChart
 from tui.widgets.readouts import ReadoutPanel
 from tui.widgets.stepper import Stepper
-from support.tui_support import make_app, time_limit
-from jointid.present.status import status_message
 
 SIZES = ((20, 5), (250, 80))
 """Smallest and largest terminal (width, height) the storm resizes to."""

@@ -14,13 +14,14 @@ from pathlib import Path
 import pytest
 from plotext import _matrix as plotext_matrix
 from plotext import _utility as plotext_utility
+from support.tui_support import make_app
 
 from jointid.cli.version import version_text
-from tui.third_party import adapter as third_party, plotext_speedups
 from tui.ranges import NOISE_RANGE
+from tui.third_party import adapter as third_party
+from tui.third_party import plotext_speedups
 from tui.widgets.stepper import Stepper
 from tui.widgets.torque_plot import TorquePlot
-from support.tui_support import make_app
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import asyncio
 
 import pytest
+from support.tui_support import make_app
 from textual.widgets import Input
 from textual.widgets._toast import Toast
 
@@ -14,7 +15,6 @@ from tui.screens.main import MainScreen
 from tui.screens.open_log import OpenLogScreen
 from tui.widgets.footer import KeyEntry, KeyFooter, footer_line
 from tui.widgets.readouts import ReadoutPanel
-from support.tui_support import make_app
 
 
 def run(scenario, size=(80, 24), notifications=False):

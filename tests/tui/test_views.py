@@ -8,11 +8,11 @@ import numpy as np
 import pytest
 from support.tui_support import CANONICAL_STATES, READOUTS_DIR, run_app
 
+from jointid.estimation.residuals import AXES, AXIS_NOTES, residual_data
+from jointid.present.tables import matrix_table, sweep_message
+from jointid.present.tables import sweep_table as statistics_table
 from jointid.studies.cross_excitation import cross_excitation
 from jointid.studies.experiment import run_experiment
-from jointid.present.tables import matrix_table
-from jointid.present.tables import sweep_table as statistics_table
-from jointid.estimation.residuals import AXES, AXIS_NOTES, residual_data
 from jointid.studies.sweep import SweepCancelled, run_sweep
 from tui.screens import sweep as sweep_screen
 from tui.screens.main import MainScreen
@@ -22,7 +22,6 @@ from tui.screens.sweep import SweepScreen
 from tui.widgets.readouts import ReadoutPanel
 from tui.widgets.small_plots import SmallPlot
 from tui.widgets.stepper import Stepper
-from jointid.present.tables import sweep_message
 
 SLOW = CANONICAL_STATES["slow_0.20"]
 HOLDS = CANONICAL_STATES["holds"]

@@ -27,16 +27,14 @@ from textual.screen import Screen
 from textual.widgets import ProgressBar, Static
 from textual.worker import Worker, WorkerState, get_current_worker
 
-from jointid.options import CRITERIA, DEFAULT_NOISE, RICH_ENVELOPE
+from jointid.options import CRITERIA, DEFAULT_NOISE, RICH_ENVELOPE, SettingsError, parse_float
 from jointid.present.design import DESIGN_INTRO, design_chart
-from jointid.options import parse_float
 from jointid.synthetic.settings import Settings
-from jointid.options import SettingsError
 
 from ..widgets.direct_controls import ChoiceList
 from ..widgets.footer import KeyFooter
 from ..widgets.small_plots import SmallPlot
-from ..widgets.stepper import StepRange, Stepper
+from ..widgets.stepper import Stepper, StepRange
 
 
 @dataclass(frozen=True)

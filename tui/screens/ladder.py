@@ -12,11 +12,11 @@ from textual.screen import Screen
 from textual.widgets import Static
 from textual.worker import get_current_worker
 
+from jointid.model.truth import TrueJoint
+from jointid.present.comparison import comparison_sentences, comparison_table, simulation_table
 from jointid.samples import JointData
 from jointid.studies.ladder import Comparison, compare_models
-from jointid.present.comparison import comparison_sentences, comparison_table, simulation_table
 from jointid.studies.simulation import DEFAULT_HORIZON, simulate_model
-from jointid.model.truth import TrueJoint
 
 from ..widgets.footer import KeyFooter
 

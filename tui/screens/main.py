@@ -24,18 +24,18 @@ from textual.events import ScreenResume
 from textual.screen import Screen
 from textual.widgets import Static
 
-from jointid.studies.experiment import run_experiment
 from jointid.estimation.fit import FitResult
 from jointid.model.terms import PLAIN, G
-from jointid.synthetic.motions import TRAINING_MOTIONS
+from jointid.model.truth import LESSON_JOINT, TrueJoint
 from jointid.present.charts import heldout_chart, training_chart
 from jointid.present.readouts import precision, readouts
 from jointid.present.status import log_sources, log_status, status_message
+from jointid.studies.experiment import run_experiment
+from jointid.synthetic.motions import TRAINING_MOTIONS
 from jointid.synthetic.settings import DEFAULT_SETTINGS, Settings
-from jointid.model.truth import LESSON_JOINT, TrueJoint
 
-from ..widgets.charts import TorqueChart
 from ..ranges import FIELD_LABELS, STEP_RANGES
+from ..widgets.charts import TorqueChart
 from ..widgets.direct_controls import ActionButton, ChoiceList
 from ..widgets.fitting import FittingLine
 from ..widgets.footer import KeyFooter
@@ -441,8 +441,8 @@ class MainScreen(Screen):
 
     def action_ladder(self) -> None:
         """Open the model-ladder view on the data shown (the synthetic experiment or the log)."""
-        from jointid.synthetic.samples import training_data, validation_data
         from jointid.present.text import settings_header
+        from jointid.synthetic.samples import training_data, validation_data
 
         from .ladder import LadderScreen
 
@@ -481,9 +481,9 @@ class MainScreen(Screen):
 
     def action_residuals(self) -> None:
         """Open the residual view of the current fit."""
-        from .residuals import ResidualScreen
-
         from jointid.present.text import settings_header
+
+        from .residuals import ResidualScreen
 
         source = settings_header(self.settings) if self.logs is None else f"log {self.logs.name}"
         self.app.push_screen(ResidualScreen(self.result, source))

@@ -9,11 +9,12 @@ from textual.binding import Binding
 from textual.screen import Screen
 from textual.widgets import Static
 
-from jointid.studies.cross_excitation import cross_excitation
 from jointid.present.tables import MATRIX_EXPLANATION, matrix_notes, matrix_table, matrix_title
+from jointid.studies.cross_excitation import cross_excitation
 from jointid.synthetic.settings import Settings
 
 from ..widgets.footer import KeyFooter
+
 
 class MatrixScreen(Screen):
     """The cross-excitation table for the current noise, samples and seed."""

@@ -15,10 +15,9 @@ from textual.containers import Horizontal, Vertical
 from textual.screen import ModalScreen
 from textual.widgets import DirectoryTree, Input, Label, RadioSet, Static
 
-from jointid.options import DEFAULT_ORDER, DEFAULT_WINDOW
 from jointid.estimation.low_pass import FilterRequest
-
 from jointid.logs.request import HELDOUT, TRAINING, LoadRequest
+from jointid.options import DEFAULT_ORDER, DEFAULT_WINDOW
 
 from ..widgets.footer import KeyFooter
 from ..widgets.marks import ClearCheckbox, ClearRadioButton

@@ -11,8 +11,8 @@ from textual.screen import Screen
 from textual.widgets import Static
 
 from jointid.estimation.fit import FitResult
-from jointid.present.charts import residual_scatter, residual_summary
 from jointid.estimation.residuals import AXES, AXIS_LABELS, residual_data
+from jointid.present.charts import residual_scatter, residual_summary
 
 from ..widgets.footer import KeyFooter
 from ..widgets.small_plots import SmallPlot

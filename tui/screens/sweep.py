@@ -16,18 +16,17 @@ from textual.screen import Screen
 from textual.widgets import Label, ProgressBar, Static
 from textual.worker import Worker, WorkerState, get_current_worker
 
-from jointid.options import parse_int
+from jointid.options import SettingsError, parse_int
 from jointid.present.charts import sweep_histograms
 from jointid.present.tables import sweep_summary, sweep_table
 from jointid.present.text import settings_header
-from jointid.synthetic.settings import Settings
-from jointid.options import SettingsError
 from jointid.studies.sweep import DEFAULT_SEED_COUNT, SweepCancelled, SweepResult, run_sweep
+from jointid.synthetic.settings import Settings
 
 from ..widgets.footer import KeyFooter
 from ..widgets.plot_guard import MIN_PLOT_SIZE
 from ..widgets.small_plots import SmallPlot
-from ..widgets.stepper import StepRange, Stepper
+from ..widgets.stepper import Stepper, StepRange
 
 EXPLORER_SEED_COUNT_LIMITS = (1, 100_000)
 """Seeds the view accepts (the core allows more): a 100,000-seed sweep still finishes in about a second."""

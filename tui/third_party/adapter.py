@@ -12,10 +12,10 @@ Importing this module changes nothing and loads none of the three packages
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-from functools import lru_cache
 import importlib.util
 import os
+from dataclasses import dataclass
+from functools import lru_cache
 from pathlib import Path
 from typing import TYPE_CHECKING, Callable
 

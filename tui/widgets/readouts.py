@@ -6,8 +6,8 @@ from functools import lru_cache
 
 from textual.content import Content
 
-from jointid.present.readouts import Precision, PrecisionNote, Readout
 from jointid.estimation.uncertainty import NOT_DETERMINED, WEAK, WELL_DETERMINED
+from jointid.present.readouts import Precision, PrecisionNote, Readout
 
 from .rows import RowStrips
 

@@ -13,7 +13,6 @@ from jointid.options import SettingsError, parse_setting
 
 from ..third_party.adapter import RepaintOnValue
 
-
 NUMBER_CHARACTERS = frozenset("0123456789.+-eE")
 """Characters a typed number may contain; other keys fall through to the screen's bindings."""
 

@@ -6,19 +6,20 @@ import json
 
 import numpy as np
 import pytest
-from hypothesis import given, settings as hypothesis_settings
+import support.physics_reference as ref
+from hypothesis import given
+from hypothesis import settings as hypothesis_settings
 from hypothesis import strategies as st
 from scipy.optimize import lsq_linear
 
-import support.physics_reference as ref
-from jointid.estimation.bounded import INERTIA_FLOOR, bounded_least_squares, lower_bounds
 from jointid.cli import main
-from jointid.studies.experiment import run_experiment
-from jointid.model.terms import model_named
-from jointid.synthetic.settings import Settings
+from jointid.estimation.bounded import INERTIA_FLOOR, bounded_least_squares, lower_bounds
 from jointid.estimation.solver import solve_least_squares
-from jointid.studies.sweep import run_sweep
+from jointid.model.terms import model_named
 from jointid.present.status import status_message
+from jointid.studies.experiment import run_experiment
+from jointid.studies.sweep import run_sweep
+from jointid.synthetic.settings import Settings
 
 
 def slow_problem(noise=0.2, seed=7):

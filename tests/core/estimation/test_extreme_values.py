@@ -7,19 +7,20 @@ import math
 
 import numpy as np
 import pytest
-from hypothesis import given, settings as hypothesis_settings, strategies as st
+from hypothesis import given
+from hypothesis import settings as hypothesis_settings
+from hypothesis import strategies as st
 
-from jointid.samples import JointData
-from jointid.logs.derivatives import MAX_ORDER, MAX_WINDOW, FilterSettingError, check_filter
 from jointid.estimation.fit import fit_joint
-from jointid.norms import all_finite, column_norms, power_of_two_scale, rms, row_norms, row_rms
-from jointid.options import parse_float, parse_int
-from jointid.present.documents import NonFiniteValue, json_text
-from jointid.present.text import format_number
-from jointid.options import SettingsError, parse_setting
 from jointid.estimation.solver import NonFiniteError, solve_least_squares
 from jointid.estimation.uncertainty import parameter_uncertainty
+from jointid.logs.derivatives import MAX_ORDER, MAX_WINDOW, FilterSettingError, check_filter
+from jointid.norms import all_finite, column_norms, power_of_two_scale, rms, row_norms, row_rms
+from jointid.options import SettingsError, parse_float, parse_int, parse_setting
+from jointid.present.documents import NonFiniteValue, json_text
 from jointid.present.status import status_message
+from jointid.present.text import format_number
+from jointid.samples import JointData
 
 ordinary = st.one_of(st.just(0.0), st.floats(1e-6, 1e6), st.floats(-1e6, -1e-6))
 """Values of ordinary size (a 1e-168 would be an extreme one: its square underflows)."""

@@ -2,14 +2,16 @@
 
 import numpy as np
 import pytest
-from hypothesis import given, settings as hypothesis_settings, strategies as st
+from hypothesis import given
+from hypothesis import settings as hypothesis_settings
+from hypothesis import strategies as st
 
-from jointid.studies.experiment import run_experiment
 from jointid.estimation.identifiable import identifiable_subset
-from jointid.model.terms import G
-from jointid.synthetic.settings import Settings
 from jointid.estimation.solver import solve_least_squares
+from jointid.model.terms import G
 from jointid.present.status import status_message
+from jointid.studies.experiment import run_experiment
+from jointid.synthetic.settings import Settings
 
 
 def test_holds_determine_exactly_h_equal_to_0_4():

@@ -11,22 +11,22 @@ import json
 
 import numpy as np
 import pytest
-from support.import_check import packages_loaded
 from scipy.signal import firwin, kaiserord
+from support.import_check import packages_loaded
 
 from jointid.cli import main
-from jointid.logs.table import LogError, LogTable
-from jointid.logs.pipeline import joint_log_from_table
-from jointid.studies.log_fit import fit_logs
-from jointid.model.terms import model_named
 from jointid.estimation.low_pass import (
     FilterRequest,
     LowPassDesign,
     ParallelFilter,
     choose_filter,
 )
-from jointid.studies.sensitivity import SensitivityCheck, Variant
+from jointid.logs.pipeline import joint_log_from_table
+from jointid.logs.table import LogError, LogTable
+from jointid.model.terms import model_named
 from jointid.present.notes import low_pass_note, low_pass_short_note
+from jointid.studies.log_fit import fit_logs
+from jointid.studies.sensitivity import SensitivityCheck, Variant
 
 G = 9.81
 

@@ -3,10 +3,10 @@
 import numpy as np
 import pytest
 
-from jointid.samples import JointData
-from jointid.studies.experiment import run_experiment
 from jointid.estimation.fit import fit_joint
 from jointid.estimation.residuals import AXES, residual_data
+from jointid.samples import JointData
+from jointid.studies.experiment import run_experiment
 from jointid.synthetic.settings import Settings
 
 

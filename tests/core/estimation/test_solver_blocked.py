@@ -12,11 +12,18 @@ import tracemalloc
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
+from test_solver import (
+    dependent_column_problems,
+    exponents,
+    make_one_column_dependent,
+    random_problem,
+    reference_solution,
+    seeds,
+)
 
 from jointid.estimation import solver
-from jointid.studies.experiment import run_experiment
-from jointid.synthetic.settings import Settings
 from jointid.estimation.solver import (
     BLOCK_VALUES,
     DIRECT_ROWS,
@@ -26,15 +33,9 @@ from jointid.estimation.solver import (
     block_rows_for,
     solve_least_squares,
 )
+from jointid.studies.experiment import run_experiment
 from jointid.studies.sweep import run_sweep
-from test_solver import (
-    dependent_column_problems,
-    exponents,
-    make_one_column_dependent,
-    random_problem,
-    reference_solution,
-    seeds,
-)
+from jointid.synthetic.settings import Settings
 
 AGREEMENT = 1e-12
 """Largest scaled difference allowed between the blocked path and the previous solver."""

@@ -9,9 +9,9 @@ import sys
 from pathlib import Path
 
 import pytest
-from support.import_check import packages_loaded
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from support.import_check import packages_loaded
 
 from jointid.estimation.student_t import student_t_quantile
 

@@ -2,10 +2,10 @@
 
 import numpy as np
 import pytest
-from hypothesis import given, settings as hypothesis_settings, strategies as st
+from hypothesis import given
+from hypothesis import settings as hypothesis_settings
+from hypothesis import strategies as st
 
-from jointid.studies.experiment import run_experiment
-from jointid.synthetic.settings import Settings
 from jointid.estimation.solver import solve_least_squares
 from jointid.estimation.uncertainty import (
     NOT_DETERMINED,
@@ -16,6 +16,8 @@ from jointid.estimation.uncertainty import (
     verdict,
 )
 from jointid.present.status import fit_warnings, status_message
+from jointid.studies.experiment import run_experiment
+from jointid.synthetic.settings import Settings
 
 LAB_SENTENCE = "Positive parameter signs alone do not establish an accurate physical model."
 

@@ -15,12 +15,12 @@ import pytest
 pytest.importorskip("rosbags")
 
 from support.bag_support import (  # noqa: E402
-    G,
     KINDS,
     NOISE_BOUND,
     NOISE_RMS,
     TRUE,
     BagWriter,
+    G,
     bag_path,
     jittered_times,
     joint_state,
@@ -31,8 +31,8 @@ from support.bag_support import (  # noqa: E402
     write_joint_bag,
 )
 
-from jointid.logs.bag import bag_info, doubles, parse_layout, read_bag_table, stamps  # noqa: E402
 from jointid.cli import main  # noqa: E402
+from jointid.logs.bag import bag_info, doubles, parse_layout, read_bag_table, stamps  # noqa: E402
 
 DURATION, RATE = 20.0, 500.0
 

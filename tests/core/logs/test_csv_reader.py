@@ -5,14 +5,14 @@ import tracemalloc
 
 import numpy as np
 import pytest
-from support.import_check import packages_loaded
 from hypothesis import given, settings
 from hypothesis import strategies as st
+from support.import_check import packages_loaded
 
 from jointid.logs import csv_reader
-from jointid.logs.table import LoadCancelled, LogError
 from jointid.logs.csv_reader import load_log, read_table
 from jointid.logs.derivatives import differentiate
+from jointid.logs.table import LoadCancelled, LogError
 
 
 def write(tmp_path, text, name="log.csv"):

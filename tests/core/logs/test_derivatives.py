@@ -3,11 +3,11 @@
 import numpy as np
 import pytest
 
-from jointid.samples import JointData
-from jointid.logs.derivatives import check_filter, choose_window, differentiate, savgol_coefficients
-from jointid.options import DEFAULT_ORDER
 from jointid.estimation.fit import fit_joint
+from jointid.logs.derivatives import check_filter, choose_window, differentiate, savgol_coefficients
 from jointid.model.terms import TRUE_PARAMETERS, predict_torque
+from jointid.options import DEFAULT_ORDER
+from jointid.samples import JointData
 from jointid.synthetic.motions import TRAINING_MOTIONS, Motion, SineTerm
 from jointid.synthetic.noise import torque_noise
 

@@ -27,9 +27,9 @@ import pytest
 from scipy.signal import savgol_filter
 
 from jointid.cli import main
+from jointid.estimation.low_pass import FilterRequest
 from jointid.logs.table import LogError
 from jointid.studies.log_fit import LoadRequest, load_request
-from jointid.estimation.low_pass import FilterRequest
 
 G = 9.81
 COLUMNS = ("t", "q", "qd", "qdd", "tau")

@@ -14,9 +14,10 @@ from __future__ import annotations
 import json
 
 import pytest
+from support.robot_logs import TRUE, robot_log, write_log
 
 from jointid.cli import main
-from support.robot_logs import TRUE, robot_log, write_log
+
 
 def fit_document(capsys, path, *options) -> dict:
     """`jointid fit --csv PATH --json OPTIONS`, parsed."""

@@ -2,12 +2,13 @@
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import settings as hypothesis_settings
+from hypothesis import strategies as st
 
 from jointid.cli import main
-from jointid.logs.table import LogError
 from jointid.logs.csv_reader import load_log
-from hypothesis import given, settings as hypothesis_settings, strategies as st
-
+from jointid.logs.table import LogError
 from jointid.logs.timing import (
     GAP_FACTOR,
     MEDIAN_SAMPLE,

@@ -12,18 +12,17 @@ import json
 
 import numpy as np
 import pytest
+from support.tui_support import displayed_readouts, make_app
 
 from jointid.cli import main
+from jointid.model.terms import G, model_named
+from jointid.options import ModelError, SettingsError
+from jointid.present.readouts import readouts
+from jointid.present.status import status_message
 from jointid.studies.cross_excitation import cross_excitation
 from jointid.studies.experiment import run_experiment
-from jointid.model.terms import G, model_named
-from jointid.options import ModelError
-from jointid.present.readouts import readouts
-from jointid.synthetic.settings import Settings
-from jointid.options import SettingsError
 from jointid.studies.sweep import run_sweep
-from support.tui_support import displayed_readouts, make_app
-from jointid.present.status import status_message
+from jointid.synthetic.settings import Settings
 
 TRUE = np.array([0.8, 0.4, 0.15])
 MODULUS = 2**32

@@ -3,9 +3,9 @@
 import numpy as np
 import pytest
 
+from jointid.model.terms import TRUE_PARAMETERS, regressor
 from jointid.studies.cross_excitation import PREDICTION_MOTIONS, cross_excitation
 from jointid.studies.experiment import run_experiment
-from jointid.model.terms import TRUE_PARAMETERS, regressor
 from jointid.synthetic.motions import ALL_MOTIONS
 from jointid.synthetic.settings import Settings
 

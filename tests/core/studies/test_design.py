@@ -12,14 +12,14 @@ import sys
 
 import numpy as np
 import pytest
+from support.physics_reference import COLUMNS, MODELS, measured, noise, rich_states
 
 from jointid.cli import main
+from jointid.present.design import design_text
 from jointid.studies.design import DesignCancelled, DesignError, DesignSpec, Limits, design_motion
 from jointid.studies.experiment import run_experiment
 from jointid.synthetic.fourier import FourierMotion, MotionFileError, load_motion, motion_text, save_motion
-from jointid.present.design import design_text
 from jointid.synthetic.settings import Settings
-from support.physics_reference import COLUMNS, MODELS, measured, noise, rich_states
 
 SIGMA = 0.20 / math.sqrt(3.0)
 """Standard deviation of noise uniform on [-0.2, 0.2]."""

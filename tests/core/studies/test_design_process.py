@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import os
-from pathlib import Path
 import signal
 import subprocess
 import sys
@@ -11,15 +10,16 @@ import textwrap
 import threading
 import time
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 import pytest
-
 from support.design_stand_ins import broken_design, endless_design, gone, refused_design
+from support.tui_support import time_limit
+
 from jointid.studies.design import DesignCancelled, DesignError, DesignSpec, design_motion
 from jointid.studies.design_process import DesignFailed, DesignProcess
 from jointid.synthetic.settings import Settings
-from support.tui_support import time_limit
 
 TESTS = str(Path(__file__).resolve().parents[2])  # tests/, where the support package is
 

@@ -3,16 +3,16 @@
 import numpy as np
 import pytest
 
-from jointid.studies.experiment import run_experiment
-from jointid.synthetic.samples import training_data
 from jointid.estimation.fit import fit_joint
+from jointid.model.breakdown import torque_breakdown
+from jointid.model.terms import TRUE_PARAMETERS
+from jointid.present.readouts import readouts
+from jointid.present.status import status_message
 from jointid.present.text import format_number
 from jointid.samples import JointData
-from jointid.model.terms import TRUE_PARAMETERS
-from jointid.model.breakdown import torque_breakdown
-from jointid.present.readouts import readouts
+from jointid.studies.experiment import run_experiment
+from jointid.synthetic.samples import training_data
 from jointid.synthetic.settings import Settings
-from jointid.present.status import status_message
 
 # motion, noise -> (I, h, B, training RMSE, held-out RMSE), copied from the lesson's table.
 LESSON_TABLE = {

@@ -11,15 +11,15 @@ import json
 
 import numpy as np
 import pytest
-
 import support.physics_reference as ref
+
 from jointid.cli import main
+from jointid.options import SettingsError
+from jointid.present.status import status_message
 from jointid.studies.experiment import run_experiment
 from jointid.studies.ladder import compare_experiment
-from jointid.synthetic.settings import Settings
-from jointid.options import SettingsError
 from jointid.studies.sweep import run_sweep
-from jointid.present.status import status_message
+from jointid.synthetic.settings import Settings
 
 
 def test_default_settings_have_no_missing_physics_and_the_lesson_numbers_stay():
@@ -178,10 +178,10 @@ def test_settings_refuse_physics_outside_its_range():
 
 def test_compare_on_a_long_log_agrees_with_each_model_fitted_alone():
     # Above the solver's DIRECT_ROWS the ladder's one pass goes through the blocked reduction.
-    from jointid.samples import JointData
     from jointid.estimation.fit import fit_joint
-    from jointid.studies.ladder import compare_models
     from jointid.model.terms import model_named
+    from jointid.samples import JointData
+    from jointid.studies.ladder import compare_models
 
     t, q, qd, qdd = ref.rich_states(20_000)
     tau = ref.measured(q, qd, qdd, 0.3) + np.random.default_rng(3).uniform(-0.05, 0.05, t.size)

@@ -6,12 +6,12 @@ import json
 
 import numpy as np
 import pytest
-
 import support.physics_reference as ref
+
 from jointid.cli import main
 from jointid.studies.experiment import run_experiment
-from jointid.synthetic.settings import Settings
 from jointid.studies.simulation import simulation_check
+from jointid.synthetic.settings import Settings
 
 
 def validation_at(t):

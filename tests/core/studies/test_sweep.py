@@ -5,11 +5,11 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from jointid.studies.experiment import run_experiment
-from jointid.synthetic.settings import Settings
 from jointid.estimation.solver import solve_least_squares
-from jointid.studies.sweep import SweepCancelled, run_sweep
 from jointid.present.tables import sweep_message
+from jointid.studies.experiment import run_experiment
+from jointid.studies.sweep import SweepCancelled, run_sweep
+from jointid.synthetic.settings import Settings
 
 SLOW = Settings(motion="slow", noise=0.2, seed=7)
 

@@ -1,7 +1,8 @@
 """The vectorised noise generator against the lesson's sequential recurrence."""
 
 import numpy as np
-from hypothesis import given, settings, strategies as st
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from jointid.synthetic.noise import lcg_states, torque_noise
 
