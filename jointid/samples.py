@@ -10,6 +10,10 @@ import numpy as np
 from .norms import rms
 
 
+STATES = ("q", "qd", "qdd", "tau")
+"""The columns every sample needs; t is optional."""
+
+
 @dataclass(frozen=True, eq=False)
 class JointData:
     """Angle q (rad), velocity qd (rad/s), acceleration qdd (rad/s^2) and torque tau (N m).
@@ -22,6 +26,25 @@ class JointData:
     qd: np.ndarray
     qdd: np.ndarray
     tau: np.ndarray
+
+    def __post_init__(self):
+        missing = [name for name in STATES if getattr(self, name) is None]
+        if missing:
+            raise ValueError(f"JointData needs {' and '.join(missing)}; jointid.fit_log estimates qd and qdd "
+                             "from q and t")
+        length = None
+        for name in (*STATES, "t"):
+            given = getattr(self, name)
+            if given is None:
+                continue
+            values = np.asarray(given)
+            if values.ndim != 1 or values.dtype.kind not in "biuf":
+                raise ValueError(f"JointData's {name} must be a 1-D array of real numbers; got "
+                                 f"{values.dtype} values of shape {values.shape}")
+            if length is not None and len(values) != length:
+                raise ValueError(f"JointData's {name} has {len(values)} values where q has {length}")
+            length = len(values)
+            object.__setattr__(self, name, values if values.dtype == float else values.astype(float))
 
     @property
     def count(self) -> int:

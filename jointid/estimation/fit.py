@@ -239,8 +239,30 @@ def fit_joint(
     """Fit `model`'s parameters to the training data by pivoted QR (subject to their sign rules when
     `constrained`) and evaluate on the held-out data.
 
-    `regressor` (N, p) replaces the model's regressor of the training states when
-    given: e.g. low-pass filtered in parallel with `training.tau` (jointid.estimation.low_pass).
+    Parameters
+    ----------
+    training : JointData
+        The samples to fit.
+    heldout : JointData, optional
+        Samples the fit never sees, to predict.
+    model : JointModel
+        The model (default the lesson's plain I, h, B); `model_named("coulomb")` and the like for others.
+    constrained : bool
+        Fit subject to the terms' sign rules.
+    heldout_is_noiseless : bool
+        The held-out torques are exact (synthetic), not measured.
+    noise_bound : float, optional
+        Known bound b of uniform torque noise; the standard errors then come from it.
+    regressor : numpy.ndarray, optional
+        (N, p) replaces the model's regressor of the training states, e.g. low-pass filtered in parallel with
+        `training.tau` (jointid.estimation.low_pass).
+    settings : Settings, optional
+        The synthetic experiment behind the data, recorded on the result for its summary.
+
+    Returns
+    -------
+    FitResult
+        `params`, `bse`, `conf_int()`, `summary()`, the readouts and the factorisation.
     """
     X = model.data_regressor(training) if regressor is None else regressor
     return FitResult(

@@ -166,6 +166,20 @@ def solve_least_squares(
     `block_rows_for(p)` rows; an explicit `block_rows` reduces any X taller than
     one block (tests use it to reach the blocked path with small problems).
     NonFiniteError if X or y is not finite, or if a full-rank estimate overflows.
+
+    Parameters
+    ----------
+    X : array_like
+        (N, p) regressor.
+    y : array_like
+        (N,) or (N, K) targets.
+    tolerance : float
+        A remaining column norm at or below this, after unit-column scaling, counts as dependent (1e-10).
+
+    Returns
+    -------
+    LeastSquaresSolution
+        The rank, the estimate (None below full rank), residual norms and the factorisation.
     """
     X = np.asarray(X, dtype=float)
     y = np.asarray(y, dtype=float)

@@ -36,7 +36,20 @@ class TorqueBreakdown:
 
 
 def torque_breakdown(q, qd, qdd, theta=TRUE_PARAMETERS) -> TorqueBreakdown:
-    """The plain model's torque contributions at states (q, qd, qdd) for theta = [I, h, B]."""
+    """The plain model's torque split into its contributions (what `jointid torque` prints).
+
+    Parameters
+    ----------
+    q, qd, qdd : array_like
+        Angle (rad), velocity (rad/s) and acceleration (rad/s^2); broadcast together.
+    theta : array_like
+        [I, h, B] (default the lesson's joint).
+
+    Returns
+    -------
+    TorqueBreakdown
+        The inertia, gravity and damping torques, their total and the damper's power.
+    """
     inertia, mass_moment, damping = (float(v) for v in theta)
     q, qd, qdd = np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in (q, qd, qdd)))
     return TorqueBreakdown(

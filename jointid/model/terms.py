@@ -20,7 +20,7 @@ and it reports h and q0 (with standard errors by the delta method).
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
@@ -86,7 +86,7 @@ class Parameter:
 class Term(Parameter):
     """A parameter times a regressor column: `column(q, qd, qdd)` maps (N,) states to the (N,) column."""
 
-    column: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]
+    column: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] = field(repr=False)
 
 
 INERTIA = Term("I", "inertia", "kg m²", POSITIVE, "no acceleration", lambda q, qd, qdd: qdd)
@@ -224,7 +224,28 @@ PARAMETER_NAMES = PLAIN.names
 
 
 def model_named(name: str) -> JointModel:
-    """The model a name like 'plain', 'bias' or 'coulomb+angle-offset' stands for; ModelError if unknown."""
+    """The model a name like 'plain', 'bias' or 'coulomb+angle-offset' stands for.
+
+    Parameters
+    ----------
+    name : str
+        'plain' or plain plus any of coulomb, bias, angle-offset joined with '+'.
+
+    Returns
+    -------
+    JointModel
+        Its terms in one column order whatever the spelling.
+
+    Raises
+    ------
+    ModelError
+        An unknown name (a ValueError whose message lists the choices).
+
+    Examples
+    --------
+    >>> model_named("bias+coulomb").names
+    ('I', 'h', 'B', 'Fc', 'tau0')
+    """
     ordered = model_extras(name)
     terms = PLAIN.terms + tuple(EXTRA_TERMS[key] for key in ordered)
     if "angle-offset" not in ordered:
@@ -235,11 +256,49 @@ def model_named(name: str) -> JointModel:
 
 
 def regressor(q, qd, qdd, model: JointModel = PLAIN) -> np.ndarray:
-    """(N, p) Regressor rows of `model` (default the lesson's [qdd, g*cos(q), qd])."""
+    """Regressor rows of `model` at the states (default the lesson's [qdd, g*cos(q), qd]).
+
+    Parameters
+    ----------
+    q, qd, qdd : array_like
+        (N,) angle (rad), velocity (rad/s) and acceleration (rad/s^2).
+    model : JointModel
+        The model whose terms give the columns.
+
+    Returns
+    -------
+    numpy.ndarray
+        (N, p), one column per term.
+
+    Examples
+    --------
+    >>> regressor([0.0], [-3.0], [2.0]).tolist()
+    [[2.0, 9.81, -3.0]]
+    """
     return model.regressor(q, qd, qdd)
 
 
 def predict_torque(q, qd, qdd, theta=TRUE_PARAMETERS, model: JointModel = PLAIN) -> np.ndarray:
-    """Actuator torque (N m) at states (q, qd, qdd) for `model`'s column coefficients theta."""
+    """Actuator torque (N m) at the states: inverse dynamics.
+
+    Parameters
+    ----------
+    q, qd, qdd : array_like
+        (N,) angle (rad), velocity (rad/s) and acceleration (rad/s^2).
+    theta : array_like
+        (p,) coefficients of `model`'s columns (default the lesson's I = 0.8, h = 0.4, B = 0.15).
+    model : JointModel
+        The model.
+
+    Returns
+    -------
+    numpy.ndarray
+        (N,) torque.
+
+    Examples
+    --------
+    >>> predict_torque([np.pi / 3], [-2.0], [3.0]).round(6).tolist()  # the lesson's exercise 2
+    [4.062]
+    """
     return model.regressor(q, qd, qdd) @ np.asarray(theta, dtype=float)
 

@@ -20,7 +20,18 @@ def measured_states(motion: Motion, count: int, joint: TrueJoint) -> JointData:
 
 
 def training_data(settings: Settings) -> JointData:
-    """Training states of the chosen motion with the true joint's measured torque plus seeded bounded noise."""
+    """Training states of the chosen motion with the true joint's measured torque plus seeded bounded noise.
+
+    Parameters
+    ----------
+    settings : Settings
+        The experiment; its samples are spread evenly over 0..8 s (t_i = 8 i / (N - 1)).
+
+    Returns
+    -------
+    JointData
+        Exact states and the lesson's LCG noise added to the torque (drawn before each sample).
+    """
     exact = measured_states(settings.training_motion, settings.samples, settings.true_joint)
     noisy = exact.tau + torque_noise(settings.noise, settings.samples, settings.seed)
     return JointData(t=exact.t, q=exact.q, qd=exact.qd, qdd=exact.qdd, tau=noisy)
@@ -28,5 +39,16 @@ def training_data(settings: Settings) -> JointData:
 
 @lru_cache(maxsize=8)
 def validation_data(joint: TrueJoint = LESSON_JOINT) -> JointData:
-    """The 16 held-out states of the validation motion with the joint's noiseless measured torque."""
+    """The 16 held-out states of the validation motion with the joint's noiseless measured torque.
+
+    Parameters
+    ----------
+    joint : TrueJoint
+        The synthetic joint (the lesson's by default, or one with missing physics).
+
+    Returns
+    -------
+    JointData
+        States at t_i = 8 i / 15 on the validation motion and their exact torque.
+    """
     return measured_states(VALIDATION_MOTION, VALIDATION_SAMPLES, joint)
