@@ -16,7 +16,7 @@ from ..norms import rms
 from ..samples import JointData
 from .solver import LeastSquaresSolution, solve_least_squares
 from .student_t import student_t_quantile
-from .uncertainty import ParameterUncertainty, parameter_uncertainty
+from .uncertainty import ParameterUncertainty, covariance_factor, newey_west, parameter_uncertainty
 
 if TYPE_CHECKING:
     from ..synthetic.settings import Settings
@@ -46,6 +46,9 @@ class FitResult:
     """Known bound b of uniform torque noise on [-b, b] (synthetic data), else None."""
     settings: Settings | None = None
     """The synthetic experiment's settings that produced this fit, or None (a log, or data of your own)."""
+    correlation: tuple[np.ndarray, int] | None = None
+    """(positions, lag) when the training residuals are correlated (a filtered log): each sample's index on its
+    evenly spaced grid (gaps where samples were left out) and the Newey-West lag in grid steps; None: independent."""
 
     def __repr__(self) -> str:
         shown = ", ".join(f"{name}={value:.6g}" for name, value in self.params.items())
@@ -196,7 +199,13 @@ class FitResult:
     @cached_property
     def uncertainty(self) -> ParameterUncertainty | None:
         """Standard errors, intervals and verdicts per parameter, or None without a unique fit."""
-        return parameter_uncertainty(self.solution, self.noise_bound, self.model, self.bounded)
+        correlated = None
+        if self.correlation is not None and self.solution.is_full_rank and self.bounded is None:
+            positions, lag = self.correlation
+            residuals = self.training.tau - self.training_predictions
+            correlated = newey_west(self.training_regressor, residuals, positions, lag,
+                                    covariance_factor(self.solution))
+        return parameter_uncertainty(self.solution, self.noise_bound, self.model, self.bounded, correlated)
 
     @cached_property
     def identifiable(self) -> IdentifiableSubset:
@@ -235,6 +244,7 @@ def fit_joint(
     noise_bound: float | None = None,
     regressor: np.ndarray | None = None,
     settings: Settings | None = None,
+    correlation: tuple[np.ndarray, int] | None = None,
 ) -> FitResult:
     """Fit `model`'s parameters to the training data by pivoted QR (subject to their sign rules when
     `constrained`) and evaluate on the held-out data.
@@ -258,6 +268,9 @@ def fit_joint(
         `training.tau` (jointid.estimation.low_pass).
     settings : Settings, optional
         The synthetic experiment behind the data, recorded on the result for its summary.
+    correlation : (numpy.ndarray, int), optional
+        The samples' positions on their evenly spaced grid and the lag over which their residuals correlate
+        (a filtered log): standard errors then come from the Newey-West covariance.
 
     Returns
     -------
@@ -275,4 +288,5 @@ def fit_joint(
         constrained=constrained,
         noise_bound=noise_bound,
         settings=settings,
+        correlation=correlation,
     )

@@ -18,22 +18,35 @@ leaves less room; the taps sum to 1 (unit gain at 0 Hz). At D = rate / (2
 cutoff) this costs about 8 taps per kept sample. Its taps are symmetric about
 the middle one, so it adds no delay between columns and torque (zero phase).
 
-After filtering, the samples are decimated: neighbouring samples of a
-low-passed signal are correlated, and residual-based standard errors that
-count them as independent would be too small by about sqrt(rate / (2 cutoff)).
-Keeping every D-th sample, D = rate / (2 cutoff) rounded down, leaves samples
-about one correlation length apart (the filtered signals are band-limited to
-the cutoff, so nothing the fit uses is lost) and makes the fit faster.
+After filtering, the samples are decimated to about 20 per cutoff hertz
+(every D-th, D = rate / (20 cutoff) rounded down): the filtered signals are
+band-limited to the cutoff, so nothing the fit uses is lost, the fit is
+faster, and enough samples remain for the robust step to tell an outside push
+from noise. Neighbouring kept samples are still correlated; the standard
+errors of a filtered fit account for that (jointid.estimation.uncertainty).
 
 Since only every D-th filtered sample is kept, only those are computed
 (polyphase: one matrix product over the column cut into D-sample blocks), at
 about taps / D multiply-adds per input sample and without full-rate copies;
-no scipy is imported. The edges are trimmed rather than extended: a kept
-sample needs a full window of measured samples on both sides, so the
-(taps - 1) / 2 samples at each end only feed their neighbours. Trimming
-invents nothing (an extension would be linear too, but its edge outputs mix
-in reflected samples whose noise is the same noise counted twice), and the
-decimated fit loses only about taps / D of its samples.
+no scipy is imported. The ends are extended rather than trimmed, so a short
+log keeps every sample (a 4 s log lost 2 s to a trimmed filter): each column
+is continued past each end by its odd reflection about a straight line fitted
+to its last half cutoff period (about the line, not about one end sample,
+whose noise would otherwise be mirrored over the whole extension). The
+extension is linear in the column, so torque and columns are still filtered
+alike and L(X) theta = L(X theta) holds at the ends too.
+
+The automatic cutoff follows the motion, not the sampling rate: three times
+the frequency below which 95 % of the power of the unit vector (cos q, sin q)
+lies. The rigid-body torque is a function of the motion, so its columns live
+in the motion's band and its first harmonics (the third keeps cos q's
+nonlinearity of large swings); far above it a real log holds stick-slip torque
+spikes and encoder quantisation in qdd, which bias I and h low. (cos q, sin q)
+rather than q stays bounded when the joint turns over many times, and 95 %
+rather than 99 % is not pulled up by a hit. The cutoff is also kept where the
+angle's white noise floor, differentiated twice, stays below 1 % of the
+acceleration's power (errors in variables), and within 4 / duration and a
+tenth of the sampling rate.
 """
 
 from __future__ import annotations
@@ -58,12 +71,26 @@ DESIGN_ATTENUATION_DB = 65.0
 """The attenuation the Kaiser formulas are given: 5 dB more than promised, because their length estimate
 falls short for filters of a few dozen taps (60 dB asked gave 53 dB at 21 taps)."""
 
-BANDWIDTH_MULTIPLE = 12.0
-"""Automatic cutoff: this many times the motion's bandwidth, so the motion and the first harmonics of
-cos q pass untouched while torque noise and vibration above them go."""
+BANDWIDTH_MULTIPLE = 3.0
+"""Automatic cutoff: this many times the motion's bandwidth, so the motion and cos q's first harmonics pass."""
 
-NYQUIST_SHARE = 0.8
-"""An automatic cutoff at or above this share of the Nyquist frequency is pointless: the log is not filtered."""
+BANDWIDTH_SHARE = 0.95
+"""The motion's bandwidth: the frequency below which this share of the power of (cos q, sin q) lies."""
+
+NOISE_SHARE = 0.01
+"""The automatic cutoff keeps the angle's noise floor, differentiated twice, below this share of qdd's power."""
+
+NOISE_BAND = (0.25, 0.45)
+"""Where the angle's noise floor is read, as shares of the sampling rate (far above any joint's motion)."""
+
+MIN_PERIODS = 4.0
+"""The automatic cutoff is at least this many cycles per log duration."""
+
+RATE_SHARE = 0.1
+"""The automatic cutoff is at most this share of the sampling rate."""
+
+SAMPLES_PER_CUTOFF = 20.0
+"""Decimation keeps about this many samples per cutoff hertz."""
 
 MIN_DECIMATED = 50
 """Decimation never leaves fewer samples than this (a short log keeps more, correlated, samples)."""
@@ -162,14 +189,24 @@ class ParallelFilter:
         return None if self.cutoff is None else LowPassDesign(self.cutoff, self.rate)
 
     @property
-    def edge(self) -> int:
-        """Samples at each end of the log without a full filter window (0 unfiltered)."""
+    def extension(self) -> int:
+        """Samples each end of a column is extended by (the filter's half length; 0 unfiltered)."""
         return 0 if self.design is None else self.design.half
 
+    @cached_property
+    def support(self) -> float:
+        """Seconds either side of a sample within which the filter holds 95 % of its weight (0 unfiltered): how
+        far a push or a rest spreads into the filtered samples."""
+        if self.design is None:
+            return 0.0
+        weights = np.abs(self.design.taps)
+        half = self.design.half
+        reach = np.cumsum(weights[half:] + weights[half::-1]) - weights[half]
+        return float(np.searchsorted(reach, 0.95 * weights.sum())) / self.rate
+
     def rows(self, count: int) -> np.ndarray:
-        """Indices of the rows `apply` keeps out of `count`: every decimation-th from the first, with a full window."""
-        first = -(-self.edge // self.decimation) * self.decimation  # the first multiple of D at or after the edge
-        return np.arange(first, count - self.edge, self.decimation)
+        """Indices of the rows `apply` keeps out of `count`: every decimation-th from the first."""
+        return np.arange(0, count, self.decimation)
 
     def apply(self, columns: np.ndarray) -> np.ndarray:
         """(N, k) columns -> (M, k): each low-passed, at the `rows(N)` only."""
@@ -188,7 +225,8 @@ class ParallelFilter:
         if self.design is None:
             return column[:: self.decimation]
         taps, half, step = self.design.taps, self.design.half, self.decimation
-        rows = self.rows(len(column))
+        rows = self.rows(len(column)) + half
+        column = extended(column, half, max(3, int(round(0.5 * self.rate / self.cutoff))))
         kept = len(rows)
         if kept == 0:
             return np.empty(0)
@@ -226,18 +264,38 @@ class ParallelFilter:
                 "stopband_attenuation_db": ATTENUATION_DB if design else None,
                 "passband_edge_hz": design.passband_edge if design else None,
                 "stopband_edge_hz": design.stopband_edge if design else None,
-                "zero_phase": self.active, "edge_samples_dropped": self.edge,
+                "zero_phase": self.active, "edge_extension_samples": self.extension,
                 "decimation": self.decimation, "reason": self.reason}
 
 
 
-def choose_filter(request: FilterRequest, step: float | None, uniform: bool, bandwidth: float | None,
+def extended(column: np.ndarray, count: int, fitted: int) -> np.ndarray:
+    """The column continued `count` samples past each end by its odd reflection about a line fitted to its first
+    (last) `fitted` samples: linear in the column, and no end sample's noise mirrored over the extension."""
+    size = len(column)
+    fitted = min(fitted, size)
+    offsets = np.arange(fitted, dtype=float) - (fitted - 1) / 2.0
+    spread = float(np.dot(offsets, offsets)) or 1.0
+    first, last = column[:fitted], column[size - fitted:]
+    start = first.mean() - np.dot(offsets, first) / spread * (fitted - 1) / 2.0  # the line at sample 0
+    end = last.mean() + np.dot(offsets, last) / spread * (fitted - 1) / 2.0  # and at the last sample
+    out = np.empty(size + 2 * count)
+    out[count: count + size] = column
+    reach = min(count, size - 1)
+    out[count - reach: count] = 2.0 * start - column[reach:0:-1]
+    out[count + size: count + size + reach] = 2.0 * end - column[size - 2: size - 2 - reach: -1]
+    out[: count - reach] = out[count - reach]  # a log shorter than the filter: held beyond one reflection
+    out[count + size + reach:] = out[count + size + reach - 1]
+    return out
+
+
+def choose_filter(request: FilterRequest, step: float | None, uniform: bool, q: np.ndarray | None,
                   count: int) -> ParallelFilter:
-    """The low-pass and decimation for a log sampled every `step` s: as requested, or chosen from `bandwidth`.
+    """The low-pass and decimation for a log sampled every `step` s: as requested, or chosen from its angle `q`.
 
     FilterRequestError when a requested cutoff is not below the Nyquist
-    frequency or leaves fewer than MIN_DECIMATED samples with a full window,
-    or a log without uniform times is asked to be filtered.
+    frequency or the log is shorter than its filter, or a log without uniform
+    times is asked to be filtered.
     """
     off = request.cutoff == 0
     if step is None or not uniform:
@@ -255,40 +313,82 @@ def choose_filter(request: FilterRequest, step: float | None, uniform: bool, ban
             raise FilterRequestError(f"must be below the Nyquist frequency {nyquist:.6g} Hz of this log; "
                                      f"got {request.cutoff:g}")
         cutoff, why = request.cutoff, "cutoff given"
-    elif bandwidth is None or bandwidth <= 0:
-        return ParallelFilter(None, rate, _decimation(request, None, rate, count),
-                              "automatic: q shows no motion to take a bandwidth from")
     else:
-        cutoff = BANDWIDTH_MULTIPLE * bandwidth
-        if cutoff >= NYQUIST_SHARE * nyquist:
+        automatic = automatic_cutoff(q, step)
+        if automatic is None:
             return ParallelFilter(None, rate, _decimation(request, None, rate, count),
-                                  f"automatic: {BANDWIDTH_MULTIPLE:g} times the motion's bandwidth "
-                                  f"{bandwidth:.3g} Hz reaches the Nyquist frequency {nyquist:.6g} Hz")
-        why = f"automatic: {BANDWIDTH_MULTIPLE:g} times the motion's bandwidth {bandwidth:.3g} Hz"
+                                  "automatic: q shows no motion to take a bandwidth from")
+        cutoff, why = automatic
     design = LowPassDesign(cutoff, rate)
-    usable = count - 2 * design.half
-    if usable < MIN_DECIMATED:
+    if count <= design.half:
         if request.cutoff is not None:
-            raise FilterRequestError(f"{request.cutoff:g} Hz needs at least {2 * design.half + MIN_DECIMATED} "
-                                     f"samples (its low-pass has {design.length} taps, and {MIN_DECIMATED} "
-                                     f"samples must have a full window); this log has {count}")
+            raise FilterRequestError(f"{request.cutoff:g} Hz needs more than {design.half} samples (its "
+                                     f"low-pass has {design.length} taps); this log has {count}")
         return ParallelFilter(None, rate, _decimation(request, None, rate, count),
-                              f"{why}: its low-pass, {design.length} taps long, leaves fewer than "
-                              f"{MIN_DECIMATED} of the log's {count} samples with a full window")
-    decimation = _decimation(request, cutoff, rate, usable)
+                              f"{why}: its low-pass, {design.length} taps long, is longer than twice the log")
+    decimation = _decimation(request, cutoff, rate, count)
     if request.decimate is None and decimation > 1:
-        why += f"; {rate / decimation:.3g} Hz, twice the cutoff, keeps residuals about independent"
+        why += f"; kept {rate / decimation:.3g} Hz, about {SAMPLES_PER_CUTOFF:g} samples per cutoff hertz"
     return ParallelFilter(cutoff, rate, decimation, why)
 
 
+def automatic_cutoff(q: np.ndarray, step: float) -> tuple[float, str] | None:
+    """The automatic cutoff (Hz) for a log of angles `q` sampled every `step` s and the sentence that says why
+    (see the module docstring), or None when q does not move."""
+    count = len(q)
+    if count < 8 or not np.ptp(q) > 0:
+        return None
+    rate, size = 1.0 / step, 1 << int(np.ceil(np.log2(count)))
+    window = np.hanning(count)
+    power = np.zeros(size // 2 + 1)
+    for part in (np.cos(q), np.sin(q)):
+        part -= part.mean()
+        spectrum = np.abs(np.fft.rfft(part * window, size))
+        power += spectrum * spectrum
+    total = np.cumsum(power)
+    if not total[-1] > 0:
+        return None
+    frequencies = np.fft.rfftfreq(size, step)
+    bandwidth = float(frequencies[min(np.searchsorted(total / total[-1], BANDWIDTH_SHARE), len(power) - 1)])
+    cutoff = BANDWIDTH_MULTIPLE * bandwidth
+    why = (f"automatic: {BANDWIDTH_MULTIPLE:g} x {bandwidth:.3g} Hz, below which {BANDWIDTH_SHARE:.0%} of "
+           f"the motion's power lies (of cos q and sin q)")
+    cap = noise_cap(q, step, cutoff, frequencies, window, size)
+    if cap < cutoff:
+        cutoff, why = cap, why + f", lowered to {cap:.3g} Hz where q's noise floor would reach 1 % of qdd's power"
+    low, high = MIN_PERIODS / (count * step), RATE_SHARE * rate
+    if not low <= cutoff <= high:
+        cutoff = min(max(cutoff, low), high)
+        why += f", held to {cutoff:.3g} Hz ({MIN_PERIODS:g} cycles per log to {RATE_SHARE:.0%} of the rate)"
+    return cutoff, why
+
+
+def noise_cap(q: np.ndarray, step: float, cutoff: float, frequencies: np.ndarray, window: np.ndarray,
+              size: int) -> float:
+    """The cutoff at which the angle's white noise floor, twice differentiated, reaches NOISE_SHARE of qdd's
+    power below `cutoff` (errors in variables: noise in the qdd column biases I low); inf without a floor."""
+    detrended = q - np.polyval(np.polyfit(np.arange(len(q)), q, 1), np.arange(len(q)))
+    spectrum = np.abs(np.fft.rfft(detrended * window, size)) ** 2
+    rate = 1.0 / step
+    band = (frequencies > NOISE_BAND[0] * rate) & (frequencies < NOISE_BAND[1] * rate)
+    floor = float(np.median(spectrum[band])) if band.any() else 0.0
+    if not floor > 0:
+        return math.inf
+    below = frequencies <= cutoff
+    signal = float(np.sum(frequencies[below] ** 4 * spectrum[below]))
+    spacing = frequencies[1]
+    # Noise power below f: floor * sum of f^4 over the bins, about floor * f^5 / (5 spacing).
+    return (5.0 * spacing * NOISE_SHARE * signal / floor) ** 0.2
+
+
 def _decimation(request: FilterRequest, cutoff: float | None, rate: float, count: int) -> int:
-    """The requested decimation, or rate / (2 cutoff) rounded down (1 unfiltered), leaving >= MIN_DECIMATED of
-    the `count` samples with a full window."""
+    """The requested decimation, or rate / (SAMPLES_PER_CUTOFF cutoff) rounded down (1 unfiltered), leaving at
+    least MIN_DECIMATED of the `count` samples."""
     if request.decimate is not None:
         if request.decimate < 1:
             raise FilterRequestError(f"must be a whole number of samples, at least 1; got {request.decimate}")
         return request.decimate
     if cutoff is None:
         return 1
-    factor = max(1, math.floor(rate / (2 * cutoff)))
+    factor = max(1, math.floor(rate / (SAMPLES_PER_CUTOFF * cutoff)))
     return max(1, min(factor, count // MIN_DECIMATED))

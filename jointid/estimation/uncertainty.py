@@ -106,12 +106,24 @@ class ParameterUncertainty:
     """Known bound b of uniform noise on [-b, b], or None for measured data."""
     held: np.ndarray | None = None
     """(p,) True for parameters a constrained fit holds at their bounds (no standard error), or None."""
+    correlated_covariance: np.ndarray | None = None
+    """(p, p) Newey-West covariance when the residuals are correlated (a filtered log), or None: then the
+    residual-based standard errors come from it, not from s^2 (X^T X)^-1."""
+    effective_count: float | None = None
+    """How many independent residuals the correlated ones are worth (None: independent, N)."""
 
     @property
     def degrees_of_freedom(self) -> int:
         """N - p, the residual degrees of freedom (p counts only free parameters; may be zero or negative)."""
         held = 0 if self.held is None else int(self.held.sum())
         return self.row_count - len(self.estimate) + held
+
+    @property
+    def interval_degrees_of_freedom(self) -> float:
+        """Degrees of freedom of the Student-t intervals: N - p, or the effective count less p when correlated."""
+        if self.effective_count is None:
+            return self.degrees_of_freedom
+        return max(1.0, self.effective_count - (self.row_count - self.degrees_of_freedom))
 
     @cached_property
     def residual_variance(self) -> float | None:
@@ -126,6 +138,8 @@ class ParameterUncertainty:
         """(p,) Empirical standard errors sqrt(s^2 diag((X^T X)^-1)), or None when N - p <= 0."""
         if self.degrees_of_freedom <= 0:
             return None
+        if self.correlated_covariance is not None:
+            return self._without_held(np.sqrt(np.diag(self.correlated_covariance)))
         return self._without_held(
             standard_errors(self.residual_norm, self.degrees_of_freedom, self.scaled_diagonal, self.scales))
 
@@ -177,12 +191,38 @@ class ParameterUncertainty:
         """(p, 2) Student-t 95 % interval [low, high] from the empirical standard error, or None."""
         if self.residual_std_error is None:
             return None
-        half = student_t_quantile(0.5 + CONFIDENCE / 2, self.degrees_of_freedom) * self.residual_std_error
+        half = student_t_quantile(0.5 + CONFIDENCE / 2, self.interval_degrees_of_freedom) * self.residual_std_error
         return np.column_stack([self.estimate - half, self.estimate + half])
 
 
+def newey_west(X: np.ndarray, residuals: np.ndarray, positions: np.ndarray, lag: int,
+               factor: np.ndarray) -> tuple[np.ndarray, float]:
+    """(The Newey-West covariance of a least-squares estimate, the effective sample count) for residuals
+    correlated over `lag` steps of an evenly spaced grid, the fitted samples at `positions` on it.
+
+    `factor` is (X^T X)^-1. Scores u_i = x_i e_i; S = sum over pairs within the lag of Bartlett weights
+    (1 - k/(lag + 1)) u_i u_j^T; covariance factor S factor, scaled by N / (N - p).
+    """
+    count, p = X.shape
+    grid = np.zeros((int(positions[-1]) + 1 if count else 0, p))
+    grid[positions] = X * residuals[:, None]
+    errors = np.zeros(len(grid))
+    errors[positions] = residuals
+    meat = grid.T @ grid
+    autocorrelation, c0 = 1.0, float(np.dot(residuals, residuals))
+    for k in range(1, min(lag, len(grid) - 1) + 1):
+        weight = 1 - k / (lag + 1)
+        cross = grid[k:].T @ grid[:-k]
+        meat += weight * (cross + cross.T)
+        if c0 > 0:
+            autocorrelation += 2 * weight * float(np.dot(errors[k:], errors[:-k])) / c0
+    covariance = factor @ meat @ factor * count / max(count - p, 1)
+    return covariance, count / max(autocorrelation, 1.0)
+
+
 def parameter_uncertainty(
-    solution: LeastSquaresSolution, noise_bound: float | None = None, model=None, bounded=None
+    solution: LeastSquaresSolution, noise_bound: float | None = None, model=None, bounded=None,
+    correlated: tuple[np.ndarray, float] | None = None,
 ) -> ParameterUncertainty | None:
     """Uncertainty of a single-RHS fit's estimate, or None when the rank gives no unique fit.
 
@@ -192,6 +232,8 @@ def parameter_uncertainty(
     With `bounded` (a jointid.estimation.bounded.BoundedSolution), the estimate is the
     constrained one and the covariance that of the free parameters with the held
     ones fixed at their bounds, (M_F^T M_F)^-1; held parameters have none.
+    With `correlated` (a Newey-West covariance of the columns' coefficients and the effective sample count),
+    the residual-based standard errors come from that covariance.
     """
     if solution.estimate is None:
         return None
@@ -217,6 +259,9 @@ def parameter_uncertainty(
         row_count=solution.row_count,
         noise_bound=noise_bound,
         held=held,
+        correlated_covariance=None if correlated is None else (
+            correlated[0] if jacobian is None else jacobian @ correlated[0] @ jacobian.T),
+        effective_count=None if correlated is None else correlated[1],
     )
 
 

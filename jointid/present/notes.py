@@ -50,5 +50,6 @@ def low_pass_note(low_pass: ParallelFilter) -> str:
     return (f"torque and every regressor column low-passed alike at {low_pass.cutoff:.3g} Hz (zero-phase FIR, "
             f"{FILTER_NAME}, {design.length} taps, Kaiser beta {design.beta:.3g}: flat within "
             f"{FLATNESS:.1%} below {design.passband_edge:.3g} Hz, {ATTENUATION_DB:g} dB down above "
-            f"{design.stopband_edge:.3g} Hz; the {low_pass.edge} samples at each end, without a full window, "
-            f"not kept){kept} ({low_pass.reason}); the training RMSE is of the filtered torque.")
+            f"{design.stopband_edge:.3g} Hz; each end extended by {low_pass.extension} samples, reflected about "
+            f"a line fitted to its last half cutoff period, so no sample is lost){kept} ({low_pass.reason}); "
+            "the training RMSE is of the filtered torque.")

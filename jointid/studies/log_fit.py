@@ -18,9 +18,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..estimation.fit import FitResult, fit_joint
+from ..estimation.exclusion import ExclusionRequest, Exclusions, outside_torques, standstill
 from ..estimation.low_pass import FilterRequest, FilterRequestError, ParallelFilter, choose_filter
 from ..estimation.solver import NonFiniteError
-from ..logs.derivatives import MAX_WINDOW, motion_bandwidth
+from ..logs.derivatives import MAX_WINDOW
 from ..logs.pipeline import JointLog
 from ..logs.request import HELDOUT, TRAINING, LoadRequest, load_joint_log
 from ..logs.table import LogError
@@ -44,6 +45,10 @@ class LoadedLogs:
     """The request the filter was chosen from, kept for refits (another model)."""
     sensitivity: SensitivityCheck | None = None
     """The refits with the window and cutoff halved and doubled, or None without a unique fit."""
+    exclusions: Exclusions | None = None
+    """What the fit left out of the training log (standstill, outside torques), or None without times."""
+    exclusion: ExclusionRequest = ExclusionRequest()
+    """The request the exclusions were made from, kept for refits (another model)."""
 
     def __repr__(self) -> str:
         return f"<LoadedLogs {self.name!r} {self.result!r}>"
@@ -109,19 +114,21 @@ class LoadedLogs:
 
 def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointModel = PLAIN,
              constrained: bool = False, filtering: FilterRequest = FilterRequest(),
-             sensitivity: bool = True) -> LoadedLogs:
+             sensitivity: bool = True, exclusion: ExclusionRequest = ExclusionRequest()) -> LoadedLogs:
     """Fit the training log (subject to the sign rules when `constrained`) and score it on the held-out log.
 
     The training regressor and torque are low-passed alike as `filtering` asks
     (automatic by default); with `sensitivity`, the fit is repeated with the
-    derivative window and the cutoff halved and doubled. LogError when the
+    derivative window and the cutoff halved and doubled (the stretches left out
+    for outside torques kept as found). `exclusion` says what to leave out
+    (the robust step by default). LogError when the
     numbers leave double precision (an estimate or an RMSE that overflows would
     otherwise be shown as if it were a result) or the filter cannot apply.
     """
     chosen = low_pass_for(training, filtering)
     # Built once at full rate: the fit and the sensitivity check's cutoff refits filter the same columns.
-    regressor = model.data_regressor(training.data) if chosen.active else None
-    result = _fit(training, heldout, model, constrained, chosen, regressor)
+    regressor = model.data_regressor(training.data)
+    result, exclusions = _fit(training, heldout, model, constrained, chosen, regressor, exclusion)
     with np.errstate(over="ignore", invalid="ignore"):  # checked here, with the file named
         scores = ((training, result.training_rmse), (heldout, result.heldout_rmse))
     for log, rmse in scores:
@@ -129,49 +136,100 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
             raise LogError(
                 log.path, "its predicted torques overflow double precision; rescale its columns (other units)"
             )
-    check = _sensitivity(training, model, constrained, chosen, result, regressor) if sensitivity else None
-    return LoadedLogs(training, heldout, result, chosen, filtering, check)
+    found = None if exclusions is None else exclusions.excluded
+    check = _sensitivity(training, model, constrained, chosen, result, regressor, exclusion, found) \
+        if sensitivity else None
+    return LoadedLogs(training, heldout, result, chosen, filtering, check, exclusions, exclusion)
 
 
 def low_pass_for(log: JointLog, request: FilterRequest) -> ParallelFilter:
-    """The low-pass for a log: as requested, or from the motion's bandwidth; LogError when it cannot apply."""
+    """The low-pass for a log: as requested, or from its motion; LogError when it cannot apply."""
     timing = log.timing
     step = None if timing is None else timing.step
     uniform = timing is not None and timing.uniform
-    bandwidth = None
-    if uniform and request.cutoff is None:
-        choice = None if log.derivatives is None else log.derivatives.choice
-        bandwidth = choice.bandwidth if choice is not None else motion_bandwidth(log.data.q, step)
     try:
-        return choose_filter(request, step, uniform, bandwidth, log.data.count)
+        return choose_filter(request, step, uniform, log.data.q, log.data.count)
     except FilterRequestError as error:
         raise LogError(log.path, f"cannot be low-passed: the cutoff {error}") from None
 
 
 def _fit(training: JointLog, heldout: JointLog | None, model: JointModel, constrained: bool,
-         chosen: ParallelFilter, regressor: np.ndarray | None = None) -> FitResult:
-    """The fit of the training log's regressor and torque after the parallel low-pass and decimation.
+         chosen: ParallelFilter, regressor: np.ndarray | None = None,
+         exclusion: ExclusionRequest = ExclusionRequest(), found: tuple[tuple[float, float], ...] | None = None,
+         ) -> tuple[FitResult, Exclusions | None]:
+    """The fit of the training log's regressor and torque after the parallel low-pass and decimation, leaving out
+    what `exclusion` asks, and those exclusions (None when the log has no times to place them on).
 
-    `regressor`: the training log's full-rate regressor when already built (the
-    sensitivity check's cutoff refits share one); only the kept rows are filtered.
+    `regressor`: the training log's full-rate regressor when already built (the sensitivity check's cutoff
+    refits share one); only the kept rows are filtered. `found`: outside-torque intervals (s from the log's
+    start) already found on this log, to leave out again instead of running the robust step.
     """
     data = training.data
-    kept = None
-    if chosen.active or chosen.decimation > 1:
-        X = model.data_regressor(data) if regressor is None else regressor
-        rows = chosen.rows(data.count)
-        kept = chosen.apply(X)
-        data = JointData(t=None if data.t is None else data.t[rows], q=data.q[rows], qd=data.qd[rows],
-                         qdd=data.qdd[rows], tau=chosen.apply_column(data.tau))
+    X = model.data_regressor(data) if regressor is None else regressor
+    rows = chosen.rows(data.count)
+    filtered = chosen.apply(X)
+    tau = chosen.apply_column(data.tau)
+    t = None if data.t is None else data.t[rows]
+    exclusions = None if t is None else _exclusions(training, model, chosen, filtered, tau, t, exclusion, found)
+    kept = np.ones(len(rows), dtype=bool) if exclusions is None else exclusions.kept
+    fitted = JointData(t=None if t is None else t[kept], q=data.q[rows][kept], qd=data.qd[rows][kept],
+                       qdd=data.qdd[rows][kept], tau=tau[kept])
+    correlation = None
+    if chosen.active:
+        support = max(1, math.ceil(chosen.support * chosen.rate / chosen.decimation))
+        count = int(kept.sum())
+        correlation = (np.flatnonzero(kept), max(int(4 * (count / 100) ** (2 / 9)), 2 * support))
     try:
-        return fit_joint(data, None if heldout is None else heldout.data, model=model,
-                         constrained=constrained, heldout_is_noiseless=False, regressor=kept)
+        result = fit_joint(fitted, None if heldout is None else heldout.data, model=model,
+                           constrained=constrained, heldout_is_noiseless=False, regressor=filtered[kept],
+                           correlation=correlation)
     except NonFiniteError as error:
         raise LogError(training.path, f"cannot be fitted: {error}; rescale its columns (other units)") from None
+    return result, exclusions
+
+
+def _exclusions(training: JointLog, model: JointModel, chosen: ParallelFilter, X: np.ndarray, tau: np.ndarray,
+                t: np.ndarray, request: ExclusionRequest, found) -> Exclusions:
+    """What the fit of a filtered log leaves out: standstill (with a Coulomb term), outside torques found by the
+    robust step (or `found` before), and the intervals given by hand."""
+    since = t - training.data.t[0] if training.data.t is not None else t
+    support = 0 if not chosen.active else max(1, math.ceil(chosen.support * chosen.rate / chosen.decimation))
+    coulomb = model.column_names.index("Fc") if "Fc" in model.column_names else None
+    still = rest = np.zeros(len(t), dtype=bool)
+    threshold = None
+    if coulomb is not None:
+        speed = X[:, model.column_names.index("B")]
+        still, rest, threshold = standstill(speed, _speed_resolution(training, chosen), support)
+    pushes = np.zeros(len(t), dtype=bool)
+    for start, end in request.by_hand:
+        pushes |= (since >= start) & (since <= end)
+    level = None
+    if found is not None:
+        for start, end in found:
+            pushes |= (since >= start) & (since <= end)
+    elif request.robust and (~still).sum() > 4 * X.shape[1]:
+        lag = max(int(4 * (len(t) / 100) ** (2 / 9)), 2 * support)
+        flagged, level = outside_torques(X, tau, ~still & ~pushes, rest, coulomb, support, lag)
+        pushes |= flagged
+    if (~(pushes | still)).sum() <= X.shape[1]:
+        raise LogError(training.path, f"leaves {int((~(pushes | still)).sum())} samples to fit after leaving out "
+                       "standstill and outside torques; fit it with --no-robust or --model plain")
+    return Exclusions(pushes, still, threshold, level, since)
+
+
+def _speed_resolution(log: JointLog, chosen: ParallelFilter) -> float:
+    """The speed (rad/s) one step of the angle's quantisation makes over half a cutoff period (0 unquantised)."""
+    q = log.data.q if log.source is None else log.source.columns["q"]
+    steps = np.abs(np.diff(q))
+    steps = steps[steps > 1e-9 * max(1.0, float(np.max(np.abs(q))))]
+    if not len(steps) or not chosen.active:
+        return 0.0
+    return float(np.percentile(steps, 1)) * 2 * chosen.cutoff
 
 
 def _sensitivity(training: JointLog, model: JointModel, constrained: bool, chosen: ParallelFilter,
-                 result: FitResult, regressor: np.ndarray | None) -> SensitivityCheck | None:
+                 result: FitResult, regressor: np.ndarray | None, exclusion: ExclusionRequest,
+                 found: tuple[tuple[float, float], ...] | None) -> SensitivityCheck | None:
     """Refits with the derivative window, then the cutoff, halved and doubled; None without a unique fit.
 
     `regressor`: the training log's full-rate regressor, which the cutoff refits filter again.
@@ -190,7 +248,7 @@ def _sensitivity(training: JointLog, model: JointModel, constrained: bool, chose
                 continue
             try:
                 log = training.with_window(other)
-                fit = _fit(log, None, model, constrained, low_pass_for(log, same))
+                fit, _ = _fit(log, None, model, constrained, low_pass_for(log, same), None, exclusion, found)
             except LogError:  # too short for the wider window: that variant is skipped
                 continue
             variants.append(Variant("window", factor, other, chosen.cutoff, fit.estimate))
@@ -200,7 +258,8 @@ def _sensitivity(training: JointLog, model: JointModel, constrained: bool, chose
             # ends, where the filter windows differ in length) and differ only by the cutoff.
             request = FilterRequest(chosen.cutoff * factor, chosen.decimation)
             try:
-                fit = _fit(training, None, model, constrained, low_pass_for(training, request), regressor)
+                fit, _ = _fit(training, None, model, constrained, low_pass_for(training, request), regressor,
+                              exclusion, found)
             except LogError:  # a doubled cutoff beyond the Nyquist frequency: skipped
                 continue
             variants.append(Variant("cutoff", factor, window, request.cutoff, fit.estimate))

@@ -1,0 +1,226 @@
+"""Which samples of a filtered log a fit leaves out: outside torques found by a robust fit, and standstill.
+
+A real joint's log holds stretches the model cannot describe: a hand pushing
+the link, a collision, a cable snag (an outside torque the log does not
+record), and standstill, where friction is static and takes any value up to
+breakaway rather than Fc sign(qd). Least squares lets such samples pull every
+parameter; here they are found and left out.
+
+Outside torques are outliers in time. A high-breakdown start (FAST-LTS,
+Rousseeuw and Van Driessen 2006: random elemental starts and concentration
+steps, half of the samples trimmed) finds the fit of the majority, a Tukey
+bisquare M-step with that scale fixed (the MM estimator, Yohai 1987) brings
+back the informative large-torque samples LTS trimmed, and residuals are then
+judged on that robust scale (MAD). A stretch is flagged when some residual in
+it stands above the level a clean log would reach with probability 1 % (for
+its effective number of independent residuals: filtered residuals are
+correlated), and it extends as far as its residuals stay above 2 scales.
+Flagged stretches closer than twice the filter's support are merged.
+
+Standstill: where the filtered speed stays below a tenth of its RMS (and three
+velocity resolutions), the joint sticks; rests longer than the filter's
+support are widened by it, since the filtered friction column is smeared that
+far. Only models with a Coulomb term leave standstill out.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+COVERAGE = 0.5
+"""LTS keeps this share of the samples: it tolerates up to half of them being outliers."""
+STARTS = 200
+"""Random elemental starts of FAST-LTS."""
+SUBSAMPLE = 1500
+"""FAST-LTS runs its starts on at most this many samples, then refines the best two on all of them."""
+BISQUARE = 4.685
+"""Tukey's bisquare constant (95 % efficiency for Gaussian residuals)."""
+FALSE_ALARM = 0.01
+"""The chance that a clean log has some stretch flagged."""
+EXTENT = 2.0
+"""A flagged stretch extends while residuals stay above this many robust scales."""
+STANDSTILL_SHARE = 0.1
+"""Speeds below this share of the RMS filtered speed count as standstill."""
+BREAKAWAY_RATIO = 1.5
+"""At rest, friction may reach this many times Fc (breakaway): only residuals beyond it count as a push."""
+SEED = 0
+"""The random starts' seed, so a log always gives the same exclusions."""
+
+
+@dataclass(frozen=True, eq=False)
+class Exclusions:
+    """The samples (of the decimated grid) a fit leaves out, and why."""
+
+    pushes: np.ndarray
+    """(n,) True where an outside torque acts (found by the robust step or given by hand)."""
+    standstill: np.ndarray
+    """(n,) True where the joint sticks (only with a Coulomb term)."""
+    speed_threshold: float | None
+    """rad/s below which a sample is standstill, or None when standstill is kept."""
+    level: float | None
+    """Robust scales a residual must exceed to start a flagged stretch, or None without the robust step."""
+    since: np.ndarray
+    """(n,) Each sample's time from the log's start (s)."""
+
+    @property
+    def excluded(self) -> tuple[tuple[float, float], ...]:
+        """[start, end] seconds from the log's start of each stretch left out for an outside torque."""
+        return intervals(self.pushes, self.since)
+
+    @property
+    def excluded_share(self) -> float:
+        """The share of the samples left out for outside torques."""
+        return float(self.pushes.mean()) if len(self.pushes) else 0.0
+
+    @property
+    def standstill_share(self) -> float:
+        """The share of the samples left out as standstill."""
+        return float(self.standstill.mean()) if len(self.standstill) else 0.0
+
+    @property
+    def kept(self) -> np.ndarray:
+        """(n,) True for the samples the fit uses."""
+        return ~(self.pushes | self.standstill)
+
+
+def mad_scale(residuals: np.ndarray) -> float:
+    """1.4826 x the median absolute deviation: the standard deviation of Gaussian residuals, robustly."""
+    return 1.4826 * float(np.median(np.abs(residuals - np.median(residuals))))
+
+
+def fast_lts(X: np.ndarray, y: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+    """The least-trimmed-squares estimate: minimises the sum of the COVERAGE share of smallest squared residuals."""
+    n, p = X.shape
+    sub = np.arange(n) if n <= SUBSAMPLE else np.sort(rng.choice(n, SUBSAMPLE, replace=False))
+
+    def concentrate(theta, rows, steps):
+        Xs, ys = X[rows], y[rows]
+        keep = max(p + 1, int(COVERAGE * len(rows)))
+        objective = math.inf
+        for _ in range(steps):
+            squares = (ys - Xs @ theta) ** 2
+            chosen = np.argpartition(squares, keep - 1)[:keep]
+            value = float(squares[chosen].sum())
+            if value >= objective * (1 - 1e-9):
+                break
+            objective = value
+            theta = np.linalg.lstsq(Xs[chosen], ys[chosen], rcond=None)[0]
+        squares = (ys - Xs @ theta) ** 2
+        return float(np.partition(squares, keep - 1)[:keep].sum()), theta
+
+    starts = []
+    for _ in range(STARTS):
+        rows = rng.choice(sub, p, replace=False)
+        theta, _, rank, _ = np.linalg.lstsq(X[rows], y[rows], rcond=None)
+        if rank == p:
+            starts.append(concentrate(theta, sub, 2))
+    starts.sort(key=lambda pair: pair[0])
+    best = sorted((concentrate(theta, sub, 30) for _, theta in starts[:10]), key=lambda pair: pair[0])
+    if len(sub) < n:
+        best = sorted((concentrate(theta, np.arange(n), 30) for _, theta in best[:2]), key=lambda pair: pair[0])
+    return best[0][1]
+
+
+def bisquare(X: np.ndarray, y: np.ndarray, theta: np.ndarray, scale: float) -> np.ndarray:
+    """Tukey-bisquare M-estimate from `theta` with the scale fixed (iteratively reweighted least squares)."""
+    for _ in range(50):
+        u = (y - X @ theta) / (BISQUARE * scale)
+        weights = np.sqrt(np.where(np.abs(u) < 1, (1 - u * u) ** 2, 0.0))
+        new = np.linalg.lstsq(X * weights[:, None], y * weights, rcond=None)[0]
+        if np.allclose(new, theta, rtol=1e-8, atol=1e-12):
+            return new
+        theta = new
+    return theta
+
+
+def runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    """(first, last) indices of each run of True in `mask`."""
+    edges = np.diff(np.concatenate([[0], mask.astype(np.int8), [0]]))
+    return list(zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1))
+
+
+def widened(mask: np.ndarray, count: int) -> np.ndarray:
+    """`mask` with every run of True grown by `count` samples on each side."""
+    if count <= 0 or not mask.any():
+        return mask.copy()
+    return np.convolve(mask.astype(float), np.ones(2 * count + 1), mode="same") > 0.5
+
+
+def effective_count(residuals: np.ndarray, kept: np.ndarray, lag: int) -> float:
+    """How many independent residuals the kept ones are worth (Bartlett-weighted autocorrelation, gaps zeroed)."""
+    e = np.where(kept, residuals, 0.0)
+    c0 = float(np.dot(e, e))
+    if c0 == 0:
+        return float(kept.sum())
+    total = 1.0
+    for k in range(1, min(lag, len(e) - 1) + 1):
+        total += 2 * (1 - k / (lag + 1)) * float(np.dot(e[:-k], e[k:])) / c0
+    return float(kept.sum()) / max(total, 1.0)
+
+
+def standstill(speed: np.ndarray, resolution: float, support: int) -> tuple[np.ndarray, np.ndarray, float]:
+    """(standstill samples, the rests among them, the speed threshold) of a filtered speed (rad/s).
+
+    `resolution` is the speed one encoder count makes over the filter; rests longer than the filter's support
+    (samples) are widened by it.
+    """
+    threshold = max(STANDSTILL_SHARE * float(np.sqrt(np.mean(speed * speed))), 3.0 * resolution)
+    slow = np.abs(speed) < threshold
+    rest = np.zeros_like(slow)
+    for first, last in runs(slow):
+        if last - first + 1 >= max(2, support):
+            rest[first:last + 1] = True
+    rest = widened(rest, support)
+    return slow | rest, rest, threshold
+
+
+def outside_torques(X: np.ndarray, y: np.ndarray, usable: np.ndarray, rest: np.ndarray, coulomb: int | None,
+                    support: int, lag: int) -> tuple[np.ndarray, float]:
+    """(True where an outside torque acts, the level in robust scales that starts a flagged stretch).
+
+    `usable`: the samples the robust fit may use (standstill left out); `rest`: samples at rest, where
+    friction up to BREAKAWAY_RATIO x Fc is static, not a push; `coulomb`: the Coulomb column's index or None.
+    """
+    rng = np.random.default_rng(SEED)
+    Xu, yu = X[usable], y[usable]
+    theta = fast_lts(Xu, yu, rng)
+    theta = bisquare(Xu, yu, theta, mad_scale(yu - Xu @ theta))
+    residuals = y - X @ theta
+    scale = mad_scale(residuals[usable])
+    if not scale > 0:
+        return np.zeros(len(y), dtype=bool), math.inf
+    z = np.abs(residuals) / scale
+    if coulomb is not None:
+        static = np.abs(residuals + theta[coulomb] * X[:, coulomb]) - BREAKAWAY_RATIO * abs(theta[coulomb])
+        z = np.where(rest, np.maximum(static, 0.0) / scale, z)
+    clean = usable & (z < 2.5)
+    from statistics import NormalDist  # only log fits get here
+
+    level = NormalDist().inv_cdf(1 - FALSE_ALARM / (2 * max(effective_count(residuals, clean, lag), 1.0)))
+    flagged = np.zeros(len(y), dtype=bool)
+    for first, last in runs(z > EXTENT):
+        if z[first:last + 1].max() > level:
+            flagged[first:last + 1] = True
+    stretches = runs(flagged)
+    for (_, end), (start, _) in zip(stretches[:-1], stretches[1:]):
+        if start - end - 1 < 2 * support:
+            flagged[end:start] = True
+    return flagged, level
+
+
+def intervals(mask: np.ndarray, t: np.ndarray) -> tuple[tuple[float, float], ...]:
+    """[start, end] seconds of each run of True in `mask` on the times `t`."""
+    return tuple((float(t[first]), float(t[last])) for first, last in runs(mask))
+
+
+@dataclass(frozen=True)
+class ExclusionRequest:
+    """What a log's fit leaves out: outside torques found by the robust step, and intervals given by hand."""
+
+    robust: bool = True
+    """Find and leave out stretches where an outside torque acts (`--no-robust` turns it off)."""
+    by_hand: tuple[tuple[float, float], ...] = ()
+    """[start, end] seconds from the log's start to leave out as well (`--exclude START:END`)."""
