@@ -65,10 +65,11 @@ HORIZON_LIMITS = (0.05, DURATION)
 """Allowed horizon (s): from a few integration steps to the whole motion."""
 
 DEFAULT_WINDOW = None
-"""Default Savitzky-Golay window: None, chosen from the log by `jointid.logs.derivatives.choose_window` (its span in
-time from the motion's bandwidth)."""
-DEFAULT_ORDER = 6
-"""Default polynomial order: unbiased for quartics, so curvature inside the window costs little."""
+"""Default Savitzky-Golay smoothing window: None, chosen from the low-pass's cutoff by
+`jointid.logs.derivatives.smoothing_window`."""
+DEFAULT_ORDER = 3
+"""Default smoothing polynomial order: cubic, flat through its window's passband and short enough to follow
+the motion's turns."""
 MAX_WINDOW = 4001
 """Widest window (samples): 0.2 s at 20 kHz. The filter costs N*window operations (about 2 s for a
 million rows at this width), and 0.2 s already smooths the lesson's motions; wider only costs time."""

@@ -1,43 +1,32 @@
-"""Velocity and acceleration from sampled angles by Savitzky-Golay differentiation.
+"""Velocity and acceleration from sampled angles: Savitzky-Golay smoothing of q, then central differences.
 
-A Savitzky-Golay differentiator fits a polynomial of degree `order` to the
-`window` samples around each instant by least squares and differentiates the
-polynomial at the centre. Averaging over the window suppresses encoder
-quantisation noise, which plain finite differences amplify by 1/dt^2. The
-first and last (window - 1)/2 samples have no centred window: they are trimmed,
-not extrapolated, so every kept estimate comes from the same filter.
+The angle is smoothed by a Savitzky-Golay filter (a polynomial of degree
+`order` fitted to the `window` samples around each instant, taken at the
+centre), whose -3 dB point is put at three times the low-pass's cutoff, so it
+is flat where the later low-pass passes; then differentiated twice by central
+differences. Smoothing first removes the sample-to-sample noise of a
+quantised angle (one count at 500 Hz is about 700 rad/s^2 twice
+differenced) without shaping qdd differently from the torque in the band the
+fit uses; a Savitzky-Golay differentiator of a window as short does not stay
+that flat. At the ends the polynomial fitted to the first (last) window is
+used, so no sample is trimmed: a 4 s log keeps all of its 4 s.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
-from functools import lru_cache
 from math import factorial
 
 import numpy as np
 
 from ..options import MAX_ORDER, MAX_WINDOW
 
-METHOD = "savitzky-golay"
+METHOD = "savitzky-golay smoothing, central differences"
 """Name of the differentiation method, as results and JSON record it."""
 
-BANDWIDTH_POWER = 0.999
-"""The motion's bandwidth is the frequency below which this share of the (detrended) angle's power lies."""
-
-PASSBAND_ERROR = 0.005
-"""Longest useful span: the one whose filter passes the bandwidth's acceleration within this share (0.45
-periods of it for order 4, 0.9 for order 6), and slower components better."""
-
-NOISE_SHARE = 0.05
-"""Shortest useful span: the one whose acceleration noise (from q's noise) is this share of the
-acceleration's RMS, so errors in qdd bias the inertia by about its square (0.25 %)."""
-
-
-FALLBACK_SPAN = 0.2
-"""Window span (s) when the angle has no motion to measure a bandwidth on (a hold): 201 samples at 1 kHz."""
-
-MAX_SPAN_SHARE = 0.25
-"""An automatic window spans at most this share of the log, so trimming leaves most of it to fit."""
+SMOOTHING_MULTIPLE = 3.0
+"""The automatic smoothing window puts its -3 dB point at this many times the low-pass's cutoff."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -70,14 +59,14 @@ class DerivativeEstimate:
             "trimmed_samples": self.trimmed,
             "estimated": list(self.estimated),
             "window_chosen": "given" if self.choice is None else "automatic",
-            "bandwidth_hz": None if self.choice is None else self.choice.bandwidth,
+            "cutoff_hz": None if self.choice is None else self.choice.cutoff,
         }
 
     @property
     def short_description(self) -> str:
         """A few words for a narrow status line."""
         how = "given" if self.choice is None else "automatic"
-        return (f"{' and '.join(self.estimated)} by Savitzky-Golay, window {self.window} "
+        return (f"{' and '.join(self.estimated)} by Savitzky-Golay smoothing, window {self.window} "
                 f"({(self.window - 1) * self.step:.3g} s, {how}), order {self.order}")
 
     @property
@@ -86,190 +75,40 @@ class DerivativeEstimate:
         names = " and ".join(self.estimated)
         why = "window given" if self.choice is None else self.choice.reason
         return (
-            f"{names} estimated from q by Savitzky-Golay differentiation "
+            f"{names} estimated from q smoothed by Savitzky-Golay "
             f"(window {self.window} samples spanning {(self.window - 1) * self.step:.6g} s, order {self.order}; "
-            f"{why}); {self.trimmed} edge samples trimmed."
+            f"{why}), then central differences; no sample trimmed."
         )
 
 
 @dataclass(frozen=True, eq=False)
 class WindowChoice:
-    """An automatic window: what it was chosen from and the sentence that says why."""
+    """An automatic window: the cutoff it follows and the sentence that says why."""
 
     window: int
     """Samples (odd)."""
-    bandwidth: float | None
-    """The angle's bandwidth (Hz), or None when it had no motion to measure."""
+    cutoff: float
+    """The low-pass cutoff (Hz) the window follows."""
     reason: str
     """Why, for the note."""
 
 
-@dataclass(frozen=True)
-class MotionSpectrum:
-    """What the angle's spectrum shows: bandwidth, the acceleration's RMS within it, and q's noise."""
-
-    bandwidth: float
-    """Hz below which BANDWIDTH_POWER of the detrended angle's power lies."""
-    acceleration_rms: float
-    """RMS of the acceleration the band implies (rad/s^2)."""
-    noise: float
-    """Standard deviation of q's white noise (rad), from its fourth differences: quantisation included."""
-
-
-def motion_spectrum(q: np.ndarray, step: float) -> MotionSpectrum | None:
-    """The bandwidth, band acceleration RMS and noise of angles q sampled every `step` s; None without motion.
-
-    The straight line through q is removed first (a constant speed has no
-    acceleration), and a Hann window keeps the log's ends from spreading power
-    upward; its leakage only widens the band (so shortens the window: the safe
-    side). The noise comes from fourth differences, where smooth motion
-    vanishes (as step^4 times the fourth derivative) and white noise has
-    variance 70 sigma^2.
-    """
-    spectrum = _angle_spectrum(q, with_mean_square=True)
-    if spectrum is None:
-        return None
-    scale, mean_square, power, index = spectrum
-    size = 2 * (len(power) - 1)
-    band = slice(0, index + 1)
-    # In cycles per sample first, so that a step like 1e-300 s cannot overflow the fourth power.
-    cycles = np.fft.rfftfreq(size)[band]
-    share = np.sum((2 * np.pi * cycles) ** 4 * power[band]) / power.sum()
-    with np.errstate(over="ignore", under="ignore"):  # an inf acceleration just asks for the shortest window
-        acceleration_rms = float(np.sqrt(mean_square * share) * scale / step / step)
-        noise = float(np.sqrt(np.mean(np.diff(np.asarray(q, dtype=float) / scale, 4) ** 2) / 70.0) * scale)
-    return MotionSpectrum(_frequency(index, size, step), acceleration_rms, noise)
-
-
-def motion_bandwidth(q: np.ndarray, step: float) -> float | None:
-    """Frequency (Hz) below which BANDWIDTH_POWER of the detrended angle's power lies, or None without motion.
-
-    The same as motion_spectrum(q, step).bandwidth, without the acceleration and noise figures.
-    """
-    spectrum = _angle_spectrum(q)
-    return None if spectrum is None else _frequency(spectrum[-1], 2 * (len(spectrum[-2]) - 1), step)
-
-
-def _angle_spectrum(q: np.ndarray, with_mean_square: bool = False
-                    ) -> tuple[float, float | None, np.ndarray, np.ndarray, int] | None:
-    """(scale, mean square of the detrended q / scale when asked, the Hann-windowed power spectrum of that, the
-    band's last bin), or None without motion (see motion_spectrum).
-
-    Worked in place where it can: a million samples then peak at about three of their own size in temporaries.
-    """
-    q = np.asarray(q, dtype=float)
-    count = len(q)
-    if count < 8:
-        return None
-    scale = float(np.max(np.abs(q)))
-    if not np.isfinite(scale) or scale == 0:
-        return None
-    detrended = q / scale  # squares of angles like 1e200 or 1e-200 stay in range; scaled back by the callers
-    # The least-squares line in closed form (np.polyfit took 0.11 s on a million samples); x is 0 .. count-1.
-    line = np.arange(count, dtype=float)
-    line -= (count - 1) / 2.0
-    slope = float(np.dot(line, detrended)) / (count * (count * count - 1.0) / 12.0)
-    line *= slope
-    line += float(np.mean(detrended))
-    detrended -= line
-    del line
-    mean_square = float(np.mean(detrended**2)) if with_mean_square else None
-    detrended *= _hann(count)
-    # Zero-padded to a power of two: the same spectrum, finer, and fast (a million and one samples, 101 x 9901,
-    # took 0.26 s unpadded).
-    size = 1 << int(np.ceil(np.log2(count)))
-    power = np.abs(np.fft.rfft(detrended, size))
-    del detrended
-    power *= power
-    power[0] = 0.0
-    total = power.sum()
-    if not np.isfinite(total) or total <= 0:
-        return None
-    cumulative = np.cumsum(power)
-    cumulative /= total
-    index = min(int(np.searchsorted(cumulative, BANDWIDTH_POWER)), len(power) - 1)
-    return scale, mean_square, power, index
-
-
-def _hann(count: int) -> np.ndarray:
-    """np.hanning(count), computed for its first half and mirrored (it is symmetric): half the cosines."""
-    half = (count + 1) // 2
-    window = np.empty(count)
-    window[:half] = 0.5 + 0.5 * np.cos(np.pi * np.arange(1 - count, 2 * half - count, 2) / (count - 1))
-    window[half:] = window[: count - half][::-1]
-    return window
-
-
-def _frequency(index: int, size: int, step: float) -> float:
-    """Hz of bin `index` of a `size`-point real FFT of samples `step` s apart."""
-    with np.errstate(over="ignore"):  # a denormal step: an infinite bandwidth, which asks for the shortest window
-        return float(np.fft.rfftfreq(size, step)[index])
-
-
-@lru_cache(maxsize=None)
-def order_constants(order: int) -> tuple[float, float]:
-    """(noise gain, longest periods) of an order-`order` second-derivative Savitzky-Golay filter.
-
-    Its n-sample filter multiplies white noise by about gain / n^2.5 / step^2
-    (94 for order 4, 212 for order 6, measured at n = 61), so the acceleration
-    noise is gain sigma_q sqrt(step) / span^2.5; and it passes a sine within
-    PASSBAND_ERROR up to a span of `periods` of the sine's period.
-    """
-    samples = 61 if order < 30 else 2 * order + 1
-    noise_gain = float(np.sqrt(np.sum(savgol_coefficients(samples, order, 2) ** 2)) * samples**2.5)
-    wide = 401
-    half = wide // 2
-    offsets = np.arange(-half, half + 1) / (wide - 1)  # the span is 1
-    weights = savgol_coefficients(wide, order, 2, 1 / (wide - 1))
-    periods = 0.05
-    while periods < 5:
-        w = 2 * np.pi * (periods + 0.01)
-        if 1 - np.sum(weights * np.cos(w * offsets)) / -(w * w) > PASSBAND_ERROR:
-            break
-        periods += 0.01
-    return noise_gain, periods
-
-
-def choose_window(q: np.ndarray, step: float, order: int) -> WindowChoice:
-    """The automatic window for angles q sampled every `step` s, from the motion's bandwidth and q's noise.
-
-    Between the shortest span whose acceleration noise stays under NOISE_SHARE
-    of the acceleration and the longest that passes the bandwidth within 0.5 %
-    (LONGEST_PERIODS), the window takes their geometric mean: halving or
-    doubling it (the sensitivity check) then stays inside that range whenever
-    the range spans a factor of four. Clamped to at least order + 3 samples,
-    at most MAX_WINDOW and MAX_SPAN_SHARE of the log; odd.
-    """
-    spectrum = motion_spectrum(q, step)
-    if spectrum is None or spectrum.bandwidth <= 0 or spectrum.acceleration_rms <= 0:
-        bandwidth = None
-        span, why = FALLBACK_SPAN, f"automatic: {FALLBACK_SPAN:g} s, as q shows no motion to measure"
-    else:
-        bandwidth = spectrum.bandwidth
-        noise_gain, periods = order_constants(order)
-        longest = periods / bandwidth
-        shortest = (noise_gain * spectrum.noise * np.sqrt(step) / (NOISE_SHARE * spectrum.acceleration_rms)) ** 0.4
-        span = float(np.sqrt(shortest * longest))
-        why = (f"automatic: geometric mean of {shortest:.3g} s, where q's noise ({spectrum.noise:.2g} rad) makes "
-               f"{NOISE_SHARE:.0%} of the acceleration, and {longest:.3g} s, {periods:.2g} periods of the "
-               f"motion's bandwidth {bandwidth:.3g} Hz")
-    samples = int(round(span / step)) + 1
+def smoothing_window(step: float, cutoff: float, order: int, count: int) -> WindowChoice:
+    """The automatic window: its smoothing's -3 dB point at SMOOTHING_MULTIPLE x `cutoff` (Schafer 2011:
+    f_3dB / rate is about (order + 1) / (3.2 M - 4.6) for a window of 2M + 1), odd, more than `order` + 1
+    samples and at most MAX_WINDOW and the log's length."""
+    corner = SMOOTHING_MULTIPLE * cutoff
+    half = math.ceil(((order + 1) / (corner * step) + 4.6) / 3.2)
+    window = 2 * half + 1
     limits = []
-    most = min(MAX_WINDOW, int(MAX_SPAN_SHARE * len(q)))
-    if samples > most:
-        samples = most
-        limits.append("cut to a quarter of the log" if most < MAX_WINDOW else f"cut to {MAX_WINDOW} samples")
-    least = order + 3
-    if samples < least:
-        samples = least
-        limits.append(f"raised to order + 3 = {least} samples")
-    window = samples if samples % 2 else samples + 1
+    most = min(MAX_WINDOW, count if count % 2 else count - 1)
     if window > most:
-        window -= 2
-    window = max(window, least if least % 2 else least + 1)
-    if limits:
-        why += ", " + " and ".join(limits)
-    return WindowChoice(window, bandwidth, why)
+        window, limits = most, [f"cut to {most} samples"]
+    least = order + 2 if order % 2 else order + 3
+    if window < least:
+        window, limits = least, [f"raised to {least} samples, more than order + 1"]
+    why = f"automatic: its -3 dB point at {SMOOTHING_MULTIPLE:g} x the cutoff {cutoff:.3g} Hz"
+    return WindowChoice(window, cutoff, why + "".join(", " + limit for limit in limits))
 
 
 class FilterSettingError(ValueError):
@@ -321,10 +160,17 @@ def savgol_coefficients(window: int, order: int, deriv: int, delta: float = 1.0)
 
 
 def differentiate(q: np.ndarray, step: float, window: int, order: int) -> tuple[np.ndarray, np.ndarray]:
-    """Velocity and acceleration, each (N - window + 1,), at the samples window//2 .. N-1-window//2."""
+    """Velocity and acceleration, each (N,): q smoothed (Savitzky-Golay, polynomial ends), then central
+    differences (one-sided at the two ends)."""
     q = np.asarray(q, dtype=float)
     if len(q) < window:
         raise ValueError(f"need at least {window} samples for a window of {window}; got {len(q)}")
-    velocity = np.correlate(q, savgol_coefficients(window, order, 1, step), mode="valid")
-    acceleration = np.correlate(q, savgol_coefficients(window, order, 2, step), mode="valid")
-    return velocity, acceleration
+    smooth = np.empty_like(q)
+    half = window // 2
+    smooth[half: len(q) - half] = np.correlate(q, savgol_coefficients(window, order, 0), mode="valid")
+    offsets = np.arange(window, dtype=float)
+    for part, target in ((q[:window], slice(0, half)), (q[-window:], slice(len(q) - half, len(q)))):
+        fitted = np.polyfit(offsets, part, order)
+        smooth[target] = np.polyval(fitted, offsets[:half] if target.start == 0 else offsets[window - half:])
+    velocity = np.gradient(smooth, step)
+    return velocity, np.gradient(velocity, step)

@@ -12,7 +12,8 @@ import numpy as np
 from ..norms import all_finite
 from ..options import DEFAULT_ORDER, DEFAULT_WINDOW
 from ..samples import JointData
-from .derivatives import METHOD, DerivativeEstimate, check_filter, choose_window, differentiate
+from ..estimation.low_pass import automatic_cutoff
+from .derivatives import METHOD, DerivativeEstimate, check_filter, differentiate, smoothing_window
 from .table import MIN_FIT_ROWS, LogError, LogTable
 from .timing import TimeCheck, TimeProblem, check_times
 
@@ -144,35 +145,45 @@ def _check_estimates(table: LogTable, step: float, estimates, missing: tuple[str
 
 
 def joint_log_from_table(
-    table: LogTable, *, degrees: bool = False, window: int | None = DEFAULT_WINDOW, order: int = DEFAULT_ORDER
+    table: LogTable, *, degrees: bool = False, window: int | None = DEFAULT_WINDOW, order: int = DEFAULT_ORDER,
+    cutoff: float | None = None,
 ) -> JointLog:
     """Check a table's time column, estimate any missing qd/qdd, convert units: the log ready to fit.
 
-    Every log source ends here (a CSV file today), so all logs are checked and
-    differentiated alike; LogError on any problem. A window of None is chosen
-    from the motion (`derivatives.choose_window`).
+    Every log source ends here, so all logs are checked and differentiated
+    alike; LogError on any problem. A window of None follows the low-pass's
+    cutoff (`cutoff`, or the automatic one when None or 0), as
+    `derivatives.smoothing_window` says.
     """
     check_filter(window, order)
     missing = tuple(n for n in ("qd", "qdd") if n not in table.columns)
     columns, timing = check_time(table, uniform=bool(missing))
-    return _derive(LogSource(table, columns, timing), degrees=degrees, window=window, order=order)
+    return _derive(LogSource(table, columns, timing), degrees=degrees, window=window, order=order, cutoff=cutoff)
 
 
-def _derive(source: LogSource, *, degrees: bool, window: int | None, order: int) -> JointLog:
-    """The JointLog of checked columns: missing derivatives estimated with `window` (None: automatic), units SI."""
+def _derive(source: LogSource, *, degrees: bool, window: int | None, order: int,
+            cutoff: float | None = None) -> JointLog:
+    """The JointLog of checked columns: missing derivatives estimated with `window` (None: from the cutoff), units
+    SI."""
     table, columns, timing = source.table, source.columns, source.timing
-    missing = tuple(n for n in ("qd", "qdd") if n not in columns)
+    # Both or neither: a logged velocity went through the drive's own estimator, not the smoothing that qdd
+    # gets, and columns that are filtered differently no longer satisfy the same equation.
+    missing = ("qd", "qdd") if not {"qd", "qdd"} <= set(columns) else ()
     step = None if timing is None else timing.step
     count = len(columns["q"])
     scale = math.pi / 180 if degrees else 1.0
     q = columns["q"] * scale if degrees else columns["q"]
     choice = None
     if missing and window is None:
-        choice = choose_window(q, 1.0 if step is None else step, order)  # no step: too few rows, refused below
-        window = choice.window
-    needed = MIN_FIT_ROWS + (window - 1 if missing else 0)
+        window = order + 2 if order % 2 else order + 3  # too few rows for a motion: refused just below
+        if count >= max(window, MIN_FIT_ROWS) and step is not None:
+            follows = cutoff if cutoff else (automatic_cutoff(q, step) or (None,))[0]
+            if follows:
+                choice = smoothing_window(step, follows, order, count)
+                window = choice.window
+    needed = max(MIN_FIT_ROWS, window if missing else 0)
     if count < needed:
-        why = f"a window of {window} samples trims {window - 1} and " if missing else ""
+        why = f"a window of {window} samples needs as many and " if missing else ""
         rows = f"{table.count} data rows" if count == table.count else f"{count} samples after the time checks"
         raise LogError(table.path, f"has {rows}; {why}fitting 3 parameters needs at least {needed}")
     estimate = None
@@ -182,12 +193,9 @@ def _derive(source: LogSource, *, degrees: bool, window: int | None, order: int)
         with np.errstate(over="ignore", divide="ignore", invalid="ignore"):
             velocity, acceleration = differentiate(q, step, window, order)
         _check_estimates(table, step, (("qd", velocity), ("qdd", acceleration)), missing)
-        half = window // 2
-        keep = slice(half, count - half)
-        qd = columns["qd"][keep] * scale if "qd" in columns else velocity
-        qdd = columns["qdd"][keep] * scale if "qdd" in columns else acceleration
-        t, q, tau = columns["t"][keep], q[keep], columns["tau"][keep]
-        estimate = DerivativeEstimate(METHOD, window, order, step, window - 1, missing, choice)
+        qd, qdd = velocity, acceleration
+        t, tau = columns["t"], columns["tau"]
+        estimate = DerivativeEstimate(METHOD, window, order, step, 0, missing, choice)
     else:
         qd, qdd = columns["qd"], columns["qdd"]
         if degrees:
@@ -201,7 +209,10 @@ def _derive(source: LogSource, *, degrees: bool, window: int | None, order: int)
         degrees=degrees,
         rows=table.count,
         timing=timing,
-        read_notes=table.notes,
+        read_notes=table.notes + tuple(
+            f"the logged {name} is not used: qd and qdd are both estimated from q, so that they are smoothed "
+            "alike (a logged velocity went through the drive's own estimator)." for name in ("qd", "qdd")
+            if name in columns and missing),
         read_text=table.description,
         read_brief=table.brief,
         source=source,

@@ -67,7 +67,8 @@ def load_joint_log(request: LoadRequest, progress=None, cancel=None):
     if request.time_window is not None:
         table = cut_time_window(table, request.time_window, request.role)
     table = scale_torque(table, request.effort_scale, request.is_bag)
-    return joint_log_from_table(table, degrees=request.degrees, window=request.window, order=request.order)
+    return joint_log_from_table(table, degrees=request.degrees, window=request.window, order=request.order,
+                                cutoff=request.filtering.cutoff)
 
 
 def cut_time_window(table, window: TimeWindow, role: str = TRAINING):

@@ -361,7 +361,7 @@ def fit_log(
                                               filtering=filtering, joint=joint))
         table = read_arrays(given, "arrays" if role == TRAINING else "held-out arrays")
         check_finite(table)
-        return joint_log_from_table(table, degrees=degrees, window=window, order=order)
+        return joint_log_from_table(table, degrees=degrees, window=window, order=order, cutoff=cutoff)
 
     training = load(source, TRAINING)
     return fit_logs(training, None if heldout is None else load(heldout, HELDOUT), model=fitted_model,
