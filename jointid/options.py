@@ -32,6 +32,9 @@ EXTRA_TERM_NAMES = ("coulomb", "bias", "angle-offset")
 LADDER = ("plain", "coulomb", "bias", "angle-offset", "coulomb+bias", "coulomb+angle-offset")
 """The models `jointid compare` fits, simplest first."""
 
+LOG_MODEL = "coulomb+bias"
+"""The model a log is fitted with unless told otherwise: real joints have Coulomb friction and sensors a bias."""
+
 SETTING_DEFAULTS = {
     "motion": "rich",
     "noise": 0.0,

@@ -9,6 +9,7 @@ import sys
 
 from ..options import (
     FIELDS,
+    LOG_MODEL,
     SETTING_DEFAULTS,
     TRAINING_MOTION_NAMES,
     SettingsError,
@@ -161,8 +162,9 @@ def whole_number(low: int, high: int | None = None):
 
 def add_model_argument(parser: argparse.ArgumentParser) -> None:
     """Add --model and --constrained, how to fit (for synthetic experiments and logs alike)."""
-    parser.add_argument("--model", type=setting_type("model"), default=SETTING_DEFAULTS["model"], metavar="NAME",
-                        help=f"fitted model: {describe_models()}; default {SETTING_DEFAULTS['model']}")
+    parser.add_argument("--model", type=setting_type("model"), default=None, metavar="NAME",
+                        help=f"fitted model: {describe_models()}; default {SETTING_DEFAULTS['model']} "
+                        f"(the lesson's), and {LOG_MODEL} for a log (real joints have friction and sensor bias)")
     parser.add_argument("--constrained", action="store_true",
                         help="fit subject to the sign rules (I at least 1e-6 kg m², h, B, Fc at least 0), "
                         "beside the unconstrained fit; off by default")
@@ -222,7 +224,8 @@ def settings_from(args: argparse.Namespace) -> Settings:
     """The Settings named by the parsed synthetic-setting arguments (and --model, where the command has it)."""
     from ..synthetic.settings import Settings  # dataclasses: only once a command runs
 
-    values = {field: getattr(args, field, SETTING_DEFAULTS[field]) for field in FIELDS}
+    values = {field: SETTING_DEFAULTS[field] if getattr(args, field, None) is None else getattr(args, field)
+              for field in FIELDS}
     if getattr(args, "motion_file", None) is not None:
         values["motion"] = motion_from_file(args.motion_file)
     return Settings(**values)

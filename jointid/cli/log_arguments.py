@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..options import DEFAULT_ORDER, SETTING_DEFAULTS
+from ..options import DEFAULT_ORDER, LOG_MODEL, SETTING_DEFAULTS
 from .arguments import UserError, finite_float, whole_number
 from .exit_status import ExitStatus
 from .output import print_json
@@ -24,7 +24,8 @@ if TYPE_CHECKING:
 SETTING_FLAGS = ("motion", "noise", "samples", "seed", "true_coulomb", "true_bias", "true_angle_offset")
 """Synthetic-experiment options that a log fit rejects."""
 
-LOG_ONLY_FLAGS = ("heldout", "degrees", "window", "order", "cutoff", "decimate", "joint", "topic", "train_window",
+LOG_ONLY_FLAGS = ("heldout", "degrees", "window", "order", "cutoff", "decimate", "exclude", "no_robust", "joint",
+                  "topic", "train_window",
                   "heldout_window", "effort_scale")
 """Options that mean something only with --csv or --bag."""
 
@@ -62,15 +63,20 @@ def add_log_arguments(parser: argparse.ArgumentParser) -> None:
                        "ratio for a motor current; default 1")
     group.add_argument("--degrees", action="store_true", help="the logs give q, qd, qdd in degrees")
     group.add_argument("--window", type=whole_number(3), default=None, metavar="W",
-                       help="Savitzky-Golay window (odd number of samples) when qd or qdd is missing; "
-                       "default: chosen from the motion's bandwidth and q's noise (the note says which)")
+                       help="Savitzky-Golay window (odd number of samples) smoothing q before qd and qdd are "
+                       "estimated from it; default: its -3 dB point at 3 times the cutoff (the note says which)")
     group.add_argument("--order", type=whole_number(2), default=None, metavar="P",
                        help=f"Savitzky-Golay polynomial order; default {DEFAULT_ORDER}")
     group.add_argument("--cutoff", type=cutoff_number, default=None, metavar="HZ",
                        help="low-pass the torque and every regressor column alike at HZ (zero phase) before the "
-                       "fit; 0 turns it off; default: 12 times the motion's bandwidth")
+                       "fit; 0 turns it off; default: 3 times the motion's bandwidth (the note says why)")
     group.add_argument("--decimate", type=whole_number(1), default=None, metavar="N",
-                       help="keep every Nth sample after the low-pass; default: down to twice the cutoff")
+                       help="keep every Nth sample after the low-pass; default: about 20 per cutoff hertz")
+    group.add_argument("--exclude", type=_time_window, action="append", default=None, metavar="START:END",
+                       help="leave out the samples from START to END seconds after the log's start (repeatable), "
+                       "e.g. where you know an outside torque acted")
+    group.add_argument("--no-robust", action="store_true",
+                       help="keep every sample: do not look for outside torques (pushes, collisions) to leave out")
     parser.set_defaults(**dict.fromkeys(SETTING_FLAGS))
 
 
@@ -121,6 +127,15 @@ def filter_options(args: argparse.Namespace):
     from ..estimation.low_pass import FilterRequest
 
     return FilterRequest(getattr(args, "cutoff", None), getattr(args, "decimate", None))
+
+
+def exclusion_options(args: argparse.Namespace):
+    """What --exclude and --no-robust ask a log's fit to leave out: an ExclusionRequest."""
+    from ..estimation.exclusion import ExclusionRequest
+
+    windows = getattr(args, "exclude", None) or ()
+    return ExclusionRequest(robust=not getattr(args, "no_robust", False),
+                            by_hand=tuple((window.start, window.end) for window in windows))
 
 
 def derivative_options(args: argparse.Namespace) -> tuple[int | None, int]:
@@ -209,8 +224,9 @@ def fit_loaded_logs(args: argparse.Namespace) -> LoadedLogs:
     from ..studies.log_fit import fit_logs
 
     try:
-        return fit_logs(training, heldout, model=model_named(args.model),
-                        constrained=getattr(args, "constrained", False), filtering=filter_options(args))
+        return fit_logs(training, heldout, model=model_named(args.model or LOG_MODEL),
+                        constrained=getattr(args, "constrained", False), filtering=filter_options(args),
+                        exclusion=exclusion_options(args))
     except LogError as error:  # numbers beyond double precision
         raise UserError(str(error)) from None
 

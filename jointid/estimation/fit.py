@@ -24,6 +24,10 @@ if TYPE_CHECKING:
     from .identifiable import IdentifiableSubset
 
 
+SCALE_CORRELATION = 0.95
+"""Above this |correlation| of the acceleration and gravity columns, h/I is reported with its standard error."""
+
+
 @dataclass(frozen=True, eq=False)
 class FitResult:
     """Everything one identification yields: the fit, its errors and its status sentence."""
@@ -213,6 +217,29 @@ class FitResult:
         from .identifiable import identifiable_subset  # loaded when asked (JSON, rank-deficient texts)
 
         return identifiable_subset(self.solution, self.model.column_names)
+
+    @cached_property
+    def scale_ratio(self) -> tuple[float, float, float] | None:
+        """(corr, h/I, its standard error) when the acceleration and gravity columns correlate above
+        SCALE_CORRELATION (a joint swinging near its natural frequency: h/I is determined, their common scale
+        less so), else None."""
+        names = self.model.column_names
+        if "I" not in names or "h" not in names or self.uncertainty is None or self.estimate is None:
+            return None
+        i, h = names.index("I"), names.index("h")
+        X = self.training_regressor
+        if len(X) < 3 or not (np.std(X[:, i]) > 0 and np.std(X[:, h]) > 0):
+            return None
+        corr = float(np.corrcoef(X[:, i], X[:, h])[0, 1])
+        if abs(corr) <= SCALE_CORRELATION:
+            return None
+        covariance = self.uncertainty.correlated_covariance
+        if covariance is None:
+            covariance = covariance_factor(self.solution) * (self.uncertainty.residual_variance or 0.0)
+        inertia, mass_moment = self.column_estimate[i], self.column_estimate[h]
+        gradient = np.array([-mass_moment / inertia**2, 1 / inertia])
+        block = covariance[np.ix_([i, h], [i, h])]
+        return corr, float(mass_moment / inertia), float(np.sqrt(gradient @ block @ gradient))
 
     @property
     def condition_number(self) -> float:

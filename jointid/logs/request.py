@@ -89,7 +89,7 @@ def cut_time_window(table, window: TimeWindow, role: str = TRAINING):
     kept = rows.stop - rows.start
     note = (f"{ROLE_WORDS[role]} window {window.text} s from the log's start: {kept} of {table.count} samples "
             f"(t = {float(since[rows.start]):.6g} to {float(since[rows.stop - 1]):.6g} s).")
-    return dataclasses.replace(table.sliced(rows, note), time_window=window)
+    return dataclasses.replace(table.sliced(rows, note), time_window=window, time_origin=table.start_time)
 
 
 def scale_torque(table, scale: float, bag: bool):

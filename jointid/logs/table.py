@@ -71,6 +71,16 @@ class LogTable:
     """The timewindow.TimeWindow the table was cut to, or None."""
     effort_scale: float = 1.0
     """Torque (N m) per unit of the logged tau or effort, already applied to the tau column."""
+    time_origin: float | None = None
+    """The first time stamp of the log as read, when a time window has cut it (None: the first t here)."""
+
+    @property
+    def start_time(self) -> float | None:
+        """The log's first time stamp as read (s), from which windows and exclusions count; None without t."""
+        if self.time_origin is not None:
+            return self.time_origin
+        t = self.columns.get("t")
+        return None if t is None or not len(t) else float(t[0])
 
     @property
     def origin(self) -> dict:

@@ -282,4 +282,8 @@ def logs_document(logs) -> dict:
     """The JSON document of `jointid fit --csv ... --json` for a studies.log_fit.LoadedLogs."""
     from .notes import log_notes
 
-    return log_fit_document(logs.result, logs.training, logs.heldout, logs.filter, logs.sensitivity, log_notes(logs))
+    from .notes import exclusion_object
+
+    return {**log_fit_document(logs.result, logs.training, logs.heldout, logs.filter, logs.sensitivity,
+                               log_notes(logs)), **exclusion_object(logs),
+            "moved_by_derivative_settings": list(logs.unsettled)}

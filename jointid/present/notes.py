@@ -53,3 +53,38 @@ def low_pass_note(low_pass: ParallelFilter) -> str:
             f"{design.stopband_edge:.3g} Hz; each end extended by {low_pass.extension} samples, reflected about "
             f"a line fitted to its last half cutoff period, so no sample is lost){kept} ({low_pass.reason}); "
             "the training RMSE is of the filtered torque.")
+
+
+def exclusion_text(logs: LoadedLogs) -> str | None:
+    """What the fit left out of the training log and why, in one paragraph; None when it kept every sample."""
+    left = logs.exclusions
+    if left is None or left.kept.all() and logs.exclusion.robust:
+        return None if left is None or logs.exclusion.robust else "Every sample kept (--no-robust)."
+    parts = []
+    stretches = left.excluded
+    if stretches:
+        spans = ", ".join(f"{start:.2f}-{end:.2f} s" for start, end in stretches)
+        found = "found by the robust fit" + (" or given with --exclude" if logs.exclusion.by_hand else "") \
+            if logs.exclusion.robust else "given with --exclude"
+        parts.append(f"{len(stretches)} stretch{'es' if len(stretches) > 1 else ''} where an outside torque acts "
+                     f"({found}; {left.excluded_share:.1%} of the samples): {spans}")
+    if left.standstill.any():
+        parts.append(f"standstill, |qd| below {left.speed_threshold:.3g} rad/s, where friction is static "
+                     f"({left.standstill_share:.1%})")
+    if not logs.exclusion.robust:
+        parts.append("no search for outside torques (--no-robust)")
+    return "Left out of the fit: " + "; ".join(parts) + "."
+
+
+def exclusion_object(logs: LoadedLogs) -> dict:
+    """The JSON of what the fit left out: `excluded` [[start, end], ...] seconds from the log's start, and why."""
+    left = logs.exclusions
+    if left is None:
+        return {"excluded": [], "exclusions": None}
+    return {"excluded": [[start, end] for start, end in left.excluded],
+            "exclusions": {"robust": logs.exclusion.robust,
+                           "by_hand": [[start, end] for start, end in logs.exclusion.by_hand],
+                           "outside_torque_share": left.excluded_share,
+                           "standstill_share": left.standstill_share,
+                           "standstill_speed_threshold": left.speed_threshold,
+                           "flag_level_robust_scales": left.level}}

@@ -10,7 +10,7 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from ..estimation.uncertainty import AT_BOUND
+from ..estimation.uncertainty import AT_BOUND, WEAK, WELL_DETERMINED
 from .status import CONDITION_CAVEAT, CONDITION_CAVEAT_SHORT, DEPENDENT_COLUMNS, condition_text, status_message
 from .text import UNAVAILABLE, format_number
 
@@ -149,8 +149,12 @@ def precision(result: FitResult) -> Precision:
     return Precision(parameter_notes(result), closing_lines(result), compact_closing_line(result))
 
 
-def uncertainty_text(result: FitResult) -> str:
-    """Lines of 'value ± standard error, verdict' per parameter, then the condition number."""
+def uncertainty_text(result: FitResult, unsettled: tuple[str, ...] = ()) -> str:
+    """Lines of 'value ± standard error, verdict' per parameter, then the condition number.
+
+    `unsettled`: parameters another check moved (a log's sensitivity check), which cannot be called well
+    determined however small their standard error.
+    """
     uncertainty = result.uncertainty
     model = result.model
     lines = []
@@ -170,10 +174,13 @@ def uncertainty_text(result: FitResult) -> str:
                 lines.append(f"{label:<17}{format_number(uncertainty.estimate[i]):>11}   {AT_BOUND} (no standard error)")
                 continue
             relative = uncertainty.relative_std_pct[i]
+            verdict, why = uncertainty.verdicts[i], ""
+            if parameter.name in unsettled and verdict == WELL_DETERMINED:
+                verdict, why = WEAK, ", moved by the derivative settings"
             lines.append(
                 # At least one space before the verdict, however wide the error is.
                 f"{label:<17}{format_number(uncertainty.estimate[i]):>11} ± {format_number(errors[i]):<9} "
-                f"{uncertainty.verdicts[i]} ({relative:.1f} %)"
+                f"{verdict} ({relative:.1f} %{why})"
             )
         if basis == "expected":
             lines.append(
@@ -183,13 +190,24 @@ def uncertainty_text(result: FitResult) -> str:
         if uncertainty.residual_std_error is not None:
             free = [i for i, v in enumerate(uncertainty.verdicts or ()) if v != AT_BOUND] or range(model.size)
             from_residuals = ", ".join(f"{model.names[i]} {format_number(uncertainty.residual_std_error[i])}" for i in free)
-            lines.append(f"From the residuals (N - p = {uncertainty.degrees_of_freedom}): {from_residuals}.")
+            if uncertainty.effective_count is None:
+                lines.append(f"From the residuals (N - p = {uncertainty.degrees_of_freedom}): {from_residuals}.")
+            else:
+                lines.append(f"From the residuals, allowing for their correlation after the low-pass (Newey-West; "
+                             f"{uncertainty.row_count} samples worth about {uncertainty.effective_count:.0f} "
+                             f"independent ones): {from_residuals}.")
             intervals = ", ".join(
                 f"{model.names[i]} [{format_number(uncertainty.interval95[i][0])}, "
                 f"{format_number(uncertainty.interval95[i][1])}]"
                 for i in free
             )
             lines.append(f"95 % intervals (Student t): {intervals}.")
+    ratio = result.scale_ratio
+    if ratio is not None:
+        corr, value, error = ratio
+        lines.append(f"The acceleration and gravity columns correlate at {corr:.3f} (the joint swings near its "
+                     f"natural frequency): h/I = {format_number(value)} ± {format_number(error)} 1/m is determined "
+                     "better than the scale they share.")
     if result.constrained and result.unconstrained_estimate is not None:
         values = ", ".join(f"{name} {format_number(value)}"
                            for name, value in zip(model.names, result.unconstrained_estimate))

@@ -27,11 +27,16 @@ def log_notes(logs: LoadedLogs) -> tuple[str, ...]:
 
 def log_fit_summary(logs: LoadedLogs) -> str:
     """What was read, the readouts, the uncertainty, the sensitivity check and every note."""
-    parts = [*logs.source_lines(), readouts_text(logs.result), "", uncertainty_text(logs.result)]
+    parts = [*logs.source_lines(), readouts_text(logs.result), "", uncertainty_text(logs.result, logs.unsettled)]
     if logs.sensitivity is not None:
         from .sensitivity import sensitivity_text  # only log fits carry a sensitivity check
 
         parts.append(sensitivity_text(logs.sensitivity))
+    from .notes import exclusion_text
+
+    left = exclusion_text(logs)
+    if left is not None:
+        parts += ["", left]
     notes = log_notes(logs)
     if notes:
         parts += ["", *(f"Note: {note}" for note in notes)]

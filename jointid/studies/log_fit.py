@@ -27,7 +27,7 @@ from ..logs.request import HELDOUT, TRAINING, LoadRequest, load_joint_log
 from ..logs.table import LogError
 from ..model.terms import PLAIN, JointModel
 from ..norms import rms
-from ..options import DEFAULT_ORDER
+from ..options import DEFAULT_ORDER, LOG_MODEL
 from ..samples import JointData
 from .sensitivity import FACTORS, SensitivityCheck, Variant, sensitivity_check
 
@@ -80,6 +80,14 @@ class LoadedLogs:
         return log_fit_summary(self)
 
     @property
+    def unsettled(self) -> tuple[str, ...]:
+        """Parameters the sensitivity check moved beyond its threshold: not well determined, whatever their error."""
+        check = self.sensitivity
+        if check is None:
+            return ()
+        return tuple(name for name, flagged in zip(check.names, check.flags) if flagged)
+
+    @property
     def name(self) -> str:
         """The training file's name, e.g. for the explorer's motion list."""
         return os.path.basename(os.path.normpath(self.training.path))
@@ -102,12 +110,13 @@ class LoadedLogs:
     def source_texts(self) -> tuple[str, ...]:
         """Each log's source_text, the training log's with the samples left after the low-pass and decimation."""
         texts = [log.source_text() for log in self.logs]
-        chosen = self.filter
-        if chosen is not None and (chosen.active or chosen.decimation > 1):
-            # The low-pass keeps only samples with a full window of taps; decimation every D-th of those.
-            steps = [step for step, used in (("the low-pass", chosen.active), ("decimation", chosen.decimation > 1))
-                     if used]
-            texts[0] += f" ({self.result.training.count} after {' and '.join(steps)})"
+        chosen, left = self.filter, self.exclusions
+        left_out = left is not None and not left.kept.all()
+        if chosen is not None and (chosen.active or chosen.decimation > 1 or left_out):
+            steps = [step for step, used in (("the low-pass", chosen.active), ("decimation", chosen.decimation > 1),
+                                             ("what was left out", left_out)) if used]
+            texts[0] += f" ({self.result.training.count} after {', '.join(steps[:-1])}" \
+                        f"{' and ' if len(steps) > 1 else ''}{steps[-1]})"
         return tuple(texts)
 
 
@@ -192,7 +201,8 @@ def _exclusions(training: JointLog, model: JointModel, chosen: ParallelFilter, X
                 t: np.ndarray, request: ExclusionRequest, found) -> Exclusions:
     """What the fit of a filtered log leaves out: standstill (with a Coulomb term), outside torques found by the
     robust step (or `found` before), and the intervals given by hand."""
-    since = t - training.data.t[0] if training.data.t is not None else t
+    origin = None if training.source is None else training.source.table.start_time
+    since = t - (training.data.t[0] if origin is None else origin)
     support = 0 if not chosen.active else max(1, math.ceil(chosen.support * chosen.rate / chosen.decimation))
     coulomb = model.column_names.index("Fc") if "Fc" in model.column_names else None
     still = rest = np.zeros(len(t), dtype=bool)
@@ -202,7 +212,11 @@ def _exclusions(training: JointLog, model: JointModel, chosen: ParallelFilter, X
         still, rest, threshold = standstill(speed, _speed_resolution(training, chosen), support)
     pushes = np.zeros(len(t), dtype=bool)
     for start, end in request.by_hand:
-        pushes |= (since >= start) & (since <= end)
+        inside = (since >= start) & (since <= end)
+        if not inside.any():
+            raise LogError(training.path, f"--exclude {start:g}:{'' if math.isinf(end) else f'{end:g}'} holds no "
+                           f"sample; the log spans 0 to {float(since[-1]):.6g} s from its start")
+        pushes |= inside
     level = None
     if found is not None:
         for start, end in found:
@@ -299,7 +313,7 @@ def fit_log(
     source,
     heldout=None,
     *,
-    model: str | JointModel = "plain",
+    model: str | JointModel = LOG_MODEL,
     degrees: bool = False,
     window: int | None = None,
     order: int = DEFAULT_ORDER,
@@ -320,7 +334,7 @@ def fit_log(
     heldout : same kinds as `source`, optional
         A log the fit never sees, to predict.
     model : str or JointModel
-        'plain' (the lesson's I, h, B) or plain plus terms, e.g. 'coulomb+bias'.
+        'coulomb+bias' by default (real joints have friction, sensors a bias); 'plain' is the lesson's I, h, B.
     degrees : bool
         q (and qd, qdd) given in degrees rather than radians.
     window, order : int
