@@ -159,18 +159,31 @@ def savgol_coefficients(window: int, order: int, deriv: int, delta: float = 1.0)
     return fit[deriv] * factorial(deriv) / (half * delta) ** deriv
 
 
-def differentiate(q: np.ndarray, step: float, window: int, order: int) -> tuple[np.ndarray, np.ndarray]:
-    """Velocity and acceleration, each (N,): q smoothed (Savitzky-Golay, polynomial ends), then central
-    differences (one-sided at the two ends)."""
-    q = np.asarray(q, dtype=float)
-    if len(q) < window:
-        raise ValueError(f"need at least {window} samples for a window of {window}; got {len(q)}")
-    smooth = np.empty_like(q)
-    half = window // 2
-    smooth[half: len(q) - half] = np.correlate(q, savgol_coefficients(window, order, 0), mode="valid")
+def smooth(values: np.ndarray, window: int, order: int) -> np.ndarray:
+    """(N,) Savitzky-Golay smoothing of (N,) values; at the ends the polynomial fitted to the first (last) window.
+
+    Linear in the values, so smoothing torque and columns alike keeps their equation.
+    """
+    values = np.asarray(values, dtype=float)
+    count, half = len(values), window // 2
+    if count < window:
+        raise ValueError(f"need at least {window} samples for a window of {window}; got {count}")
+    weights = savgol_coefficients(window, order, 0)
+    out = np.empty(count)
+    if window <= 64:
+        out[half: count - half] = np.correlate(values, weights, mode="valid")
+    else:  # long windows by FFT: N log N rather than N x window
+        size = 1 << int(np.ceil(np.log2(count + window)))
+        full = np.fft.irfft(np.fft.rfft(values, size) * np.fft.rfft(weights[::-1], size), size)
+        out[half: count - half] = full[window - 1: count]
     offsets = np.arange(window, dtype=float)
-    for part, target in ((q[:window], slice(0, half)), (q[-window:], slice(len(q) - half, len(q)))):
-        fitted = np.polyfit(offsets, part, order)
-        smooth[target] = np.polyval(fitted, offsets[:half] if target.start == 0 else offsets[window - half:])
-    velocity = np.gradient(smooth, step)
+    out[:half] = np.polyval(np.polyfit(offsets, values[:window], order), offsets[:half])
+    out[count - half:] = np.polyval(np.polyfit(offsets, values[-window:], order), offsets[window - half:])
+    return out
+
+
+def differentiate(q: np.ndarray, step: float, window: int, order: int) -> tuple[np.ndarray, np.ndarray]:
+    """Velocity and acceleration, each (N,): q smoothed (see `smooth`), then central differences (one-sided at
+    the two ends)."""
+    velocity = np.gradient(smooth(q, window, order), step)
     return velocity, np.gradient(velocity, step)

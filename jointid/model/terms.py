@@ -87,11 +87,13 @@ class Term(Parameter):
     """A parameter times a regressor column: `column(q, qd, qdd)` maps (N,) states to the (N,) column."""
 
     column: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] = field(repr=False)
+    from_derivatives: bool = False
+    """True when the column is qd or qdd itself, so it already carries the smoothing they were estimated with."""
 
 
-INERTIA = Term("I", "inertia", "kg m²", POSITIVE, "no acceleration", lambda q, qd, qdd: qdd)
+INERTIA = Term("I", "inertia", "kg m²", POSITIVE, "no acceleration", lambda q, qd, qdd: qdd, True)
 MASS_MOMENT = Term("h", "mass moment", "kg m", NONNEGATIVE, "no gravity torque", lambda q, qd, qdd: G * np.cos(q))
-DAMPING = Term("B", "damping", "N m s/rad", NONNEGATIVE, "no velocity", lambda q, qd, qdd: qd)
+DAMPING = Term("B", "damping", "N m s/rad", NONNEGATIVE, "no velocity", lambda q, qd, qdd: qd, True)
 COULOMB = Term("Fc", "Coulomb friction", "N m", NONNEGATIVE, "no velocity", lambda q, qd, qdd: np.sign(qd))
 BIAS = Term("tau0", "torque bias", "N m", None, "no samples", lambda q, qd, qdd: np.ones_like(q))
 GRAVITY_COSINE = Term("h_c", "gravity cosine coefficient", "kg m", None, "no gravity torque",

@@ -21,7 +21,7 @@ from ..estimation.fit import FitResult, fit_joint
 from ..estimation.exclusion import ExclusionRequest, Exclusions, outside_torques, standstill
 from ..estimation.low_pass import FilterRequest, FilterRequestError, ParallelFilter, choose_filter
 from ..estimation.solver import NonFiniteError
-from ..logs.derivatives import MAX_WINDOW
+from ..logs.derivatives import MAX_WINDOW, smooth
 from ..logs.pipeline import JointLog
 from ..logs.request import HELDOUT, TRAINING, LoadRequest, load_joint_log
 from ..logs.table import LogError
@@ -136,7 +136,7 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
     """
     chosen = low_pass_for(training, filtering)
     # Built once at full rate: the fit and the sensitivity check's cutoff refits filter the same columns.
-    regressor = model.data_regressor(training.data)
+    regressor = smoothed_regressor(training, model)
     result, exclusions = _fit(training, heldout, model, constrained, chosen, regressor, exclusion)
     with np.errstate(over="ignore", invalid="ignore"):  # checked here, with the file named
         scores = ((training, result.training_rmse), (heldout, result.heldout_rmse))
@@ -174,10 +174,10 @@ def _fit(training: JointLog, heldout: JointLog | None, model: JointModel, constr
     start) already found on this log, to leave out again instead of running the robust step.
     """
     data = training.data
-    X = model.data_regressor(data) if regressor is None else regressor
+    X = smoothed_regressor(training, model) if regressor is None else regressor
     rows = chosen.rows(data.count)
-    filtered = chosen.apply(X)
-    tau = chosen.apply_column(data.tau)
+    filtered = chosen.apply(X[:, :-1])
+    tau = chosen.apply_column(X[:, -1])
     t = None if data.t is None else data.t[rows]
     exclusions = None if t is None else _exclusions(training, model, chosen, filtered, tau, t, exclusion, found)
     kept = np.ones(len(rows), dtype=bool) if exclusions is None else exclusions.kept
@@ -195,6 +195,19 @@ def _fit(training: JointLog, heldout: JointLog | None, model: JointModel, constr
     except NonFiniteError as error:
         raise LogError(training.path, f"cannot be fitted: {error}; rescale its columns (other units)") from None
     return result, exclusions
+
+
+def smoothed_regressor(log: JointLog, model: JointModel) -> np.ndarray:
+    """(N, p + 1) The model's regressor with the torque as its last column; when qd and qdd were estimated from
+    smoothed angles, every other column and the torque get the same smoothing, so all are filtered alike."""
+    data = log.data
+    X = np.column_stack([model.data_regressor(data), data.tau])
+    estimate = log.derivatives
+    if estimate is not None:
+        for j, term in enumerate((*model.terms, None)):
+            if term is None or not term.from_derivatives:
+                X[:, j] = smooth(X[:, j], estimate.window, estimate.order)
+    return X
 
 
 def _exclusions(training: JointLog, model: JointModel, chosen: ParallelFilter, X: np.ndarray, tau: np.ndarray,
@@ -322,6 +335,8 @@ def fit_log(
     constrained: bool = False,
     joint: str | None = None,
     sensitivity: bool = True,
+    robust: bool = True,
+    exclude: tuple[tuple[float, float], ...] = (),
 ) -> LoadedLogs:
     """Fit a joint log as `jointid fit --csv` does: the same time checks, resampling, derivatives, low-pass and
     sensitivity check.
@@ -347,6 +362,10 @@ def fit_log(
         The joint to read from a ROS bag.
     sensitivity : bool
         Refit with the derivative window and the cutoff halved and doubled.
+    robust : bool
+        Find and leave out stretches where an outside torque acts (pushes, collisions).
+    exclude : tuple of (start, end)
+        Seconds from the log's start to leave out as well.
 
     Returns
     -------
@@ -379,4 +398,5 @@ def fit_log(
 
     training = load(source, TRAINING)
     return fit_logs(training, None if heldout is None else load(heldout, HELDOUT), model=fitted_model,
-                    constrained=constrained, filtering=filtering, sensitivity=sensitivity)
+                    constrained=constrained, filtering=filtering, sensitivity=sensitivity,
+                    exclusion=ExclusionRequest(robust, tuple((float(a), float(b)) for a, b in exclude)))

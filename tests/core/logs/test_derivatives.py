@@ -1,13 +1,12 @@
-"""Savitzky-Golay differentiation: coefficients, exactness, and the evidence for the defaults."""
+"""Derivatives from angles: Savitzky-Golay coefficients, smoothing then central differences, and the evidence
+for the defaults."""
 
 import numpy as np
 import pytest
 
-from jointid.estimation.fit import fit_joint
-from jointid.logs.derivatives import check_filter, choose_window, differentiate, savgol_coefficients
+from jointid.logs.derivatives import check_filter, differentiate, savgol_coefficients
 from jointid.model.terms import TRUE_PARAMETERS, predict_torque
-from jointid.options import DEFAULT_ORDER
-from jointid.samples import JointData
+from jointid.studies.log_fit import fit_log
 from jointid.synthetic.motions import TRAINING_MOTIONS, Motion, SineTerm
 from jointid.synthetic.noise import torque_noise
 
@@ -23,22 +22,28 @@ def test_coefficients_match_scipy(window, order, deriv, delta):
     assert np.max(np.abs(ours - expected)) <= 1e-9 * scale
 
 
-def test_differentiation_is_exact_for_polynomials_up_to_the_order():
+def test_smoothing_then_central_differences_is_exact_for_quadratics_to_the_ends():
     t = np.arange(400) * 0.01
-    q = 0.3 - 1.2 * t + 0.7 * t**2 - 0.05 * t**3 + 0.004 * t**4
-    qd_true = -1.2 + 1.4 * t - 0.15 * t**2 + 0.016 * t**3
-    qdd_true = 1.4 - 0.3 * t + 0.048 * t**2
-    qd, qdd = differentiate(q, 0.01, 21, 4)
-    assert len(qd) == len(qdd) == 400 - 20
-    np.testing.assert_allclose(qd, qd_true[10:-10], rtol=0, atol=1e-9)
-    np.testing.assert_allclose(qdd, qdd_true[10:-10], rtol=0, atol=1e-7)
+    q = 0.3 - 1.2 * t + 0.7 * t**2
+    qd, qdd = differentiate(q, 0.01, 21, 3)
+    assert len(qd) == len(qdd) == 400  # nothing trimmed
+    np.testing.assert_allclose(qd[1:-1], (-1.2 + 1.4 * t)[1:-1], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(qdd[2:-2], 1.4, rtol=0, atol=1e-7)
 
 
-def test_a_quartic_is_not_exact_for_order_two():
-    t = np.arange(200) * 0.01
-    q = t**4
-    _, qdd = differentiate(q, 0.01, 41, 2)
-    assert np.max(np.abs(qdd - 12 * t[20:-20] ** 2)) > 1e-3  # the test above could fail
+def test_a_sine_well_inside_the_smoothing_band_keeps_its_acceleration():
+    """2 rad/s sampled at 1 kHz, window 101 (-3 dB near 12 Hz): qdd within 0.1 % of -4 sin 2t away from the ends."""
+    t = np.arange(4000) / 1000
+    _, qdd = differentiate(np.sin(2 * t), 1e-3, 101, 3)
+    middle = slice(100, -100)
+    assert np.max(np.abs(qdd[middle] + 4 * np.sin(2 * t[middle]))) < 4e-3
+
+
+def test_a_long_window_flattens_a_fast_sine():
+    """The same check fails when the smoothing's band is below the motion: the test above could fail."""
+    t = np.arange(4000) / 1000
+    _, qdd = differentiate(np.sin(20 * t), 1e-3, 801, 3)
+    assert np.max(np.abs(qdd[800:-800] + 400 * np.sin(20 * t[800:-800]))) > 40
 
 
 @pytest.mark.parametrize("window, order", [(4, 2), (1, 0), (2, 1), (5, 1), (5, 5), (7, 9)])
@@ -52,30 +57,28 @@ def test_too_short_a_signal_is_refused():
         differentiate(np.zeros(20), 0.01, 21, 4)
 
 
-# The evidence for the defaults: 8 s at 1 kHz, angles quantised like an encoder.
+# The evidence for the defaults: 8 s at 1 kHz, angles quantised like an encoder, fitted as a log.
 RICHER = Motion(
     "richer",
     "Four-sine motion",
     (SineTerm(0.5, 1.3), SineTerm(0.25, 2.7, 1.0), SineTerm(0.08, 6.1, 0.3), SineTerm(0.03, 11.0, 2.0)),
 )
-"""A richer multi-sine with components up to 11 rad/s (1.75 Hz): curvature that biases short windows."""
+"""A richer multi-sine with components up to 11 rad/s (1.75 Hz)."""
 
 RATE = 1000.0
 DURATION = 8.0
 
 
-def encoder_fit(motion: Motion, counts: int, noise: float, window: int, order: int) -> np.ndarray:
-    """Fit I, h, B to an angle-only log: quantised q at 1 kHz, torque from the exact states plus noise."""
+def encoder_fit(motion: Motion, counts: int, noise: float, window: int | None) -> np.ndarray:
+    """I, h, B of an angle-only log (quantised q at 1 kHz, torque from the exact states plus noise) fitted as
+    `jointid fit --csv --model plain` would."""
     t = np.arange(int(DURATION * RATE) + 1) / RATE
     states = motion.states(t)
     tau = predict_torque(states.q, states.qd, states.qdd) + torque_noise(noise, len(t), 7)
     step = 2 * np.pi / counts
     q = np.round(states.q / step) * step
-    if window is None:  # the automatic choice, from the quantised angles alone
-        window = choose_window(q, 1 / RATE, order).window
-    qd, qdd = differentiate(q, 1 / RATE, window, order)
-    keep = slice(window // 2, len(t) - window // 2)
-    return fit_joint(JointData(t=t[keep], q=q[keep], qd=qd, qdd=qdd, tau=tau[keep])).estimate
+    logs = fit_log({"t": t, "q": q, "tau": tau}, model="plain", window=window, sensitivity=False)
+    return np.array(list(logs.params.values()))
 
 
 def worst_relative_error(estimate: np.ndarray) -> float:
@@ -87,27 +90,10 @@ def worst_relative_error(estimate: np.ndarray) -> float:
 @pytest.mark.parametrize("counts", [4096, 65536])
 @pytest.mark.parametrize("noise, tolerance", [(0.0, 0.02), (0.2, 0.03)])
 def test_defaults_recover_the_parameters_from_encoder_angles(motion, counts, noise, tolerance):
-    """The automatic window and order 4: within 2 % without torque noise, 3 % with the lesson's 0.2 N m."""
-    estimate = encoder_fit(motion, counts, noise, None, DEFAULT_ORDER)
-    assert worst_relative_error(estimate) <= tolerance
+    """The automatic window and order: within 2 % without torque noise, 3 % with the lesson's 0.2 N m."""
+    assert worst_relative_error(encoder_fit(motion, counts, noise, None)) <= tolerance
 
 
-def test_a_short_window_lets_12_bit_quantisation_through():
-    """Window 51 (0.05 s) amplifies 4096-count steps into qdd noise that biases I by more than 10 %."""
-    estimate = encoder_fit(TRAINING_MOTIONS["rich"], 4096, 0.0, 51, DEFAULT_ORDER)
-    assert worst_relative_error(estimate) > 0.10
-
-
-def test_a_low_order_over_a_long_window_flattens_the_faster_sines():
-    """Order 2 over 0.4 s underestimates the 11 rad/s term's acceleration: more than 10 % off."""
-    estimate = encoder_fit(RICHER, 65536, 0.0, 401, 2)
-    assert worst_relative_error(estimate) > 0.10
-
-
-def test_order_two_at_the_default_window_is_worse_than_the_default_on_the_richer_motion():
-    t = np.arange(int(DURATION * RATE) + 1) / RATE
-    step = 2 * np.pi / 4096
-    window = choose_window(np.round(RICHER.states(t).q / step) * step, 1 / RATE, DEFAULT_ORDER).window
-    default = worst_relative_error(encoder_fit(RICHER, 4096, 0.0, window, DEFAULT_ORDER))
-    lower = worst_relative_error(encoder_fit(RICHER, 4096, 0.0, window, 2))
-    assert lower > 0.04 and default < lower / 10
+def test_a_window_far_too_long_flattens_the_motion():
+    """Window 1501 (1.5 s) smooths the richer motion's faster sines away: more than 10 % off."""
+    assert worst_relative_error(encoder_fit(RICHER, 65536, 0.0, 1501)) > 0.10
