@@ -353,7 +353,7 @@ def automatic_cutoff(q: np.ndarray, step: float) -> tuple[float, str] | None:
     cutoff = BANDWIDTH_MULTIPLE * bandwidth
     why = (f"automatic: {BANDWIDTH_MULTIPLE:g} x {bandwidth:.3g} Hz, below which {BANDWIDTH_SHARE:.0%} of "
            f"the motion's power lies (of cos q and sin q)")
-    cap = noise_cap(q, step, cutoff, frequencies, window, size)
+    cap = max(noise_cap(q, step, cutoff, frequencies, window, size), bandwidth)  # never below the motion itself
     if cap < cutoff:
         cutoff, why = cap, why + f", lowered to {cap:.3g} Hz where q's noise floor would reach 1 % of qdd's power"
     low, high = MIN_PERIODS / (count * step), RATE_SHARE * rate
