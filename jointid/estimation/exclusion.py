@@ -190,7 +190,7 @@ def outside_torques(X: np.ndarray, y: np.ndarray, usable: np.ndarray, rest: np.n
     theta = bisquare(Xu, yu, theta, mad_scale(yu - Xu @ theta))
     residuals = y - X @ theta
     scale = mad_scale(residuals[usable])
-    if not scale > 0:
+    if not scale > 1e-12 * float(np.sqrt(np.mean(y * y))):  # an exact fit (noise-free data): nothing stands out
         return np.zeros(len(y), dtype=bool), math.inf
     z = np.abs(residuals) / scale
     if coulomb is not None:

@@ -13,7 +13,7 @@ from ..norms import all_finite
 from ..options import DEFAULT_ORDER, DEFAULT_WINDOW
 from ..samples import JointData
 from ..estimation.low_pass import automatic_cutoff
-from .derivatives import METHOD, DerivativeEstimate, check_filter, differentiate, smoothing_window
+from .derivatives import METHOD, DerivativeEstimate, WindowChoice, check_filter, differentiate, smoothing_window
 from .table import MIN_FIT_ROWS, LogError, LogTable
 from .timing import TimeCheck, TimeProblem, check_times
 
@@ -181,6 +181,9 @@ def _derive(source: LogSource, *, degrees: bool, window: int | None, order: int,
             if follows:
                 choice = smoothing_window(step, follows, order, count)
                 window = choice.window
+            else:
+                choice = WindowChoice(window, 0.0, "automatic: the shortest for the order, as q shows no motion "
+                                      "to follow")
     needed = max(MIN_FIT_ROWS, window if missing else 0)
     if count < needed:
         why = f"a window of {window} samples needs as many and " if missing else ""

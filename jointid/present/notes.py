@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import os
 from typing import TYPE_CHECKING
 
@@ -61,13 +62,21 @@ def exclusion_text(logs: LoadedLogs) -> str | None:
     if left is None or left.kept.all() and logs.exclusion.robust:
         return None if left is None or logs.exclusion.robust else "Every sample kept (--no-robust)."
     parts = []
-    stretches = left.excluded
-    if stretches:
-        spans = ", ".join(f"{start:.2f}-{end:.2f} s" for start, end in stretches)
-        found = "found by the robust fit" + (" or given with --exclude" if logs.exclusion.by_hand else "") \
-            if logs.exclusion.robust else "given with --exclude"
-        parts.append(f"{len(stretches)} stretch{'es' if len(stretches) > 1 else ''} where an outside torque acts "
-                     f"({found}; {left.excluded_share:.1%} of the samples): {spans}")
+    first, last = float(left.since[0]), float(left.since[-1])
+    ends = [(start, end) for start, end in left.excluded if start <= first or end >= last]
+    inside = [(start, end) for start, end in left.excluded if (start, end) not in ends]
+    found = "found by the robust fit" + (" or given with --exclude" if logs.exclusion.by_hand else "") \
+        if logs.exclusion.robust else "given with --exclude"
+    if inside:
+        spans = ", ".join(f"{start:.2f}-{end:.2f} s" for start, end in inside)
+        parts.append(f"{len(inside)} stretch{'es' if len(inside) > 1 else ''} where an outside torque acts "
+                     f"({found}): {spans}")
+    if ends:
+        spans = ", ".join(f"{start:.2f}-{end:.2f} s" for start, end in ends)
+        parts.append(f"the log's end{'s' if len(ends) > 1 else ''} where the model stops matching ({found}; "
+                     f"the smoothing and the low-pass reach past the log there): {spans}")
+    if left.pushes.any():
+        parts.append(f"together {left.excluded_share:.1%} of the samples")
     if left.standstill.any():
         parts.append(f"standstill, |qd| below {left.speed_threshold:.3g} rad/s, where friction is static "
                      f"({left.standstill_share:.1%})")
@@ -87,4 +96,5 @@ def exclusion_object(logs: LoadedLogs) -> dict:
                            "outside_torque_share": left.excluded_share,
                            "standstill_share": left.standstill_share,
                            "standstill_speed_threshold": left.speed_threshold,
-                           "flag_level_robust_scales": left.level}}
+                           "flag_level_robust_scales": None if left.level is None or not math.isfinite(left.level)
+                           else left.level}}

@@ -41,16 +41,15 @@ def lstsq_fit(q, qd, qdd, tau):
 
 def test_noiseless_full_log_recovers_the_truth(capsys, tmp_path):
     path = simulate(capsys, tmp_path / "train.csv", "--samples", "500")
-    document = fit_json(capsys, "--csv", path)
+    document = fit_json(capsys, "--csv", path, "--model", "plain")
     estimate = np.array([document["estimate"][k] for k in "IhB"])
     np.testing.assert_allclose(estimate, TRUE_PARAMETERS, rtol=1e-6)  # the default low-pass keeps the model exact
     assert document["settings"] is None and document["derivatives"] is None
     assert document["source"] == {"training": str(path), "heldout": None}
     decimation = document["low_pass"]["decimation"]
     assert document["low_pass"]["cutoff_hz"] is not None and decimation > 1
-    edge = document["low_pass"]["edge_samples_dropped"]  # (taps - 1) / 2: test_parallel_filter checks the taps
-    kept = [n for n in range(0, 500, decimation) if edge <= n < 500 - edge]  # every D-th with a full window
-    assert document["samples"] == len(kept) and document["rank"] == 3
+    kept = range(0, 500, decimation)  # every D-th: the ends are extended, not trimmed; nothing stands out
+    assert document["samples"] == len(kept) and document["rank"] == 3 and document["excluded"] == []
     assert document["heldout_rmse"] is None
     assert document["noise_bound_std_error"] is None
     assert "No held-out data" in document["message"]
@@ -61,7 +60,7 @@ def test_noisy_log_gives_the_least_squares_fit_of_its_own_numbers(capsys, tmp_pa
     t, q, qd, qdd, tau = truth_states("rich", 300)
     tau = tau + torque_noise(0.2, 300, 11)
     expected = lstsq_fit(q, qd, qdd, tau)
-    document = fit_json(capsys, "--csv", path, "--cutoff", "0")
+    document = fit_json(capsys, "--csv", path, "--cutoff", "0", "--model", "plain", "--no-robust")
     np.testing.assert_allclose([document["estimate"][k] for k in "IhB"], expected, rtol=1e-9)
     residual = np.column_stack([qdd, G * np.cos(q), qd]) @ expected - tau
     assert document["training_rmse"] == pytest.approx(math.sqrt(np.mean(residual**2)), rel=1e-9)
@@ -72,7 +71,7 @@ def test_heldout_log_is_predicted_and_scored_against_its_measured_torques(capsys
     train = simulate(capsys, tmp_path / "train.csv", "--noise", "0.2", "--samples", "200")
     test = simulate(capsys, tmp_path / "test.csv", "--motion", "test", "--noise", "0.1", "--seed", "3",
                     "--samples", "40")
-    document = fit_json(capsys, "--csv", train, "--heldout", test)
+    document = fit_json(capsys, "--csv", train, "--heldout", test, "--model", "plain")
     theta = np.array([document["estimate"][k] for k in "IhB"])
     _, q, qd, qdd, tau = truth_states("test", 40)
     measured = tau + torque_noise(0.1, 40, 3)
@@ -87,9 +86,9 @@ def test_text_output_names_the_logs_and_the_notes(capsys, tmp_path):
     _, q, qd, qdd, tau = truth_states("rich", 50)
     rows = ["t,q,qd,qdd,tau,motor_temp"] + rows_of(np.arange(50), q, qd, qdd, tau, np.full(50, 41.5))
     path.write_text("\n".join(rows) + "\n")
-    status, out, err = run(capsys, "fit", "--csv", path)
+    status, out, err = run(capsys, "fit", "--csv", path, "--model", "plain")
     assert (status, err) == (0, "")
-    assert out.splitlines()[0] == f"Training log {path}: 50 rows (radians), 50 samples fitted"
+    assert out.splitlines()[0] == f"Training log {path}: 50 rows (radians), 50 samples fitted (50 after the low-pass)"
     assert "Fitted inertia (kg m²)          0.800000" in out
     assert f"Note: {path}: ignored columns 'motor_temp'." in out
 
@@ -100,18 +99,20 @@ def test_angle_only_quantised_log_lands_within_tolerance(capsys, tmp_path, count
     path = simulate(capsys, tmp_path / "enc.csv", "--rate", "1000", "--encoder-counts", counts)
     header = path.read_text().splitlines()[1]
     assert header == "t,q,tau"
-    document = fit_json(capsys, "--csv", path)
+    document = fit_json(capsys, "--csv", path, "--model", "plain")
     estimate = np.array([document["estimate"][k] for k in "IhB"])
     assert np.max(np.abs(estimate / TRUE_PARAMETERS - 1)) <= tolerance
-    window = document["derivatives"]["window"]
+    window, cutoff = document["derivatives"]["window"], document["low_pass"]["cutoff_hz"]
     assert document["derivatives"] == {
-        "method": "savitzky-golay", "window": window, "order": 6, "step": pytest.approx(0.001),
-        "trimmed_samples": window - 1, "estimated": ["qd", "qdd"], "window_chosen": "automatic",
-        "bandwidth_hz": pytest.approx(0.625, abs=0.2),
+        "method": "savitzky-golay smoothing, central differences", "window": window, "order": 3,
+        "step": pytest.approx(0.001), "trimmed_samples": 0, "estimated": ["qd", "qdd"],
+        "window_chosen": "automatic", "cutoff_hz": cutoff,
     }
-    count, edge = 8001 - (window - 1), document["low_pass"]["edge_samples_dropped"]
-    kept = [n for n in range(0, count, document["low_pass"]["decimation"]) if edge <= n < count - edge]
-    assert document["samples"] == len(kept)
+    assert 1.0 < cutoff < 1.8  # 3 x the band of rich motion's 0.21 and 0.43 Hz sines
+    # Its -3 dB point at 3 x the cutoff (Schafer's formula for a cubic: f / rate = 4 / (3.2 M - 4.6)).
+    assert window == 2 * math.ceil((4 * 1000 / (3 * cutoff) + 4.6) / 3.2) + 1
+    # Only the log's ends may stand out (the smoothing's polynomial ends): nothing inside is left out.
+    assert all(start == 0 or end >= 7.99 for start, end in document["excluded"]), document["excluded"]
 
 
 def test_the_quantised_angles_are_whole_counts(capsys, tmp_path):
@@ -124,9 +125,10 @@ def test_the_quantised_angles_are_whole_counts(capsys, tmp_path):
 
 def test_window_and_order_options_reach_the_filter(capsys, tmp_path):
     path = simulate(capsys, tmp_path / "enc.csv", "--rate", "1000", "--encoder-counts", "65536")
-    document = fit_json(capsys, "--csv", path, "--window", "301", "--order", "5", "--cutoff", "0")
+    document = fit_json(capsys, "--csv", path, "--window", "301", "--order", "5", "--cutoff", "0", "--no-robust",
+                        "--model", "plain")
     assert (document["derivatives"]["window"], document["derivatives"]["order"]) == (301, 5)
-    assert document["samples"] == 8001 - 300
+    assert document["samples"] == 8001  # nothing trimmed
 
 
 def test_degrees_flag_reads_degree_logs(capsys, tmp_path):
@@ -134,9 +136,9 @@ def test_degrees_flag_reads_degree_logs(capsys, tmp_path):
     path = tmp_path / "deg.csv"
     lines = ["q,qd,qdd,tau"] + rows_of(q * 180 / math.pi, qd * 180 / math.pi, qdd * 180 / math.pi, tau)
     path.write_text("\n".join(lines) + "\n")
-    document = fit_json(capsys, "--csv", path, "--degrees")
+    document = fit_json(capsys, "--csv", path, "--degrees", "--model", "plain")
     np.testing.assert_allclose([document["estimate"][k] for k in "IhB"], TRUE_PARAMETERS, rtol=1e-6)
-    radians = fit_json(capsys, "--csv", path)  # the same numbers taken as radians fit something else
+    radians = fit_json(capsys, "--csv", path, "--model", "plain")  # the same numbers taken as radians fit something else
     assert abs(radians["estimate"]["I"] - 0.8) > 0.01
 
 

@@ -55,7 +55,6 @@ CORPUS = {
     "time_backwards.csv": "\n".join([HEADER, *good_rows(5), "0.01,0,0,0,1"]) + "\n",
     "uneven_time.csv": "t,q,tau\n" + "".join(f"{i * 0.01 + (0.05 if i >= 250 else 0)!r},0,1\n" for i in range(400)),
     "two_rows.csv": "\n".join([HEADER, *good_rows(2)]) + "\n",
-    "shorter_than_window.csv": "t,q,tau\n" + "".join(f"{i * 0.01!r},0,1\n" for i in range(6)),
     "binary.csv": "\x00\x01\x02,\xff\n\x00,\x00\n",
     "mid_line_comment.csv": "\n".join([HEADER, *good_rows(5), "0.05,0,0,0,1 # note"]) + "\n",
     "semicolons.csv": HEADER.replace(",", ";") + "\n0;0;0;0;1\n",
