@@ -30,6 +30,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..norms import rms
+
 COVERAGE = 0.5
 """LTS keeps this share of the samples: it tolerates up to half of them being outliers."""
 STARTS = 200
@@ -117,6 +119,8 @@ def fast_lts(X: np.ndarray, y: np.ndarray, rng: np.random.Generator) -> np.ndarr
         theta, _, rank, _ = np.linalg.lstsq(X[rows], y[rows], rcond=None)
         if rank == p:
             starts.append(concentrate(theta, sub, 2))
+    if not starts:  # no p rows of full rank among the draws: the data cannot single out a majority fit
+        return np.linalg.lstsq(X, y, rcond=None)[0]
     starts.sort(key=lambda pair: pair[0])
     best = sorted((concentrate(theta, sub, 30) for _, theta in starts[:10]), key=lambda pair: pair[0])
     if len(sub) < n:
@@ -167,7 +171,7 @@ def standstill(speed: np.ndarray, resolution: float, support: int) -> tuple[np.n
     `resolution` is the speed one encoder count makes over the filter; rests longer than the filter's support
     (samples) are widened by it.
     """
-    threshold = max(STANDSTILL_SHARE * float(np.sqrt(np.mean(speed * speed))), 3.0 * resolution)
+    threshold = max(STANDSTILL_SHARE * rms(speed), 3.0 * resolution)
     slow = np.abs(speed) < threshold
     rest = np.zeros_like(slow)
     for first, last in runs(slow):
@@ -185,12 +189,19 @@ def outside_torques(X: np.ndarray, y: np.ndarray, usable: np.ndarray, rest: np.n
     friction up to BREAKAWAY_RATIO x Fc is static, not a push; `coulomb`: the Coulomb column's index or None.
     """
     rng = np.random.default_rng(SEED)
+    # In units where every column and the torque are about 1: the flags do not depend on units, and data of
+    # extreme magnitude neither overflow nor underflow on the way.
+    with np.errstate(all="ignore"):
+        column_scale = np.max(np.abs(X), axis=0)
+        column_scale[~(column_scale > 0) | ~np.isfinite(column_scale)] = 1.0
+        torque_scale = float(np.max(np.abs(y))) or 1.0
+        X, y = X / column_scale, y / torque_scale
     Xu, yu = X[usable], y[usable]
     theta = fast_lts(Xu, yu, rng)
     theta = bisquare(Xu, yu, theta, mad_scale(yu - Xu @ theta))
     residuals = y - X @ theta
     scale = mad_scale(residuals[usable])
-    if not scale > 1e-12 * float(np.sqrt(np.mean(y * y))):  # an exact fit (noise-free data): nothing stands out
+    if not scale > 1e-12 * rms(y):  # an exact fit (noise-free data): nothing stands out
         return np.zeros(len(y), dtype=bool), math.inf
     z = np.abs(residuals) / scale
     if coulomb is not None:

@@ -207,8 +207,11 @@ class FitResult:
         if self.correlation is not None and self.solution.is_full_rank and self.bounded is None:
             positions, lag = self.correlation
             residuals = self.training.tau - self.training_predictions
-            correlated = newey_west(self.training_regressor, residuals, positions, lag,
-                                    covariance_factor(self.solution))
+            with np.errstate(all="ignore"):  # data of extreme magnitude: checked just below
+                correlated = newey_west(self.training_regressor, residuals, positions, lag,
+                                        covariance_factor(self.solution))
+            if not (np.isfinite(correlated[0]).all() and np.all(np.diag(correlated[0]) > 0)):
+                correlated = None  # beyond double range: the residual-based errors, which never overflow
         return parameter_uncertainty(self.solution, self.noise_bound, self.model, self.bounded, correlated)
 
     @cached_property

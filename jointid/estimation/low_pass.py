@@ -375,10 +375,10 @@ def noise_cap(q: np.ndarray, step: float, cutoff: float, frequencies: np.ndarray
     if not floor > 0:
         return math.inf
     below = frequencies <= cutoff
-    signal = float(np.sum(frequencies[below] ** 4 * spectrum[below]))
-    spacing = frequencies[1]
+    cycles = frequencies[below] * step  # cycles per sample: no overflow for any step
+    signal = float(np.sum(cycles**4 * (spectrum[below] / floor)))
     # Noise power below f: floor * sum of f^4 over the bins, about floor * f^5 / (5 spacing).
-    return (5.0 * spacing * NOISE_SHARE * signal / floor) ** 0.2
+    return (5.0 * NOISE_SHARE * signal / size) ** 0.2 / step
 
 
 def _decimation(request: FilterRequest, cutoff: float | None, rate: float, count: int) -> int:

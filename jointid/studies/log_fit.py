@@ -223,6 +223,9 @@ def _exclusions(training: JointLog, model: JointModel, chosen: ParallelFilter, X
     if coulomb is not None:
         speed = X[:, model.column_names.index("B")]
         still, rest, threshold = standstill(speed, _speed_resolution(training, chosen), support)
+        if (~still).sum() <= 4 * X.shape[1]:  # hardly ever moving: too little left to leave standstill out
+            still = rest = np.zeros(len(t), dtype=bool)
+            threshold = None
     pushes = np.zeros(len(t), dtype=bool)
     for start, end in request.by_hand:
         inside = (since >= start) & (since <= end)
@@ -238,9 +241,9 @@ def _exclusions(training: JointLog, model: JointModel, chosen: ParallelFilter, X
         lag = max(int(4 * (len(t) / 100) ** (2 / 9)), 2 * support)
         flagged, level = outside_torques(X, tau, ~still & ~pushes, rest, coulomb, support, lag)
         pushes |= flagged
-    if (~(pushes | still)).sum() <= X.shape[1]:
-        raise LogError(training.path, f"leaves {int((~(pushes | still)).sum())} samples to fit after leaving out "
-                       "standstill and outside torques; fit it with --no-robust or --model plain")
+    if not (~(pushes | still)).any():
+        raise LogError(training.path, "leaves no sample to fit after leaving out standstill and outside torques; "
+                       "fit it with --no-robust or --model plain")
     return Exclusions(pushes, still, threshold, level, since)
 
 
@@ -312,14 +315,19 @@ def load_request(
     constrained: bool = False,
     progress: Callable[[int, int], None] | None = None,
     cancel: Callable[[], bool] | None = None,
+    exclusion: ExclusionRequest | None = None,
 ) -> LoadedLogs:
-    """Load one log into its role beside the current other log and refit; LogError/LoadCancelled as load_log."""
+    """Load one log into its role beside the current other log and refit (leaving out what `exclusion` asks, by
+    default what the current fit's request did); LogError/LoadCancelled as load_log."""
     log = load_joint_log(request, progress=progress, cancel=cancel)
+    if exclusion is None:
+        exclusion = ExclusionRequest() if current is None else current.exclusion
     if request.role == HELDOUT:
         if current is None:
             raise ValueError("a held-out log needs a training log")
-        return fit_logs(current.training, log, model, constrained, current.filtering)
-    return fit_logs(log, None if current is None else current.heldout, model, constrained, request.filtering)
+        return fit_logs(current.training, log, model, constrained, current.filtering, exclusion=exclusion)
+    return fit_logs(log, None if current is None else current.heldout, model, constrained, request.filtering,
+                    exclusion=exclusion)
 
 
 def fit_log(
