@@ -189,12 +189,23 @@ def _fit(training: JointLog, heldout: JointLog | None, model: JointModel, constr
         count = int(kept.sum())
         correlation = (np.flatnonzero(kept), max(int(4 * (count / 100) ** (2 / 9)), 2 * support))
     try:
-        result = fit_joint(fitted, None if heldout is None else heldout.data, model=model,
+        result = fit_joint(fitted, None if heldout is None else _without_polynomial_ends(heldout), model=model,
                            constrained=constrained, heldout_is_noiseless=False, regressor=filtered[kept],
                            correlation=correlation)
     except NonFiniteError as error:
         raise LogError(training.path, f"cannot be fitted: {error}; rescale its columns (other units)") from None
     return result, exclusions
+
+
+def _without_polynomial_ends(log: JointLog) -> JointData:
+    """The log's samples less the half window at each end where its derivatives come from the smoothing's end
+    polynomials, which do not match the torque (a held-out log is predicted, not filtered)."""
+    data, estimate = log.data, log.derivatives
+    if estimate is None or data.count <= estimate.window:
+        return data
+    keep = slice(estimate.window // 2, data.count - estimate.window // 2)
+    return JointData(t=None if data.t is None else data.t[keep], q=data.q[keep], qd=data.qd[keep],
+                     qdd=data.qdd[keep], tau=data.tau[keep])
 
 
 def smoothed_regressor(log: JointLog, model: JointModel) -> np.ndarray:
