@@ -289,7 +289,8 @@ def _sensitivity(training: JointLog, model: JointModel, constrained: bool, chose
                 continue
             try:
                 log = training.with_window(other)
-                fit, _ = _fit(log, None, model, constrained, low_pass_for(log, same), None, exclusion, found)
+                # Another window has other polynomial ends: the robust step looks again (a push stays a push).
+                fit, _ = _fit(log, None, model, constrained, low_pass_for(log, same), None, exclusion)
             except LogError:  # too short for the wider window: that variant is skipped
                 continue
             variants.append(Variant("window", factor, other, chosen.cutoff, fit.estimate))

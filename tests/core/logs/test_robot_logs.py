@@ -50,23 +50,26 @@ def test_the_automatic_window_spans_about_the_same_time_at_every_rate(capsys, tm
     assert max(spans) / min(spans) < 1.5 and max(spans) < 0.92 / 0.5, spans
 
 
-def test_a_deliberately_short_window_raises_the_sensitivity_flag(capsys, tmp_path):
-    """31 samples at 300 Hz (0.1 s) let 12-bit quantisation into qdd: halving or doubling it moves I far."""
+def test_a_deliberately_high_cutoff_biases_inertia_low_and_raises_the_sensitivity_flag(capsys, tmp_path):
+    """20 Hz at 300 Hz lets 12-bit quantisation, twice differenced, into qdd: noise in the inertia's column pulls I
+    low (errors in variables), and halving or doubling the cutoff moves it far: the check says so."""
     path = write_log(tmp_path / "robot_300.csv", robot_log(300))
-    document = fit_document(capsys, path, "--window", "31")
+    document = fit_document(capsys, path, "--cutoff", "20", "--model", "plain")
+    assert document["estimate"]["I"] < 0.9 * TRUE["I"]
     sensitivity = document["sensitivity"]
     assert sensitivity["flagged"] is True and sensitivity["flags"]["I"] is True
     assert sensitivity["largest_move_std_errors"]["I"] > 2
-    settings = [(s["setting"], s["window"]) for s in sensitivity["settings"]]
-    assert settings[:3] == [(None, 31), ("window", 17), ("window", 61)]  # spans of 15 and 60 steps, odd
+    cutoffs = [s["cutoff_hz"] for s in sensitivity["settings"] if s["setting"] in (None, "cutoff")]
+    assert cutoffs == [20.0, 10.0, 40.0]
     # The move is what the refits gave, in the chosen fit's standard errors.
     base = sensitivity["settings"][0]["estimate"]["I"]
     moves = [abs(s["estimate"]["I"] - base) / sensitivity["std_error"]["I"] for s in sensitivity["settings"][1:]]
     assert max(moves) == pytest.approx(sensitivity["largest_move_std_errors"]["I"], rel=1e-9)
     capsys.readouterr()
-    assert main(["fit", "--csv", str(path), "--window", "31"]) == 0
+    assert main(["fit", "--csv", str(path), "--cutoff", "20", "--model", "plain"]) == 0
     text = capsys.readouterr().out
     assert "Your derivative settings decide this estimate: I moves" in text
+    assert "moved by the derivative settings" in text  # and I is not called well determined
 
 
 def test_the_text_output_states_what_was_chosen_and_why(capsys, tmp_path):
@@ -75,7 +78,7 @@ def test_the_text_output_states_what_was_chosen_and_why(capsys, tmp_path):
     assert main(["fit", "--csv", str(path)]) == 0
     out = capsys.readouterr().out
     assert "resampled by cubic spline interpolation onto a uniform" in out
-    assert "automatic: geometric mean of" in out and "periods of the motion's bandwidth" in out
-    assert "low-passed alike at" in out and "automatic: 12 times the motion's bandwidth" in out
+    assert "automatic: its -3 dB point at 3 x the cutoff" in out
+    assert "low-passed alike at" in out and "below which 95% of the motion's power lies" in out
     assert "Sensitivity check (window" in out and "each halved and doubled" in out
     assert "Your derivative settings decide" not in out
