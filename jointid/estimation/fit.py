@@ -231,18 +231,20 @@ class FitResult:
             return None
         i, h = names.index("I"), names.index("h")
         X = self.training_regressor
-        if len(X) < 3 or not (np.std(X[:, i]) > 0 and np.std(X[:, h]) > 0):
-            return None
-        corr = float(np.corrcoef(X[:, i], X[:, h])[0, 1])
-        if abs(corr) <= SCALE_CORRELATION:
+        with np.errstate(all="ignore"):  # columns of extreme magnitude: scaled first, checked below
+            a, b = X[:, i] / np.max(np.abs(X[:, i])), X[:, h] / np.max(np.abs(X[:, h]))
+            corr = float(np.corrcoef(a, b)[0, 1]) if len(X) >= 3 and np.std(a) > 0 and np.std(b) > 0 else 0.0
+        if not abs(corr) > SCALE_CORRELATION:
             return None
         covariance = self.uncertainty.correlated_covariance
         if covariance is None:
             covariance = covariance_factor(self.solution) * (self.uncertainty.residual_variance or 0.0)
         inertia, mass_moment = self.column_estimate[i], self.column_estimate[h]
-        gradient = np.array([-mass_moment / inertia**2, 1 / inertia])
-        block = covariance[np.ix_([i, h], [i, h])]
-        return corr, float(mass_moment / inertia), float(np.sqrt(gradient @ block @ gradient))
+        with np.errstate(all="ignore"):
+            gradient = np.array([-mass_moment / inertia**2, 1 / inertia])
+            block = covariance[np.ix_([i, h], [i, h])]
+            ratio, error = float(mass_moment / inertia), float(np.sqrt(gradient @ block @ gradient))
+        return (corr, ratio, error) if np.isfinite(ratio) and np.isfinite(error) else None
 
     @property
     def condition_number(self) -> float:
