@@ -95,10 +95,10 @@ class WindowChoice:
 
 def smoothing_window(step: float, cutoff: float, order: int, count: int) -> WindowChoice:
     """The automatic window: its smoothing's -3 dB point at SMOOTHING_MULTIPLE x `cutoff` (Schafer 2011:
-    f_3dB / rate is about (order + 1) / (3.2 M - 4.6) for a window of 2M + 1), odd, more than `order` + 1
+    f_3dB / (rate / 2) is about (order + 1) / (3.2 M - 4.6) for a window of 2M + 1), odd, more than `order` + 1
     samples and at most MAX_WINDOW and the log's length."""
     corner = SMOOTHING_MULTIPLE * cutoff
-    half = math.ceil(((order + 1) / (corner * step) + 4.6) / 3.2)
+    half = math.ceil(((order + 1) / (2 * corner * step) + 4.6) / 3.2)  # f_3dB as a share of the Nyquist frequency
     window = 2 * half + 1
     limits = []
     most = min(MAX_WINDOW, count if count % 2 else count - 1)
@@ -107,7 +107,7 @@ def smoothing_window(step: float, cutoff: float, order: int, count: int) -> Wind
     least = order + 2 if order % 2 else order + 3
     if window < least:
         window, limits = least, [f"raised to {least} samples, more than order + 1"]
-    why = f"automatic: its -3 dB point at {SMOOTHING_MULTIPLE:g} x the cutoff {cutoff:.3g} Hz"
+    why = f"automatic: its -3 dB point near {SMOOTHING_MULTIPLE:g} x the cutoff {cutoff:.3g} Hz"
     return WindowChoice(window, cutoff, why + "".join(", " + limit for limit in limits))
 
 

@@ -109,8 +109,8 @@ def test_angle_only_quantised_log_lands_within_tolerance(capsys, tmp_path, count
         "window_chosen": "automatic", "cutoff_hz": cutoff,
     }
     assert 1.0 < cutoff < 1.8  # 3 x the band of rich motion's 0.21 and 0.43 Hz sines
-    # Its -3 dB point at 3 x the cutoff (Schafer's formula for a cubic: f / rate = 4 / (3.2 M - 4.6)).
-    assert window == 2 * math.ceil((4 * 1000 / (3 * cutoff) + 4.6) / 3.2) + 1
+    # Its -3 dB point near 3 x the cutoff (Schafer's formula for a cubic: f / (rate / 2) = 4 / (3.2 M - 4.6)).
+    assert window == 2 * math.ceil((4 * 500 / (3 * cutoff) + 4.6) / 3.2) + 1  # f_3dB as a share of Nyquist
     # Only the log's ends may stand out (the smoothing's polynomial ends): nothing inside is left out.
     assert all(start == 0 or end >= 7.99 for start, end in document["excluded"]), document["excluded"]
 

@@ -78,7 +78,7 @@ def test_the_text_output_states_what_was_chosen_and_why(capsys, tmp_path):
     assert main(["fit", "--csv", str(path)]) == 0
     out = capsys.readouterr().out
     assert "resampled by cubic spline interpolation onto a uniform" in out
-    assert "automatic: its -3 dB point at 3 x the cutoff" in out
+    assert "automatic: its -3 dB point near 3 x the cutoff" in out
     assert "low-passed alike at" in out and "below which 95% of the motion's power lies" in out
     assert "Sensitivity check (window" in out and "each halved and doubled" in out
     assert "Your derivative settings decide" not in out
