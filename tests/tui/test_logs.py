@@ -410,7 +410,11 @@ async def test_a_jittered_log_shows_its_notes_and_the_sensitivity_warning(tmp_pa
     from support.robot_logs import robot_log, write_log
 
     path = write_log(tmp_path / "robot.csv", robot_log(300, duration=8.0))
-    for size, window in ((SIZE, None), ((80, 24), 31)):
+    # q is smoothed before qd and qdd are taken from it, then everything is low-passed at about 1.3 Hz, so a narrow
+    # window no longer decides anything; a 601-sample (2 s) one does: its -3 dB point is near 0.53 Hz, below the
+    # cutoff, and it passes only 85 % of the motion's 2.7 rad/s (0.43 Hz) term. The automatic window, its -3 dB
+    # point meant at 3 x the cutoff, should leave the estimate alone.
+    for size, window in ((SIZE, None), ((80, 24), 601)):
         app = make_app()
         async with app.run_test(size=size) as pilot:
             await load(pilot, path, window=window)
