@@ -56,10 +56,12 @@ def test_a_bad_file_is_a_notification_and_the_log_stays(snap_compare, in_log_fol
     assert snap_compare(log_app(True, monkeypatch), terminal_size=WIDE, run_before=load_bad)
 
 
-@pytest.mark.parametrize("window, size", [(None, WIDE), (31, COMPACT)], ids=["default-120x40", "window31-80x24"])
+@pytest.mark.parametrize("window, size", [(None, WIDE), (601, COMPACT)], ids=["default-120x40", "window601-80x24"])
 def test_a_jittered_robot_log_with_its_notes_and_sensitivity_check(snap_compare, tmp_path, monkeypatch, window, size):
     """300 Hz, +-10 % jitter, 12-bit angles: the notes say how it was resampled, differentiated and filtered;
-    a 31-sample window gets "your derivative settings decide this estimate"."""
+    a 601-sample (2 s) smoothing window, its -3 dB point (about 0.53 Hz) below the 1.3 Hz cutoff, gets "your
+    derivative settings decide this estimate" (q is smoothed before it is differentiated and everything is
+    low-passed at the cutoff, so a narrow window such as 31 samples no longer decides anything)."""
     monkeypatch.chdir(tmp_path)
     write_log(tmp_path / "robot.csv", robot_log(300, duration=8.0))
     app = make_app(logs=fit_logs(load_log("robot.csv", window=window)))
