@@ -29,31 +29,39 @@ def in_log_folder(tmp_path, monkeypatch):
     return tmp_path
 
 
-def log_app(heldout: bool):
-    """The explorer opened as `jointid --csv train.csv [--heldout test.csv]` opens it."""
-    return make_app(logs=fit_logs(load_log("train.csv"), load_log("test.csv") if heldout else None))
+def log_app(heldout: bool, monkeypatch):
+    """The explorer opened as `jointid --csv train.csv [--heldout test.csv]` opens it: the command line loads and
+    fits the logs (with its log defaults) and hands them to the app, which is caught before it runs."""
+    opened = {}
+    with monkeypatch.context() as patch:  # undone before the snapshot runs the app
+        patch.setattr("tui.app.JointIdApp.run", lambda app: opened.update(app=app))
+        assert main(["--csv", "train.csv", *(["--heldout", "test.csv"] if heldout else [])]) == 0
+    app = opened["app"]
+    return make_app(app.initial_settings, app.initial_logs)
 
 
 @pytest.mark.parametrize("heldout, size", [(True, WIDE), (False, COMPACT), (True, COMPACT)],
                          ids=["heldout-120x40", "training-80x24", "heldout-80x24"])
-def test_explorer_on_a_log(snap_compare, in_log_folder, heldout, size):
-    assert snap_compare(log_app(heldout), terminal_size=size, run_before=steady)
+def test_explorer_on_a_log(snap_compare, in_log_folder, monkeypatch, heldout, size):
+    assert snap_compare(log_app(heldout, monkeypatch), terminal_size=size, run_before=steady)
 
 
-def test_a_bad_file_is_a_notification_and_the_log_stays(snap_compare, in_log_folder):
+def test_a_bad_file_is_a_notification_and_the_log_stays(snap_compare, in_log_folder, monkeypatch):
     async def load_bad(pilot):
         steady(pilot)
         pilot.app.screen.start_loading(LoadRequest("bad.csv"))
         await pilot.app.workers.wait_for_complete()
         await pilot.pause()
 
-    assert snap_compare(log_app(True), terminal_size=WIDE, run_before=load_bad)
+    assert snap_compare(log_app(True, monkeypatch), terminal_size=WIDE, run_before=load_bad)
 
 
-@pytest.mark.parametrize("window, size", [(None, WIDE), (31, COMPACT)], ids=["default-120x40", "window31-80x24"])
+@pytest.mark.parametrize("window, size", [(None, WIDE), (601, COMPACT)], ids=["default-120x40", "window601-80x24"])
 def test_a_jittered_robot_log_with_its_notes_and_sensitivity_check(snap_compare, tmp_path, monkeypatch, window, size):
     """300 Hz, +-10 % jitter, 12-bit angles: the notes say how it was resampled, differentiated and filtered;
-    a 31-sample window gets "your derivative settings decide this estimate"."""
+    a 601-sample (2 s) smoothing window, its -3 dB point (about 0.53 Hz) below the 1.3 Hz cutoff, gets "your
+    derivative settings decide this estimate" (q is smoothed before it is differentiated and everything is
+    low-passed at the cutoff, so a narrow window such as 31 samples no longer decides anything)."""
     monkeypatch.chdir(tmp_path)
     write_log(tmp_path / "robot.csv", robot_log(300, duration=8.0))
     app = make_app(logs=fit_logs(load_log("robot.csv", window=window)))

@@ -6,6 +6,7 @@ import asyncio
 import dataclasses
 import functools
 import json
+import math
 
 import pytest
 from support.log_files import CORPUS, HEADER, good_rows
@@ -80,9 +81,14 @@ async def test_a_loaded_log_shows_the_cores_fit_of_the_same_file(logs, capsys):
         screen = main_screen(app)
         expected = logfit.fit_logs(load_log(train)).result
         assert screen.query_one(ReadoutPanel).items == readouts(expected)
-        # The default low-pass keeps every 5th sample that has a full window of its taps.
-        edge = screen.logs.filter.edge
-        assert screen.result.training.count == len([n for n in range(0, 600, 5) if edge <= n < 600 - edge])
+        # The default low-pass extends the log's ends instead of trimming them, and keeps every D-th sample,
+        # D = rate / (20 cutoff) rounded down (about 20 per cutoff hertz); the fit leaves out what the robust
+        # step found. The log has 600 samples over 8 s (`jointid simulate`'s grid).
+        chosen, left = screen.logs.filter, screen.logs.exclusions
+        assert chosen.rate == pytest.approx(599 / 8.0)
+        step = math.floor(chosen.rate / (20 * chosen.cutoff))
+        assert chosen.decimation == step
+        assert screen.result.training.count == len(range(0, 600, step)) - int((~left.kept).sum())
         assert "No held-out data" in str(screen.query_one("#status").render())
         assert not screen.query_one("#heldout-chart").display  # no held-out log: its chart gives way
 
@@ -174,6 +180,10 @@ async def test_escape_cancels_loading_and_keeps_the_current_state(tmp_path, monk
 
 BAD_FILES = sorted(CORPUS) + ["absent.csv", "a_directory"]
 
+WINDOWS = {"shorter_than_window.csv": 7}
+"""A Savitzky-Golay window given for a file, where its flaw is being shorter than the window: its 6 rows of a
+still joint fill the 5-sample window chosen when q shows no motion, so the test asks for 7."""
+
 
 def write_bad(folder, name):
     """One malformed file of the command line's corpus (or a missing file, or a folder)."""
@@ -200,10 +210,11 @@ async def test_bad_files_leave_everything_as_it_was(tmp_path, role):
         charts = [screen.query_one(f"#{c}-chart").data for c in ("training", "heldout")]
         for name in BAD_FILES:
             path = write_bad(bad_folder, name)
+            window = WINDOWS.get(name)
             with pytest.raises(LogError) as expected:
-                load_log(path)
+                load_log(path, window=window)
             app.clear_notifications()
-            await load(pilot, path, role)
+            await load(pilot, path, role, window=window)
             assert screen.logs is logs and displayed_readouts(screen) == before, name
             assert [screen.query_one(f"#{c}-chart").data for c in ("training", "heldout")] == charts
             assert [(n.message, n.severity) for n in app._notifications] == [(str(expected.value), "error")], name
@@ -250,8 +261,12 @@ async def test_export_writes_the_command_lines_json_and_an_svg_and_never_overwri
         await export(pilot, folder)
         await export(pilot, folder)
         await export(pilot, tmp_path / "missing")
+        model = main_screen(app).settings.model
     assert (folder / "train-fit.json").read_text() == "precious\n"
-    expected = cli_json(capsys, "--csv", train, "--heldout", test)
+    # The explorer fits a log with its own model setting, the lesson's plain model unless p changes it
+    # (`jointid fit --csv` defaults to coulomb+bias): the same fit on the command line names it.
+    assert model == "plain"
+    expected = cli_json(capsys, "--csv", train, "--heldout", test, "--model", model)
     for stem in ("train-fit-2", "train-fit-3"):
         assert json.loads((folder / f"{stem}.json").read_text()) == expected
         assert (folder / f"{stem}.svg").read_text().startswith("<svg")
@@ -395,7 +410,11 @@ async def test_a_jittered_log_shows_its_notes_and_the_sensitivity_warning(tmp_pa
     from support.robot_logs import robot_log, write_log
 
     path = write_log(tmp_path / "robot.csv", robot_log(300, duration=8.0))
-    for size, window in ((SIZE, None), ((80, 24), 31)):
+    # q is smoothed before qd and qdd are taken from it, then everything is low-passed at about 1.3 Hz, so a narrow
+    # window no longer decides anything; a 601-sample (2 s) one does: its -3 dB point is near 0.53 Hz, below the
+    # cutoff, and it passes only 85 % of the motion's 2.7 rad/s (0.43 Hz) term. The automatic window, its -3 dB
+    # point meant at 3 x the cutoff, should leave the estimate alone.
+    for size, window in ((SIZE, None), ((80, 24), 601)):
         app = make_app()
         async with app.run_test(size=size) as pilot:
             await load(pilot, path, window=window)
