@@ -12,38 +12,14 @@ import math
 import numpy as np
 import pytest
 
+from support.conventions_support import G, OFFSETS, TRUE, joint, logged, lstsq, wrap
+
 from jointid.logs.arrays import read_arrays
 from jointid.logs.conventions import AngleConvention, ColumnMap, ColumnMapError, quantity_of
 from jointid.logs.csv_reader import load_log, read_table
 from jointid.logs.request import LoadRequest, load_joint_log
 from jointid.logs.table import LogError
 from jointid.studies.log_fit import fit_log
-
-G = 9.81
-TRUE = np.array([0.8, 0.4, 0.15])
-OFFSETS = {"right": 0.0, "up": np.pi / 2, "left": np.pi, "down": -np.pi / 2}
-
-
-def joint(t, spin: float = 0.0):
-    """q, qd, qdd (jointid's convention) and tau of the closed-form joint: a rich swing plus `spin` rad/s."""
-    q = 0.7 * np.sin(1.3 * t) + 0.25 * np.sin(2.7 * t) + spin * t
-    qd = 0.7 * 1.3 * np.cos(1.3 * t) + 0.25 * 2.7 * np.cos(2.7 * t) + spin
-    qdd = -0.7 * 1.3**2 * np.sin(1.3 * t) - 0.25 * 2.7**2 * np.sin(2.7 * t)
-    tau = TRUE[0] * qdd + TRUE[1] * G * np.cos(q) + TRUE[2] * qd
-    return q, qd, qdd, tau
-
-
-def logged(t, zero="right", clockwise=False, spin=0.0):
-    """The joint as a robot with another convention logs it: (angle, velocity, acceleration, torque)."""
-    q, qd, qdd, tau = joint(t, spin)
-    s = -1.0 if clockwise else 1.0
-    # q = s a + offset, so a = s (q - offset); a torque positive toward increasing a is s tau.
-    return s * (q - OFFSETS[zero]), s * qd, s * qdd, s * tau
-
-
-def lstsq(q, qd, qdd, tau):
-    return np.linalg.lstsq(np.column_stack([qdd, G * np.cos(q), qd]), tau, rcond=None)[0]
-
 
 def write_csv(path, header, *columns):
     np.savetxt(path, np.column_stack(columns), delimiter=",", header=header, comments="", fmt="%.17g")
@@ -260,12 +236,6 @@ def test_estimated_derivatives_follow_the_convention(tmp_path):
 
 
 # ------------------------------------------------------------------------------------------ wrapped and far-off
-
-
-def wrap(angle, period=2 * np.pi, positive=False):
-    """The angle wrapped to (-period/2, period/2] or [0, period), as a driver reports it."""
-    wrapped = np.mod(angle, period)
-    return wrapped if positive else np.where(wrapped > period / 2, wrapped - period, wrapped)
 
 
 @pytest.mark.parametrize("positive", [False, True])
