@@ -148,6 +148,14 @@ def filter_options(args: argparse.Namespace):
     return FilterRequest(getattr(args, "cutoff", None), getattr(args, "decimate", None))
 
 
+def convention_options(args: argparse.Namespace):
+    """The column map and angle convention of --columns, --zero and --clockwise: a conventions.LogConventions."""
+    from ..logs.conventions import AngleConvention, LogConventions
+
+    return LogConventions(getattr(args, "columns", None),
+                          AngleConvention(getattr(args, "zero", None) or "right", bool(getattr(args, "clockwise", False))))
+
+
 def derivative_options(args: argparse.Namespace) -> tuple[int | None, int]:
     """The Savitzky-Golay window (None: automatic) and order from --window and --order; UserError if they do
     not fit together."""
@@ -188,13 +196,12 @@ def log_requests(args: argparse.Namespace):
     elif args.columns is not None:
         raise UserError("--columns: only for a CSV log; a bag's JointState gives position, velocity and effort "
                         "by name")
-    from ..logs.conventions import AngleConvention
     from ..logs.request import HELDOUT, TRAINING, LoadRequest
 
     window, order = derivative_options(args)
     common = dict(degrees=args.degrees, window=window, order=order, joint=args.joint, topic=args.topic,
                   effort_scale=1.0 if args.effort_scale is None else args.effort_scale, filtering=filter_options(args),
-                  columns=args.columns, angle=AngleConvention(args.zero or "right", args.clockwise))
+                  **convention_options(args).request_fields())
     path = args.bag if args.bag is not None else args.csv
     training = LoadRequest(path, TRAINING, time_window=args.train_window, **common)
     if args.heldout is None and args.heldout_window is None:

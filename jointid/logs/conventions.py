@@ -228,6 +228,21 @@ def columns_note(pairs) -> str | None:
     return "columns read as " + ", ".join(f"{key}={name}" for key, name in pairs) + "."
 
 
+@dataclass(frozen=True)
+class LogConventions:
+    """How every log of a session is read: its column map and the angle's convention (the explorer's logs opened
+    later with Ctrl+O are read as the command line's)."""
+
+    columns: ColumnMap | None = None
+    """The CSV column map (`--columns`), or None: by name. A bag's fields have fixed names and take no map."""
+    angle: AngleConvention = field(default_factory=lambda: AngleConvention())
+    """Where the logged angle's 0 points and which way it grows (`--zero`, `--clockwise`)."""
+
+    def request_fields(self, bag: bool = False) -> dict:
+        """LoadRequest's `columns` and `angle` for a CSV log, or for a bag (no column map)."""
+        return {"columns": None if bag else self.columns, "angle": self.angle}
+
+
 # ---------------------------------------------------------------------------------------------- angles
 
 ZEROS = {"right": 0.0, "up": math.pi / 2, "left": math.pi, "down": -math.pi / 2}
