@@ -64,7 +64,8 @@ def add_log_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--columns", type=_column_map, metavar="MAP",
                        help="which CSV column gives which quantity, e.g. t=time,q=posn,tau=effort (quantities: t, q, "
                        "qd, qdd, tau); default: by name, t/time/timestamp, q/position/pos/angle, qd/velocity/vel, "
-                       "qdd/acceleration/accel, tau/torque/effort, also with the unit as in position_rad")
+                       "qdd/acceleration/accel, tau/torque/effort (a suffixed name such as position_rad only "
+                       "through this map)")
     group.add_argument("--zero", choices=ZERO_CHOICES, default=None,
                        help="where the log's angle 0 points: right (jointid's own q = 0, the default), up, left, or "
                        "down (a pendulum hanging); q = angle + pi/2, + pi or - pi/2")

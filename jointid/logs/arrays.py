@@ -7,7 +7,7 @@ from collections.abc import Mapping
 
 import numpy as np
 
-from .conventions import ColumnMap, ColumnProblem, columns_note, match_columns, read_as, unit_hint
+from .conventions import ColumnMap, ColumnProblem, columns_note, match_columns, read_as, suggested_map
 from .table import COLUMNS, LogError, LogTable
 
 SOURCE_NAME = "arrays"
@@ -64,7 +64,7 @@ def read_arrays(columns: Mapping, name: str = SOURCE_NAME, column_map: ColumnMap
         raise LogError(name, str(problem)) from None
     missing = [key for key in ("q", "tau") if key not in found]
     if missing:
-        hint = unit_hint(keys, missing[0], column_map.flag if column_map is not None else "columns")
+        hint = suggested_map(keys, found, column_map.flag if column_map is not None else "columns")
         raise LogError(name, f"no {' and no '.join(missing)} column; the columns are {', '.join(keys) or 'none'} "
                        f"(recognised: {', '.join(COLUMNS)}){hint}")
     read, length = {}, None

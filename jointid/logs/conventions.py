@@ -1,13 +1,13 @@
 """Logs as robots write them: column names, where the logged angle's zero points and which way it grows.
 
 Column names. Besides t, q, qd, qdd and tau, each quantity is recognised by
-the names loggers give it (ALIASES), case-insensitively, also with the SI
-unit jointid reads it in as a suffix: `position_rad`, `time [s]`,
-`velocity (rad/s)`, `torque_nm`. Only jointid's own unit is accepted as a
-suffix: `position_deg` or `time_ms` would be read in the wrong unit, so such
-a column is not recognised (the missing-column message points at it and at
---columns). Two columns giving one quantity (`q` and `position`) are refused:
-which one is the angle cannot be guessed. An explicit map (`--columns
+the names loggers give it (ALIASES), case-insensitively. A name with a suffix
+(`position_rad`, `time_s`, `tau_cmd`) is not read unasked: the suffix may name
+another unit (`position_deg`, `time_ms`) or another signal (a command beside
+the measurement, a second time base beside t), so reading it would be a
+guess; when a required column is missing, the message suggests the
+--columns map that reads such columns. Two columns giving one quantity (`q`
+and `position`) are refused: which one is the angle cannot be guessed. An explicit map (`--columns
 q=posn`, `columns=` of fit_log) wins over the names; the columns it leaves
 out are still recognised by name.
 
@@ -41,66 +41,49 @@ ALIASES = {
 }
 """The names each quantity is recognised by (lower case), the canonical one first."""
 
-UNITS = {
-    "t": ("s",),
-    "q": ("rad",),
-    "qd": ("rad/s", "rad_s", "rads", "rad_per_s"),
-    "qdd": ("rad/s^2", "rad/s2", "rad_s2", "rad_per_s2"),
-    "tau": ("nm", "n_m", "n.m", "n m"),
-}
-"""The unit suffixes accepted after a name: jointid's own unit for the quantity, in a few spellings."""
-
-UNIT_NAMES = {"t": "s", "q": "rad", "qd": "rad/s", "qdd": "rad/s^2", "tau": "N m"}
-"""How messages name each quantity's unit."""
-
-ANGLE_NAMES = ("q", "qd", "qdd")
-"""The quantities an angle convention changes (with tau when the angle grows clockwise)."""
-
-
-def _spellings() -> dict[str, str]:
-    """Every accepted spelling (lower case) -> its quantity: each alias alone and with each unit suffix."""
-    spellings = {}
-    for quantity, names in ALIASES.items():
-        for name in names:
-            spellings[name] = quantity
-            for unit in UNITS[quantity]:
-                for spelled in (f"{name}_{unit}", f"{name}[{unit}]", f"{name} [{unit}]", f"{name}({unit})",
-                                f"{name} ({unit})"):
-                    spellings[spelled] = quantity
-    return spellings
-
-
-SPELLINGS = _spellings()
-"""Accepted column name (lower case, single spaces) -> quantity."""
+SPELLINGS = {name: quantity for quantity, names in ALIASES.items() for name in names}
+"""Recognised column name (lower case) -> quantity."""
 
 
 def quantity_of(name: str) -> str | None:
     """The quantity a column name gives (t, q, qd, qdd or tau), or None when it is not recognised."""
-    return SPELLINGS.get(" ".join(str(name).lower().split()))
+    return SPELLINGS.get(str(name).strip().lower())
 
 
 def _base_name(name: str) -> str:
-    """'position_deg' -> 'position': the name before a unit suffix."""
-    text = " ".join(str(name).lower().split())
-    for mark in ("_", "[", "("):
+    """'position_rad' -> 'position': the name before a unit or other suffix."""
+    text = str(name).strip().lower()
+    for mark in ("_", "[", "(", " "):
         text = text.split(mark, 1)[0]
-    return text.strip()
-
-
-def unit_hint(names, quantity: str, flag: str = "--columns") -> str:
-    """'; 'position_deg' may be it, in another unit: ...' for a column named like the quantity with another unit
-    suffix; '' when there is none."""
-    for name in names:
-        if quantity_of(name) is None and _base_name(name) in ALIASES[quantity]:
-            return (f"; {name!r} looks like {quantity} in another unit (jointid reads {quantity} in "
-                    f"{UNIT_NAMES[quantity]}): name it with {choose(quantity, name, flag)}"
-                    + (" and --degrees for degrees" if quantity == "q" and flag.startswith("--") else ""))
-    return ""
+    return text
 
 
 def choose(quantity: str, name: str, flag: str = "--columns") -> str:
     """'--columns q=NAME' on the command line, "columns={'q': 'NAME'}" for the library: how to map a column."""
     return f"{flag} {quantity}={name}" if flag.startswith("--") else f"{flag}={{{quantity!r}: {name!r}}}"
+
+
+def suggested_map(names, found, flag: str = "--columns") -> str:
+    """'; read them with --columns t=time_s,q=position_rad' for the quantities not found whose name appears in
+    exactly one column with a suffix (a unit, say); '' when there is none. Such columns are never read unasked:
+    a suffix may name another unit (position_deg, time_ms) or another signal (tau_cmd beside tau)."""
+    pairs = []
+    for quantity in COLUMNS:
+        if quantity in found:
+            continue
+        candidates = [str(name) for name in names if quantity_of(name) is None and _base_name(name) in ALIASES[quantity]]
+        if len(candidates) == 1:
+            pairs.append((quantity, candidates[0]))
+    if not pairs:
+        return ""
+    if flag.startswith("--"):
+        how = f"{flag} " + ",".join(f"{key}={name}" for key, name in pairs)
+    else:
+        how = f"{flag}=" + repr(dict(pairs))
+    degrees = any(key == "q" and "deg" in name.lower() for key, name in pairs) and flag.startswith("--")
+    names = ", ".join(repr(name) for _, name in pairs)
+    return f"; to read {names} (suffixed names are not read unasked), give {how}" + (
+        " (and --degrees)" if degrees else "")
 
 
 class ColumnMapError(ValueError):

@@ -60,7 +60,7 @@ from ..norms import all_finite
 from ..options import DEFAULT_ORDER, DEFAULT_WINDOW
 from .derivatives import check_filter
 from .pipeline import JointLog, check_finite, joint_log_from_table
-from .conventions import ColumnMap, ColumnProblem, columns_note, match_columns, read_as, unit_hint
+from .conventions import ColumnMap, ColumnProblem, columns_note, match_columns, read_as, suggested_map
 from .table import (
     CHUNK_BYTES,
     COLUMNS,
@@ -577,11 +577,12 @@ def _check_header(path: str, line: int, names: list[str], column_map: ColumnMap 
     positions = {key: index + 1 for key, index in found.items()}
     missing = [n for n in ("q", "tau") if n not in positions]
     if missing:
-        hint = unit_hint(names, missing[0]) or _separator_hint(names)
+        hint = suggested_map(names, positions) or _separator_hint(names)
         raise LogError(path, f"missing required column {missing[0]!r} in the header{hint}", line)
     if "t" not in positions and not ("qd" in positions and "qdd" in positions):
         lacking = " and ".join(n for n in ("qd", "qdd") if n not in positions)
-        raise LogError(path, f"missing column 't': without {lacking}, times are needed to estimate them", line)
+        raise LogError(path, f"missing column 't': without {lacking}, times are needed to estimate them"
+                       f"{suggested_map(names, positions)}", line)
     return positions
 
 
