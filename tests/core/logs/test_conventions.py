@@ -104,6 +104,18 @@ def test_two_columns_for_one_quantity_are_refused_naming_both(tmp_path):
         read_arrays({"q": [0.0], "torque": [1.0], "effort": [1.0]})
 
 
+def test_messages_name_the_column_as_the_log_does(tmp_path):
+    path = tmp_path / "bad.csv"
+    path.write_text("time,position,velocity,torque\n0,0,0,1\n0.1,nan,0,1\n0.2,0,0,1\n")
+    with pytest.raises(LogError, match=r"bad.csv, row 3, column 2 \(position\): NaN is not a measurement$"):
+        read_table(path)
+    path.write_text("time,position,velocity,torque\n0,0,0,1\n0.1,0,x,1\n0.2,0,0,1\n")
+    with pytest.raises(LogError, match=r"bad.csv, row 3, column 3 \(velocity\): 'x' is not a number$"):
+        read_table(path)
+    with pytest.raises(LogError, match=r"^arrays, sample 1, column 'angle': NaN is not a measurement$"):
+        fit_log({"t": [0.0, 0.1, 0.2, 0.3], "angle": [0.0, float("nan"), 0.0, 0.0], "tau": [1.0] * 4})
+
+
 def test_the_same_name_twice_keeps_its_message(tmp_path):
     path = tmp_path / "twice.csv"
     path.write_text("t,q,tau,q\n0,0,1,0\n")
