@@ -597,9 +597,15 @@ def load_log(
     cancel: CancelCheck | None = None,
     chunk_bytes: int = CHUNK_BYTES,
 ) -> JointLog:
-    """Read a CSV joint log, estimate any missing qd/qdd, and return it ready to fit; LogError on any problem."""
+    """Read a CSV joint log, estimate any missing qd/qdd, and return it ready to fit; LogError on any problem.
+
+    The angle is read in jointid's own convention, unwrapped when wrapped (jointid.logs.angles); other
+    conventions and column maps: request.load_joint_log.
+    """
+    from .angles import read_angle
+
     check_filter(window, order)
     table = read_table(path, progress=progress, cancel=cancel, chunk_bytes=chunk_bytes)
-    return joint_log_from_table(table, degrees=degrees, window=window, order=order)
+    return joint_log_from_table(read_angle(table, degrees=degrees), degrees=degrees, window=window, order=order)
 
 

@@ -274,6 +274,7 @@ def test_wrapped_csv_is_unwrapped_and_fits(tmp_path, positive):
     assert f"{path}: position is wrapped to {wrapped}: unwrapped (numpy.unwrap) at {jumps} jumps of nearly a full " \
            "turn between samples." in log.notes
     assert log.conventions["unwrapped_jumps"] == jumps and log.conventions["wrapped_range"] == wrapped
+    assert np.array_equal(load_log(path, window=31).data.q, log.data.q)
     fit = fit_log(path, window=31, cutoff=0)
     np.testing.assert_allclose(params(fit), lstsq(q, qd, qdd, tau), rtol=1e-4)
 
