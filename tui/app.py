@@ -21,6 +21,7 @@ from .third_party import adapter as third_party
 
 if TYPE_CHECKING:  # the log reader and its low-pass are imported only when a log is opened
     from jointid.estimation.low_pass import FilterRequest
+    from jointid.logs.conventions import LogConventions
     from jointid.studies.log_fit import LoadedLogs
 
 FULL_COLLECTION_EVERY = 10_000
@@ -47,7 +48,7 @@ class JointIdApp(App):
 
     def __init__(self, settings: Settings = DEFAULT_SETTINGS, logs: LoadedLogs | None = None,
                  derivatives: tuple[int | None, int] = (DEFAULT_WINDOW, DEFAULT_ORDER),
-                 filtering: FilterRequest | None = None) -> None:
+                 filtering: FilterRequest | None = None, conventions: LogConventions | None = None) -> None:
         """Create the app.
 
         Args:
@@ -57,12 +58,15 @@ class JointIdApp(App):
                 those opened later too (`jointid --window --order`); a window of None is automatic.
             filtering: The parallel low-pass for logs opened later (`jointid --cutoff --decimate`);
                 None is automatic, as `FilterRequest()`.
+            conventions: The column map and angle convention for logs opened later (`jointid --columns
+                --zero --clockwise`), so a held-out log is read as the training log was; None is jointid's own.
         """
         super().__init__()
         self.initial_settings = settings
         self.initial_logs = logs
         self.derivatives = derivatives
         self.filtering = filtering
+        self.conventions = conventions
 
     def get_default_screen(self) -> Screen:
         """The main screen at the initial settings."""

@@ -13,12 +13,13 @@ from .third_party import adapter as third_party
 
 if TYPE_CHECKING:
     from jointid.estimation.low_pass import FilterRequest
+    from jointid.logs.conventions import LogConventions
     from jointid.studies.log_fit import LoadedLogs
 
 
 def explore(settings: Settings, logs: LoadedLogs | None = None,
             derivatives: tuple[int | None, int] = (DEFAULT_WINDOW, DEFAULT_ORDER),
-            filtering: FilterRequest | None = None) -> int:
+            filtering: FilterRequest | None = None, conventions: LogConventions | None = None) -> int:
     """Run the explorer until the user quits and return the exit status.
 
     Args:
@@ -26,11 +27,13 @@ def explore(settings: Settings, logs: LoadedLogs | None = None,
         logs: A loaded log to open on (`jointid --csv`).
         derivatives: Savitzky-Golay window (None: automatic) and order for logs opened later with Ctrl+O.
         filtering: The parallel low-pass for those logs (`--cutoff`, `--decimate`); None is automatic.
+        conventions: The column map and angle convention for those logs (`--columns`, `--zero`,
+            `--clockwise`); None is jointid's own.
     """
     check_explorer_settings(settings)
     from .app import JointIdApp  # after the check: a refused value costs no Textual import
 
-    app = JointIdApp(settings, logs, derivatives=derivatives, filtering=filtering)
+    app = JointIdApp(settings, logs, derivatives=derivatives, filtering=filtering, conventions=conventions)
     app.restore_gc = False  # the process ends with the app: see JointIdApp.restore_gc
     app.run()  # Textual restores the terminal before it returns, and prints a crash's traceback
     return exit_status(app)

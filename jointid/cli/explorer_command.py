@@ -18,6 +18,7 @@ from .arguments import UserError, settings_from
 from .floating_point import strict_arithmetic
 from .log_arguments import (
     LOG_ONLY_FLAGS,
+    convention_options,
     derivative_options,
     filter_options,
     fit_loaded_logs,
@@ -27,7 +28,8 @@ from .log_arguments import (
 from .version import ENTRY_POINT_GROUP
 
 ENTRY_POINT_NAME = "explorer"
-"""The entry function's name in that group: explore(settings, logs, derivatives) -> exit status."""
+"""The entry function's name in that group: explore(settings, logs, derivatives, filtering, conventions) -> exit
+status."""
 
 
 def load_explorer():
@@ -50,11 +52,12 @@ def run(args, explore=None) -> int:
         loaded = fit_loaded_logs(args) if has_log(args) else None
     derivatives = derivative_options(args)  # also for logs opened later with Ctrl+O
     filtering = filter_options(args)
+    conventions = convention_options(args)  # before _defaults clears the log flags
     settings = settings_from(with_default_settings(args) if loaded is None else _defaults(args))
     if explore is None:
         explore = load_explorer()
     try:
-        return explore(settings, loaded, derivatives, filtering)
+        return explore(settings, loaded, derivatives, filtering, conventions)
     except SettingsError as error:  # outside the explorer's ranges: `jointid fit` takes more
         raise UserError(str(error)) from None
 

@@ -25,8 +25,7 @@ SETTING_FLAGS = ("motion", "noise", "samples", "seed", "true_coulomb", "true_bia
 """Synthetic-experiment options that a log fit rejects."""
 
 LOG_ONLY_FLAGS = ("heldout", "degrees", "window", "order", "cutoff", "decimate", "exclude", "no_robust", "joint",
-                  "topic", "train_window",
-                  "heldout_window", "effort_scale")
+                  "topic", "train_window", "heldout_window", "effort_scale", "columns", "zero", "clockwise")
 """Options that mean something only with --csv or --bag."""
 
 BAG_ONLY_FLAGS = ("joint", "topic")
@@ -39,7 +38,8 @@ SYNTHETIC_ONLY_FLAGS = ("simulate", "horizon")
 def add_log_arguments(parser: argparse.ArgumentParser) -> None:
     """Add --csv, --bag and the options of a log fit, and make setting flags detectable."""
     group = parser.add_argument_group(
-        "joint logs (CSV: t, q, qd, qdd, tau by header name; or one joint of a ROS bag's sensor_msgs/JointState)",
+        "joint logs (CSV: t, q, qd, qdd, tau by header name or --columns; or one joint of a ROS bag's "
+        "sensor_msgs/JointState)",
         "Fit a logged joint instead of a synthetic experiment; --motion, --noise, --samples, --seed and "
         "--true-* describe synthetic data and are refused with a log.",
     )
@@ -61,6 +61,17 @@ def add_log_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--effort-scale", type=_effort_scale, metavar="K",
                        help="torque in N m per unit of the logged effort or tau, e.g. torque constant x gear "
                        "ratio for a motor current; default 1")
+    group.add_argument("--columns", type=_column_map, metavar="MAP",
+                       help="which CSV column gives which quantity, e.g. t=time,q=posn,tau=effort (quantities: t, q, "
+                       "qd, qdd, tau); default: by name, t/time/timestamp, q/position/pos/angle, qd/velocity/vel, "
+                       "qdd/acceleration/accel, tau/torque/effort (a suffixed name such as position_rad only "
+                       "through this map)")
+    group.add_argument("--zero", choices=ZERO_CHOICES, default=None,
+                       help="where the log's angle 0 points: right (jointid's own q = 0, the default), up, left, or "
+                       "down (a pendulum hanging); q = angle + pi/2, + pi or - pi/2")
+    group.add_argument("--clockwise", action="store_true",
+                       help="the log's angle grows clockwise: q, qd, qdd and the torque change sign (the log's "
+                       "positive torque turns toward increasing logged angle)")
     group.add_argument("--degrees", action="store_true", help="the logs give q, qd, qdd in degrees")
     group.add_argument("--window", type=whole_number(3), default=None, metavar="W",
                        help="Savitzky-Golay window (odd number of samples) smoothing q before qd and qdd are "
@@ -87,6 +98,20 @@ def _time_window(text: str):
     try:
         return parse_time_window(text)
     except ValueError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+
+
+ZERO_CHOICES = ("right", "up", "left", "down")
+"""--zero's choices, as jointid.logs.conventions.ZEROS names them (not imported: help starts without it)."""
+
+
+def _column_map(text: str):
+    """argparse type of --columns: a conventions.ColumnMap."""
+    from ..logs.conventions import ColumnMap, ColumnMapError
+
+    try:
+        return ColumnMap.parse(text)
+    except ColumnMapError as error:
         raise argparse.ArgumentTypeError(str(error)) from None
 
 
@@ -138,6 +163,14 @@ def exclusion_options(args: argparse.Namespace):
                             by_hand=tuple((window.start, window.end) for window in windows))
 
 
+def convention_options(args: argparse.Namespace):
+    """The column map and angle convention of --columns, --zero and --clockwise: a conventions.LogConventions."""
+    from ..logs.conventions import AngleConvention, LogConventions
+
+    return LogConventions(getattr(args, "columns", None),
+                          AngleConvention(getattr(args, "zero", None) or "right", bool(getattr(args, "clockwise", False))))
+
+
 def derivative_options(args: argparse.Namespace) -> tuple[int | None, int]:
     """The Savitzky-Golay window (None: automatic) and order from --window and --order; UserError if they do
     not fit together."""
@@ -175,11 +208,15 @@ def log_requests(args: argparse.Namespace):
             raise UserError(f"{', '.join(stray)}: only for a ROS bag; use --bag BAG")
     elif args.joint is None:
         raise UserError("--bag needs --joint NAME (`jointid bag-info BAG` lists the joints)")
+    elif args.columns is not None:
+        raise UserError("--columns: only for a CSV log; a bag's JointState gives position, velocity and effort "
+                        "by name")
     from ..logs.request import HELDOUT, TRAINING, LoadRequest
 
     window, order = derivative_options(args)
     common = dict(degrees=args.degrees, window=window, order=order, joint=args.joint, topic=args.topic,
-                  effort_scale=1.0 if args.effort_scale is None else args.effort_scale, filtering=filter_options(args))
+                  effort_scale=1.0 if args.effort_scale is None else args.effort_scale, filtering=filter_options(args),
+                  **convention_options(args).request_fields())
     path = args.bag if args.bag is not None else args.csv
     training = LoadRequest(path, TRAINING, time_window=args.train_window, **common)
     if args.heldout is None and args.heldout_window is None:

@@ -604,6 +604,8 @@ def _table(path: str, topic: str, joint: str, found: _JointColumns, messages: in
     table = BagTable(
         path=path, columns=columns, positions={name: i + 1 for i, name in enumerate(columns)}, ignored=(),
         segments=(), notes=tuple(notes), topic=topic, joint=joint, message_numbers=numbers,
+        read_as=tuple((name, {"t": source, "q": "position", "qd": "velocity", "tau": "effort"}[name])
+                      for name in columns),
     )
     check_finite(table)
     return table

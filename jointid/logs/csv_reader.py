@@ -3,7 +3,9 @@
 Format: comma-separated, one header row, then one sample per row. Lines whose
 first non-blank character is `#` are comments wherever they stand; blank lines
 are skipped too. Columns are found by name, case-insensitively and in any order:
-t (s), q (rad), qd (rad/s), qdd (rad/s^2) and tau (N m). Other columns are
+t (s), q (rad), qd (rad/s), qdd (rad/s^2) and tau (N m), or the names
+loggers give them (time, position, velocity, acceleration, torque, effort...;
+see jointid.logs.conventions), or as a column map names them. Other columns are
 ignored (their cells need not be numbers) but every row must have as many cells
 as the header. Cells are not quoted.
 
@@ -58,6 +60,7 @@ from ..norms import all_finite
 from ..options import DEFAULT_ORDER, DEFAULT_WINDOW
 from .derivatives import check_filter
 from .pipeline import JointLog, check_finite, joint_log_from_table
+from .conventions import ColumnMap, ColumnProblem, columns_note, match_columns, read_as, suggested_map
 from .table import (
     CHUNK_BYTES,
     COLUMNS,
@@ -93,8 +96,12 @@ def read_table(
     progress: ProgressCallback | None = None,
     cancel: CancelCheck | None = None,
     chunk_bytes: int = CHUNK_BYTES,
+    column_map: ColumnMap | None = None,
 ) -> LogTable:
     """Read and check the header and every row of a CSV log; raise LogError on the first problem.
+
+    Columns are found by name (conventions.match_columns): t, q, qd, qdd, tau, the names loggers use for
+    them, or as `column_map` names them.
 
     With neither `progress` nor `cancel` and the default `chunk_bytes`, pandas reads the whole file in one
     call when it can (see the module's notes); otherwise, and for any file it might read differently, the
@@ -105,7 +112,7 @@ def read_table(
     try:
         with handle:
             total = os.fstat(handle.fileno()).st_size
-            reader = _ChunkReader(path, handle, total, progress, cancel, chunk_bytes)
+            reader = _ChunkReader(path, handle, total, progress, cancel, chunk_bytes, column_map)
             return reader.read()
     except OSError as error:  # e.g. a directory, or a read error mid-file
         raise LogError(path, f"cannot read: {error.strerror or error}") from None
@@ -147,15 +154,18 @@ class _ChunkReader:
     (by rereading the file) when a message needs one.
     """
 
-    def __init__(self, path, handle, total, progress, cancel, chunk_bytes):
-        self.path, self.handle, self.total = path, handle, total
+    def __init__(self, path, handle, total, progress, cancel, chunk_bytes, column_map=None):
+        self.path, self.handle, self.total, self.column_map = path, handle, total, column_map
         self.progress, self.cancel, self.chunk_bytes = progress, cancel, max(int(chunk_bytes), 1)
         self.whole_file_allowed = progress is None and cancel is None and chunk_bytes == CHUNK_BYTES
 
     def read(self) -> LogTable:
         header_line, names = self._read_header()
-        positions = _check_header(self.path, header_line, names)
+        positions = _check_header(self.path, header_line, names, self.column_map)
         wanted = tuple(n for n in COLUMNS if n in positions)
+        named = read_as(names, {key: position - 1 for key, position in positions.items()})
+        note = columns_note(named)
+        described = dict(read_as=named, notes=() if note is None else (note,))
         self.width = len(names)
         # Without extra columns loadtxt parses every cell and checks row widths itself;
         # the columns are then put in COLUMNS order if the file has another order.
@@ -165,7 +175,7 @@ class _ChunkReader:
         self.fast_order = [self.fast_cols.index(c) for c in file_order]
         self.usecols = None if len(wanted) == self.width else tuple(file_order)
         self.order = file_order if self.usecols is None and file_order != sorted(file_order) else None
-        self.wanted, self.positions = wanted, positions
+        self.wanted, self.positions, self.names = wanted, positions, names
         ignored = tuple(
             n or f"(unnamed column {i + 1})" for i, n in enumerate(names) if i + 1 not in positions.values()
         )
@@ -173,7 +183,8 @@ class _ChunkReader:
         if whole is not None:
             columns, offset = whole
             return LogTable(path=self.path, columns=dict(zip(wanted, columns)),
-                            positions={n: positions[n] for n in wanted}, ignored=ignored, segments=((0, offset),))
+                            positions={n: positions[n] for n in wanted}, ignored=ignored, segments=((0, offset),),
+                            **described)
         store = _ColumnStore(len(wanted), self.total)
         segments = []
         while True:
@@ -198,6 +209,7 @@ class _ChunkReader:
             positions={n: positions[n] for n in wanted},
             ignored=ignored,
             segments=tuple(segments),
+            **described,
         )
         check_finite(table)
         return table
@@ -404,7 +416,8 @@ class _ChunkReader:
                 cell = cells[index].strip()
                 if not _NUMBER.fullmatch(cell):
                     what = "is empty" if not cell else f"{_shorten(cell)!r} is not a number"
-                    raise LogError(self.path, what, line, f"{index + 1} ({names[index]})")
+                    header = self.names[index] if self.names[index].lower() != names[index] else names[index]
+                    raise LogError(self.path, what, line, f"{index + 1} ({header})")
 
 
 _DOUBTFUL = tuple(bytes([b]) for b in _FAST_UNSAFE.replace(b"\x00", b""))
@@ -543,23 +556,33 @@ def _separator_hint(names: list[str]) -> str:
     return f"; the header is separated by {found[0]}, not commas (save the log as comma-separated)" if found else ""
 
 
-def _check_header(path: str, line: int, names: list[str]) -> dict[str, int]:
-    """Map each recognised column to its 1-based position; raise LogError for duplicates or missing ones."""
-    positions: dict[str, int] = {}
-    for position, name in enumerate(names, start=1):
-        key = name.lower()
-        if key in COLUMNS:
-            if key in positions:
-                raise LogError(
-                    path, f"column {key!r} appears twice (columns {positions[key]} and {position})", line
-                )
-            positions[key] = position
+def _check_header(path: str, line: int, names: list[str], column_map: ColumnMap | None = None) -> dict[str, int]:
+    """Map each recognised column (by name, alias or `column_map`) to its 1-based position; raise LogError for
+    duplicates, a map naming a missing column, or missing required ones."""
+    lowered = [name.lower() for name in names]
+
+    def label(index: int) -> str:
+        return f"{index + 1} ({names[index]!r})"
+
+    try:
+        found = match_columns(names, column_map, label)
+    except ColumnProblem as problem:
+        # The same name twice keeps its message from before aliases were recognised.
+        twice = next(((key, lowered.index(key) + 1, i + 1) for i, key in enumerate(lowered)
+                      if key in COLUMNS and lowered.index(key) < i), None)
+        if twice is not None and (column_map is None or twice[0] not in dict(column_map.pairs)):
+            key, first, second = twice
+            raise LogError(path, f"column {key!r} appears twice (columns {first} and {second})", line) from None
+        raise LogError(path, str(problem), line) from None
+    positions = {key: index + 1 for key, index in found.items()}
     missing = [n for n in ("q", "tau") if n not in positions]
     if missing:
-        raise LogError(path, f"missing required column {missing[0]!r} in the header{_separator_hint(names)}", line)
+        hint = suggested_map(names, positions) or _separator_hint(names)
+        raise LogError(path, f"missing required column {missing[0]!r} in the header{hint}", line)
     if "t" not in positions and not ("qd" in positions and "qdd" in positions):
         lacking = " and ".join(n for n in ("qd", "qdd") if n not in positions)
-        raise LogError(path, f"missing column 't': without {lacking}, times are needed to estimate them", line)
+        raise LogError(path, f"missing column 't': without {lacking}, times are needed to estimate them"
+                       f"{suggested_map(names, positions)}", line)
     return positions
 
 
@@ -574,9 +597,15 @@ def load_log(
     cancel: CancelCheck | None = None,
     chunk_bytes: int = CHUNK_BYTES,
 ) -> JointLog:
-    """Read a CSV joint log, estimate any missing qd/qdd, and return it ready to fit; LogError on any problem."""
+    """Read a CSV joint log, estimate any missing qd/qdd, and return it ready to fit; LogError on any problem.
+
+    The angle is read in jointid's own convention, unwrapped when wrapped (jointid.logs.angles); other
+    conventions and column maps: request.load_joint_log.
+    """
+    from .angles import read_angle
+
     check_filter(window, order)
     table = read_table(path, progress=progress, cancel=cancel, chunk_bytes=chunk_bytes)
-    return joint_log_from_table(table, degrees=degrees, window=window, order=order)
+    return joint_log_from_table(read_angle(table, degrees=degrees), degrees=degrees, window=window, order=order)
 
 

@@ -13,6 +13,7 @@ from ..norms import all_finite
 from ..options import DEFAULT_ORDER, DEFAULT_WINDOW
 from ..samples import JointData
 from ..estimation.low_pass import automatic_cutoff
+from .conventions import AngleReading, logged_angle_name
 from .derivatives import METHOD, DerivativeEstimate, WindowChoice, check_filter, differentiate, smoothing_window
 from .table import MIN_FIT_ROWS, LogError, LogTable
 from .timing import TimeCheck, TimeProblem, check_times
@@ -93,6 +94,15 @@ class JointLog:
         if self.source is None:
             return {"path": self.path, "format": "csv", "time_window": None, "effort_scale": 1.0}
         return self.source.table.origin
+
+    @property
+    def conventions(self) -> dict:
+        """JSON-ready: which column gave each quantity, and how the logged angle became q (zero, direction, wraps
+        undone, whole turns removed)."""
+        table = None if self.source is None else self.source.table
+        pairs = () if table is None else table.read_as
+        reading = AngleReading() if table is None or table.angle is None else table.angle
+        return {"columns": dict(pairs), **reading.to_dict(logged_angle_name(pairs))}
 
     def source_text(self) -> str:
         """One line describing what was read, e.g. for the line above the readouts."""
@@ -204,6 +214,14 @@ def _derive(source: LogSource, *, degrees: bool, window: int | None, order: int,
         if degrees:
             qd, qdd = qd * scale, qdd * scale
         t, tau = columns.get("t"), columns["tau"]
+    if table.angle is not None and not table.angle.convention.is_default:
+        # Last, on the columns in SI units: everything before (resampling, the window's choice) saw the log's
+        # own angle, and the offset is in radians.
+        convention = table.angle.convention
+        if convention.clockwise:
+            q, qd, qdd, tau = convention.offset - q, -qd, -qdd, -tau
+        else:
+            q = q + convention.offset
     return JointLog(
         path=table.path,
         data=JointData(t=t, q=q, qd=qd, qdd=qdd, tau=tau),

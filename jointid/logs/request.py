@@ -1,4 +1,5 @@
-"""Which joint log to load and how: a CSV file or one joint of a ROS bag, cut to a time window, torque scaled.
+"""Which joint log to load and how: a CSV file or one joint of a ROS bag, its columns and angle convention, cut to
+a time window, torque scaled.
 
 Every source is read into a checked table (csvlog.read_table or
 bag.read_bag_table), cut and scaled here, and then goes through
@@ -14,6 +15,7 @@ from dataclasses import dataclass
 
 from ..estimation.low_pass import FilterRequest
 from ..options import DEFAULT_ORDER, DEFAULT_WINDOW
+from .conventions import AngleConvention, ColumnMap
 from .timewindow import TimeWindow
 
 TRAINING, HELDOUT = "training", "heldout"
@@ -44,6 +46,10 @@ class LoadRequest:
     """Seconds from the log's start to keep (`--train-window`, `--heldout-window`); None keeps all."""
     effort_scale: float = 1.0
     """Torque (N m) per unit of the logged effort or tau (`--effort-scale`)."""
+    columns: ColumnMap | None = None
+    """Which CSV column gives which quantity (`--columns`); None: recognised by name."""
+    angle: AngleConvention = AngleConvention()
+    """Where the logged angle's 0 points and which way it grows (`--zero`, `--clockwise`)."""
 
     @property
     def is_bag(self) -> bool:
@@ -53,6 +59,7 @@ class LoadRequest:
 
 def load_joint_log(request: LoadRequest, progress=None, cancel=None):
     """The request's log ready to fit (csvlog.JointLog); LogError on any problem, LoadCancelled if cancelled."""
+    from .angles import read_angle
     from .csv_reader import read_table
     from .derivatives import check_filter
     from .pipeline import joint_log_from_table
@@ -60,10 +67,16 @@ def load_joint_log(request: LoadRequest, progress=None, cancel=None):
     check_filter(request.window, request.order)
     if request.is_bag:
         from .bag import read_bag_table
+        from .table import LogError
 
+        if request.columns is not None:
+            raise LogError(request.path, f"{request.columns.flag}: only for a CSV log or arrays; a bag's JointState "
+                           "gives position, velocity and effort by name")
         table = read_bag_table(request.path, request.joint, request.topic, progress=progress, cancel=cancel)
     else:
-        table = read_table(request.path, progress=progress, cancel=cancel)
+        table = read_table(request.path, progress=progress, cancel=cancel, column_map=request.columns)
+    # Before the time window and the time checks: a wrap must be undone before anything interpolates across it.
+    table = read_angle(table, request.angle, request.degrees)
     if request.time_window is not None:
         table = cut_time_window(table, request.time_window, request.role)
     table = scale_torque(table, request.effort_scale, request.is_bag)

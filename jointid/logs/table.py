@@ -81,6 +81,10 @@ class LogTable:
             return self.time_origin
         t = self.columns.get("t")
         return None if t is None or not len(t) else float(t[0])
+    read_as: tuple[tuple[str, str], ...] = ()
+    """(quantity, the column's name in the log) for each column read, e.g. ('q', 'position')."""
+    angle: object = None
+    """The conventions.AngleReading of the q column (zero, direction, wraps, turns), or None: jointid's own."""
 
     @property
     def origin(self) -> dict:
@@ -117,8 +121,13 @@ class LogTable:
         return _line_of_data_row(self.path, offset, index - first)
 
     def column_label(self, name: str) -> str:
-        """'3 (qd)': the position and header name of a column, for messages."""
-        return f"{self.positions[name]} ({name})"
+        """'3 (qd)' or '3 (velocity)': the position and header name of a column, for messages."""
+        return f"{self.positions[name]} ({self.header_of(name)})"
+
+    def header_of(self, name: str) -> str:
+        """The column's name in the log when it is not the quantity's own (e.g. 'velocity'), else the quantity."""
+        header = dict(self.read_as).get(name, name)
+        return name if header.strip().lower() == name else header
 
     def error(self, problem: str, index: int | None = None, name: str | None = None) -> LogError:
         """A LogError at data row `index` and column `name` (either may be None)."""

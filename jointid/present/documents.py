@@ -183,12 +183,13 @@ def fit_document(result: FitResult, *, settings: Settings | None = None, source=
 
 def log_fit_document(result: FitResult, training, heldout=None, low_pass=None, sensitivity=None,
                      notes=None) -> dict:
-    """fit_document for a fit of logs (csvlog.JointLog objects): source paths, derivatives, timing, the
-    parallel low-pass (parallel_filter.ParallelFilter), the sensitivity check and notes."""
+    """fit_document for a fit of logs (csvlog.JointLog objects): source paths, the columns read and the angle's
+    conventions, derivatives, timing, the parallel low-pass (parallel_filter.ParallelFilter), the sensitivity check and notes."""
     return fit_document(
         result,
         source={"training": training.path, "heldout": None if heldout is None else heldout.path},
         logs={"training": training.origin, "heldout": None if heldout is None else heldout.origin},
+        conventions={"training": training.conventions, "heldout": None if heldout is None else heldout.conventions},
         derivatives=None if training.derivatives is None else training.derivatives.to_dict(),
         heldout_derivatives=None if heldout is None or heldout.derivatives is None else heldout.derivatives.to_dict(),
         timing=None if training.timing is None else training.timing.to_dict(),

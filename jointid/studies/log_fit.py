@@ -354,6 +354,9 @@ def fit_log(
     decimate: int | None = None,
     constrained: bool = False,
     joint: str | None = None,
+    columns=None,
+    zero: str = "right",
+    clockwise: bool = False,
     sensitivity: bool = True,
     robust: bool = True,
     exclude: tuple[tuple[float, float], ...] = (),
@@ -380,6 +383,14 @@ def fit_log(
         Fit subject to the model's sign rules.
     joint : str
         The joint to read from a ROS bag.
+    columns : mapping or str, optional
+        Which column gives which quantity, e.g. ``{"q": "posn", "tau": "effort"}`` or ``"q=posn,tau=effort"``; the
+        columns it leaves out are recognised by name (t/time/timestamp, q/position/pos/angle, qd/velocity/vel,
+        qdd/acceleration/accel, tau/torque/effort). Not for a ROS bag.
+    zero : {'right', 'up', 'left', 'down'}
+        Where the log's angle 0 points; 'right' is jointid's own q = 0.
+    clockwise : bool
+        The log's angle grows clockwise (q, qd, qdd and the torque change sign).
     sensitivity : bool
         Refit with the derivative window and the cutoff halved and doubled.
     robust : bool
@@ -396,8 +407,20 @@ def fit_log(
     ------
     LogError
         A problem with the log (one line naming the file, row and column), as the command line reports it.
+    ValueError, TypeError
+        A `columns` or `zero` that cannot be one, naming the argument.
+
+    Examples
+    --------
+    A pendulum logged as time, position (0 hanging down), velocity, torque:
+
+    >>> fit = fit_log("pendulum.csv", zero="down")  # doctest: +SKIP
+    >>> fit.notes()[0]  # doctest: +SKIP
+    'pendulum.csv: columns read as t=time, q=position, qd=velocity, tau=torque.'
     """
+    from ..logs.angles import read_angle
     from ..logs.arrays import read_arrays
+    from ..logs.conventions import AngleConvention, ColumnMap
     from ..logs.derivatives import check_filter
     from ..logs.pipeline import check_finite, joint_log_from_table
     from ..model.terms import model_named
@@ -407,13 +430,16 @@ def fit_log(
         raise TypeError(f"model must be a model name or a JointModel; got {type(model).__name__}")
     check_filter(window, order)
     filtering = FilterRequest(cutoff, decimate)
+    column_map = ColumnMap.of(columns, "columns")
+    angle = AngleConvention(zero, bool(clockwise))
 
     def load(given, role: str) -> JointLog:
         if isinstance(given, (str, os.PathLike)):
             return load_joint_log(LoadRequest(os.fspath(given), role, degrees=degrees, window=window, order=order,
-                                              filtering=filtering, joint=joint))
-        table = read_arrays(given, "arrays" if role == TRAINING else "held-out arrays")
+                                              filtering=filtering, joint=joint, columns=column_map, angle=angle))
+        table = read_arrays(given, "arrays" if role == TRAINING else "held-out arrays", column_map)
         check_finite(table)
+        table = read_angle(table, angle, degrees)
         return joint_log_from_table(table, degrees=degrees, window=window, order=order, cutoff=cutoff)
 
     training = load(source, TRAINING)

@@ -8,6 +8,7 @@ import functools
 import json
 import math
 
+import numpy as np
 import pytest
 from support.log_files import CORPUS, HEADER, good_rows
 from support.tui_support import displayed_readouts, make_app
@@ -449,3 +450,33 @@ async def test_k_and_the_model_refit_a_loaded_log_in_a_worker_and_a_stale_refit_
         stale = logfit.fit_logs(shown.training, constrained=False)
         screen.finish_refit(shown, dataclasses.replace(screen.settings, model="plain"), stale)
         assert screen.logs is shown
+
+
+@synchronous
+async def test_logs_opened_with_ctrl_o_are_read_in_the_command_lines_conventions(tmp_path, monkeypatch):
+    """`jointid --csv a.csv --zero down --clockwise`: a log opened later is read with the same convention."""
+    from jointid.logs.conventions import AngleConvention, LogConventions
+
+    t = np.arange(400) * 0.01
+    position = 0.3 * np.sin(2 * t)
+    (tmp_path / "robot.csv").write_text("time,position,effort\n" + "".join(
+        f"{a:.17g},{b:.17g},{c:.17g}\n" for a, b, c in zip(t, position, np.sin(position))))
+    monkeypatch.chdir(tmp_path)
+    app = JointIdApp(conventions=LogConventions(angle=AngleConvention("down", clockwise=True)))
+    async with app.run_test(size=SIZE) as pilot:
+        await pilot.press("ctrl+o", *"robot.csv", "enter")
+        await app.workers.wait_for_complete()
+        await pilot.pause()
+        log = main_screen(app).logs.training
+        half = (len(t) - log.data.count) // 2  # q = -pi/2 - position, trimmed at both ends alike
+        np.testing.assert_allclose(log.data.q, -np.pi / 2 - position[half:len(t) - half], rtol=0, atol=1e-12)
+        assert log.conventions["zero"] == "down" and log.conventions["clockwise"] is True
+
+
+def test_the_command_line_hands_the_conventions_to_the_explorer(logs, monkeypatch):
+    train, _ = logs
+    opened = {}
+    monkeypatch.setattr("tui.app.JointIdApp.run", lambda app: opened.update(conventions=app.conventions))
+    assert main(["--csv", str(train), "--zero", "up", "--clockwise", "--columns", "t=t"]) == 0
+    assert opened["conventions"].angle.zero == "up" and opened["conventions"].angle.clockwise
+    assert opened["conventions"].columns.pairs == (("t", "t"),)

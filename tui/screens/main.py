@@ -531,7 +531,8 @@ class MainScreen(Screen):
 
         folder = os.path.dirname(os.path.abspath(self.logs.training.path)) if self.logs else None
         self.app.push_screen(OpenLogScreen(folder, heldout_allowed=self.logs is not None,
-                                           derivatives=self.app.derivatives, filtering=self.app.filtering),
+                                           derivatives=self.app.derivatives, filtering=self.app.filtering,
+                                           conventions=self.app.conventions),
                              self.start_loading)
 
     def start_loading(self, request: LoadRequest | None) -> None:

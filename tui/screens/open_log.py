@@ -16,6 +16,7 @@ from textual.screen import ModalScreen
 from textual.widgets import DirectoryTree, Input, Label, RadioSet, Static
 
 from jointid.estimation.low_pass import FilterRequest
+from jointid.logs.conventions import LogConventions
 from jointid.logs.request import HELDOUT, TRAINING, LoadRequest
 from jointid.options import DEFAULT_ORDER, DEFAULT_WINDOW
 
@@ -69,7 +70,7 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
 
     def __init__(self, folder: str | os.PathLike | None = None, *, heldout_allowed: bool = False,
                  derivatives: tuple[int | None, int] = (DEFAULT_WINDOW, DEFAULT_ORDER),
-                 filtering: FilterRequest | None = None) -> None:
+                 filtering: FilterRequest | None = None, conventions: LogConventions | None = None) -> None:
         """Create the dialog.
 
         Args:
@@ -78,12 +79,15 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
             derivatives: Savitzky-Golay window and order for a log without qd or qdd
                 (the explorer's --window and --order; a window of None is automatic).
             filtering: The parallel low-pass (the explorer's --cutoff and --decimate); None is automatic.
+            conventions: The column map and angle convention (the explorer's --columns, --zero and
+                --clockwise); None is jointid's own.
         """
         super().__init__()
         self.folder = Path(folder or os.getcwd())
         self.heldout_allowed = heldout_allowed
         self.derivatives = derivatives
         self.filtering = FilterRequest() if filtering is None else filtering
+        self.conventions = LogConventions() if conventions is None else conventions
 
     def compose(self) -> ComposeResult:
         """Path field, role and degrees options, hint, folder tree, and the dialog's keys."""
@@ -120,7 +124,8 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
         window, order = self.derivatives
         degrees = self.query_one("#open-degrees", ClearCheckbox).value
         return LoadRequest(os.path.expanduser(path.strip()), role, degrees, window=window, order=order,
-                           joint=joint, topic=topic, filtering=self.filtering)
+                           joint=joint, topic=topic, filtering=self.filtering,
+                           **self.conventions.request_fields(bag=joint is not None))
 
     def choose(self, path: str) -> None:
         """Load a CSV log now; for a bag, pick its joint first (the dialog stays open behind the picker)."""
