@@ -4,10 +4,17 @@ from __future__ import annotations
 
 import argparse
 
-from ..options import LADDER
+from ..options import LADDER, LOG_MODEL
 from .arguments import UserError, add_settings_arguments, settings_from
 from .exit_status import ExitStatus
-from .log_arguments import add_log_arguments, filter_options, has_log, load_logs, with_default_settings
+from .log_arguments import (
+    add_log_arguments,
+    exclusion_options,
+    filter_options,
+    has_log,
+    load_logs,
+    with_default_settings,
+)
 from .output import print_json
 
 NAME = "compare"
@@ -38,14 +45,21 @@ def run(args: argparse.Namespace) -> int:
 
     if has_log(args):
         from ..logs.table import LogError
-        from ..studies.log_fit import low_pass_for
+        from ..model.terms import model_named
+        from ..studies.ladder import ALL_COLUMNS
+        from ..studies.log_fit import fit_logs, smoothed_regressor
 
         training, heldout = load_logs(args)
         try:
-            low_pass = low_pass_for(training, filter_options(args))
+            # The default log fit first: what its robust step and standstill leave out, no model decides.
+            logs = fit_logs(training, heldout, model=model_named(LOG_MODEL), filtering=filter_options(args),
+                            sensitivity=False, exclusion=exclusion_options(args))
         except LogError as error:
             raise UserError(str(error)) from None
-        comparison = compare_models(training.data, None if heldout is None else heldout.data, low_pass=low_pass)
+        low_pass = logs.filter
+        kept = None if logs.exclusions is None else ~logs.exclusions.pushes  # standstill decides no model either
+        comparison = compare_models(training.data, None if heldout is None else heldout.data, low_pass=low_pass,
+                                    kept=kept, regressor=smoothed_regressor(training, ALL_COLUMNS))
         heading = f"Training log {training.source_text()}; {low_pass_short_note(low_pass)}"
         settings, source = None, {"training": training.path, "heldout": None if heldout is None else heldout.path}
     else:

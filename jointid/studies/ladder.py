@@ -44,6 +44,9 @@ class LadderRow:
     training_rmse: float | None
     heldout_rmse: float | None
     uncertainty: ParameterUncertainty | None
+    independent: float | None = None
+    """How many independent samples the N are worth (low-passed samples closer than 1 / (2 cutoff) are not), or
+    None: all N."""
 
     @property
     def rank(self) -> int:
@@ -62,12 +65,14 @@ class LadderRow:
 
     @cached_property
     def bic(self) -> float | None:
-        """N ln(RSS/N) + k ln N (k parameters), -inf for a perfect fit; None without a unique fit."""
+        """n ln(RSS/N) + k ln n (k parameters, n the independent samples, N all), -inf for a perfect fit; None
+        without a unique fit. Counting correlated samples as independent would let every term pay for itself."""
         if self.solution.estimate is None:
             return None
         count, rss = self.solution.row_count, float(self.solution.residual_norm) ** 2
-        fit_term = -math.inf if rss == 0 else count * math.log(rss / count)
-        return fit_term + self.model.size * math.log(count)
+        independent = count if self.independent is None else self.independent
+        fit_term = -math.inf if rss == 0 else independent * math.log(rss / count)
+        return fit_term + self.model.size * math.log(independent)
 
     @cached_property
     def worst_determined(self) -> tuple[str, float] | None:
@@ -99,17 +104,28 @@ class Comparison:
 
 
 def compare_models(training: JointData, heldout: JointData | None = None, *, noise_bound: float | None = None,
-                   models: tuple[str, ...] = LADDER, low_pass=None) -> Comparison:
+                   models: tuple[str, ...] = LADDER, low_pass=None, kept=None, regressor=None) -> Comparison:
     """Fit each named model to the training data from one factorisation, and score it on the held-out data.
 
-    `low_pass` (a parallel_filter.ParallelFilter) filters every column and the
-    torque alike before the fits, as a log fit does.
+    `low_pass` (a low_pass.ParallelFilter) filters every column and the torque
+    alike before the fits, as a log fit does; `kept` (after the filter and
+    decimation) leaves out what a log fit's robust step and standstill found,
+    so that pushes do not decide the model. `regressor` (N, columns + 1)
+    replaces ALL_COLUMNS' regressor with the torque as its last column (a
+    log's, smoothed like its derivatives).
     """
-    X = ALL_COLUMNS.data_regressor(training)
-    tau = training.tau
+    if regressor is None:
+        X, tau = ALL_COLUMNS.data_regressor(training), training.tau
+    else:
+        X, tau = regressor[:, :-1], regressor[:, -1]
     if low_pass is not None and (low_pass.active or low_pass.decimation > 1):
         X, tau = low_pass.apply(X), low_pass.apply_column(tau)
+    if kept is not None:
+        X, tau = X[kept], tau[kept]
     count = len(tau)
+    independent = None
+    if low_pass is not None and low_pass.active:
+        independent = count * min(1.0, 2.0 * low_pass.cutoff * low_pass.decimation / low_pass.rate)
     factor = triangle_of(X, tau)
     heldout_X = None if heldout is None else ALL_COLUMNS.data_regressor(heldout)
     rows = []
@@ -125,7 +141,7 @@ def compare_models(training: JointData, heldout: JointData | None = None, *, noi
         if solution.estimate is not None:
             training_rmse = float(solution.residual_norm) / math.sqrt(count)
         rows.append(LadderRow(model, solution, training_rmse, heldout_rmse,
-                              parameter_uncertainty(solution, noise_bound, model)))
+                              parameter_uncertainty(solution, noise_bound, model), independent))
     return Comparison(tuple(rows), count)
 
 
