@@ -246,12 +246,12 @@ def test_estimated_derivatives_follow_the_convention(tmp_path):
     a, _, _, tau_a = logged(t, "up", clockwise=True)
     path = write_csv(tmp_path / "cw.csv", "time,angle,torque", t, a, tau_a)
     log = load_joint_log(LoadRequest(str(path), window=31, angle=AngleConvention("up", True)))
-    keep = slice(15, len(t) - 15)
-    np.testing.assert_allclose(log.data.q, q[keep], rtol=0, atol=1e-12)
-    np.testing.assert_allclose(log.data.qd, qd[keep], rtol=0, atol=1e-6)
-    np.testing.assert_allclose(log.data.qdd, qdd[keep], rtol=0, atol=1e-4)
+    keep = slice(15, len(t) - 15)  # away from the smoothing's polynomial ends
+    np.testing.assert_allclose(log.data.q, q, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(log.data.qd[keep], qd[keep], rtol=0, atol=1e-4)  # central differences: O(h^2)
+    np.testing.assert_allclose(log.data.qdd[keep], qdd[keep], rtol=0, atol=1e-2)
     # with_window derives again in the same convention.
-    np.testing.assert_allclose(log.with_window(41).data.qd, qd[20:-20], rtol=0, atol=1e-6)
+    np.testing.assert_allclose(log.with_window(41).data.qd[20:-20], qd[20:-20], rtol=0, atol=1e-4)
 
 
 # ------------------------------------------------------------------------------------------ wrapped and far-off
@@ -268,14 +268,14 @@ def test_wrapped_csv_is_unwrapped_and_fits(tmp_path, positive):
     assert jumps >= 3
     # The first sample stays; every other differs from q by the same whole turns.
     shift = a[0] - q[0]
-    np.testing.assert_allclose(log.data.q, q[15:-15] + shift, rtol=0, atol=1e-9)
-    np.testing.assert_allclose(log.data.qd, qd[15:-15], rtol=0, atol=1e-6)
+    np.testing.assert_allclose(log.data.q, q + shift, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(log.data.qd[15:-15], qd[15:-15], rtol=0, atol=1e-4)
     wrapped = "[0, 2 pi)" if positive else "(-pi, pi]"
     assert f"{path}: position is wrapped to {wrapped}: unwrapped (numpy.unwrap) at {jumps} jumps of nearly a full " \
            "turn between samples." in log.notes
     assert log.conventions["unwrapped_jumps"] == jumps and log.conventions["wrapped_range"] == wrapped
     assert np.array_equal(load_log(path, window=31).data.q, log.data.q)
-    fit = fit_log(path, window=31, cutoff=0)
+    fit = fit_log(path, window=31, cutoff=0, model="plain")
     np.testing.assert_allclose(params(fit), lstsq(q, qd, qdd, tau), rtol=1e-4)
 
 
@@ -293,7 +293,7 @@ def test_wrapped_degrees_are_unwrapped_in_degrees(tmp_path):
 def test_wrapped_arrays_are_unwrapped():
     t = np.arange(3000) * 0.004
     q, qd, qdd, tau = joint(t, spin=2.0)
-    fit = fit_log({"t": t, "q": wrap(q), "qd": qd, "qdd": qdd, "tau": tau}, cutoff=0)
+    fit = fit_log({"t": t, "q": wrap(q), "qd": qd, "qdd": qdd, "tau": tau}, cutoff=0, model="plain")
     np.testing.assert_allclose(fit.training.data.q, q, rtol=0, atol=1e-9)
     np.testing.assert_allclose(params(fit), TRUE, rtol=1e-8)
     assert any("logged q is wrapped to (-pi, pi]" in note for note in fit.notes())
