@@ -94,7 +94,7 @@ class Precision:
     """The condition number and its caveat on one line, for small terminals."""
 
 
-def parameter_notes(result: FitResult) -> tuple[PrecisionNote, ...]:
+def parameter_notes(result: FitResult, unsettled: tuple[str, ...] = ()) -> tuple[PrecisionNote, ...]:
     """One note per parameter: standard error and verdict, or what a rank-deficient fit still determines."""
     uncertainty = result.uncertainty
     model = result.model
@@ -120,8 +120,16 @@ def parameter_notes(result: FitResult) -> tuple[PrecisionNote, ...]:
         return tuple(PrecisionNote(name, "no standard error: N - p = 0") for name in model.names)
     return tuple(
         PrecisionNote(name, AT_BOUND) if verdict == AT_BOUND else PrecisionNote(name, f"± {format_number(error)}", verdict)
-        for name, error, verdict in zip(model.names, errors, uncertainty.verdicts)
+        for name, error, verdict in zip(model.names, errors, judged_verdicts(result, unsettled))
     )
+
+
+def judged_verdicts(result: FitResult, unsettled: tuple[str, ...] = ()) -> tuple[str, ...]:
+    """The verdicts, with a parameter another check moved (`unsettled`, a log's sensitivity check) never called
+    well determined."""
+    names = result.model.names
+    return tuple(WEAK if name in unsettled and verdict == WELL_DETERMINED else verdict
+                 for name, verdict in zip(names, result.uncertainty.verdicts))
 
 
 def closing_lines(result: FitResult) -> tuple[tuple[str, str], ...]:
@@ -144,9 +152,9 @@ def compact_closing_line(result: FitResult) -> str:
     return f"Cond. number {condition:.2f}, modest ≠ accurate"
 
 
-def precision(result: FitResult) -> Precision:
-    """The precision notes and closing lines of a fit."""
-    return Precision(parameter_notes(result), closing_lines(result), compact_closing_line(result))
+def precision(result: FitResult, unsettled: tuple[str, ...] = ()) -> Precision:
+    """The precision notes and closing lines of a fit (`unsettled`: parameters a log's sensitivity check moved)."""
+    return Precision(parameter_notes(result, unsettled), closing_lines(result), compact_closing_line(result))
 
 
 def uncertainty_text(result: FitResult, unsettled: tuple[str, ...] = ()) -> str:
@@ -174,9 +182,8 @@ def uncertainty_text(result: FitResult, unsettled: tuple[str, ...] = ()) -> str:
                 lines.append(f"{label:<17}{format_number(uncertainty.estimate[i]):>11}   {AT_BOUND} (no standard error)")
                 continue
             relative = uncertainty.relative_std_pct[i]
-            verdict, why = uncertainty.verdicts[i], ""
-            if parameter.name in unsettled and verdict == WELL_DETERMINED:
-                verdict, why = WEAK, ", moved by the derivative settings"
+            verdict = judged_verdicts(result, unsettled)[i]
+            why = ", moved by the derivative settings" if verdict != uncertainty.verdicts[i] else ""
             lines.append(
                 # At least one space before the verdict, however wide the error is.
                 f"{label:<17}{format_number(uncertainty.estimate[i]):>11} ± {format_number(errors[i]):<9} "
