@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import json
+import threading
+import time
 
 import numpy as np
 import pytest
@@ -106,7 +108,24 @@ async def test_a_bad_bag_is_one_notification_and_nothing_on_screen_changes(bags,
 
 @synchronous
 async def test_escape_cancels_loading_a_bag(bags, monkeypatch):
-    monkeypatch.setattr(bag_module, "BLOCK", 1)  # one message per block: long enough to cancel part-way
+    monkeypatch.setattr(bag_module, "BLOCK", 1)  # one message per block: the cancel check runs after each
+    # The reading waits after its first block until the cancel check says stop (Escape), however loaded the
+    # machine: without that the whole bag could be read before the key arrived.
+    pause = threading.Event()  # never set: its wait is the poll interval
+
+    def progress_waits_for_cancel(real_scan_init):
+        def init(self, path, reader, connections, consume, progress=None, cancel=None, limit=None):
+            def waiting_cancel():
+                if cancel is None:
+                    return False
+                deadline = time.monotonic() + 30
+                while not cancel() and time.monotonic() < deadline:
+                    pause.wait(0.01)
+                return cancel()
+            real_scan_init(self, path, reader, connections, consume, progress, waiting_cancel, limit)
+        return init
+
+    monkeypatch.setattr(bag_module._Scan, "__init__", progress_waits_for_cancel(bag_module._Scan.__init__))
     app = make_app()
     async with app.run_test(size=SIZE) as pilot:
         before = displayed_readouts(app.screen)
