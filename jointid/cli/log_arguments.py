@@ -44,7 +44,9 @@ def add_log_arguments(parser: argparse.ArgumentParser) -> None:
         "--true-* describe synthetic data and are refused with a log.",
     )
     source = group.add_mutually_exclusive_group()
-    source.add_argument("--csv", metavar="TRAIN.csv", help="fit this log instead of a synthetic experiment")
+    source.add_argument("--csv", metavar="TRAIN.csv", action=_LogRuns,
+                        help="fit this log instead of a synthetic experiment; repeat it for several runs of one "
+                        "joint, fitted alone and together")
     source.add_argument("--bag", metavar="BAG",
                         help="fit one joint of this ROS bag (ROS 1 .bag, ROS 2 folder, .mcap or .db3; "
                         "needs pip install 'jointid[ros]')")
@@ -89,6 +91,15 @@ def add_log_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--no-robust", action="store_true",
                        help="keep every sample: do not look for outside torques (pushes, collisions) to leave out")
     parser.set_defaults(**dict.fromkeys(SETTING_FLAGS))
+
+
+class _LogRuns(argparse.Action):
+    """--csv, repeatable: `csv` is the first log (the training log of a single fit), `runs` every one given."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        runs = [*(getattr(namespace, "runs", None) or ()), values]
+        namespace.runs = runs
+        namespace.csv = runs[0]
 
 
 def _time_window(text: str):
@@ -270,6 +281,8 @@ def fit_loaded_logs(args: argparse.Namespace) -> LoadedLogs:
 
 def run_log_fit(args: argparse.Namespace) -> int:
     """Load the training (and held-out) log, fit, and print text or JSON; exit status 0."""
+    if len(getattr(args, "runs", None) or ()) > 1:
+        return run_several(args)
     logs = fit_loaded_logs(args)
     if args.json:
         from ..present.documents import logs_document
@@ -280,3 +293,34 @@ def run_log_fit(args: argparse.Namespace) -> int:
 
         print(log_fit_summary(logs))
     return ExitStatus.SUCCESS
+
+
+def run_several(args: argparse.Namespace) -> int:
+    """Several runs of one joint (--csv given more than once): each fitted alone, then together; text or JSON."""
+    if args.heldout is not None or args.heldout_window is not None:
+        raise UserError("--heldout and --heldout-window: with several runs each run is predicted by the others "
+                        "instead; drop them")
+    import dataclasses
+
+    from ..logs.request import load_joint_log
+    from ..logs.table import LogError
+    from ..model.terms import model_named
+    from ..studies.runs import fit_runs
+
+    training, _ = log_requests(args)
+    try:
+        logs = [load_joint_log(dataclasses.replace(training, path=path)) for path in args.runs]
+        pooled = fit_runs(logs, model_named(args.model or LOG_MODEL), filter_options(args), exclusion_options(args),
+                          getattr(args, "constrained", False))
+    except LogError as error:
+        raise UserError(str(error)) from None
+    if args.json:
+        from ..present.runs import runs_document
+
+        print_json(runs_document(pooled))
+    else:
+        from ..present.runs import runs_text
+
+        print(runs_text(pooled))
+    return ExitStatus.SUCCESS
+

@@ -195,14 +195,12 @@ class ParameterUncertainty:
         return np.column_stack([self.estimate - half, self.estimate + half])
 
 
-def newey_west(X: np.ndarray, residuals: np.ndarray, positions: np.ndarray, lag: int,
-               factor: np.ndarray) -> tuple[np.ndarray, float]:
-    """(The Newey-West covariance of a least-squares estimate, the effective sample count) for residuals
-    correlated over `lag` steps of an evenly spaced grid, the fitted samples at `positions` on it.
-
-    `factor` is (X^T X)^-1. Scores u_i = x_i e_i; S = sum over pairs within the lag of Bartlett weights
-    (1 - k/(lag + 1)) u_i u_j^T; covariance factor S factor, scaled by N / (N - p).
-    """
+def newey_west_sum(X: np.ndarray, residuals: np.ndarray, positions: np.ndarray, lag: int
+                   ) -> tuple[np.ndarray, float]:
+    """(S, autocorrelation sum) for residuals correlated over `lag` steps of an evenly spaced grid, the fitted
+    samples at `positions` on it: S = sum over pairs within the lag of Bartlett weights (1 - k/(lag + 1))
+    u_i u_j^T of the scores u_i = x_i e_i, and 1 + 2 sum of the weighted autocorrelations (N / it: the
+    effective count)."""
     count, p = X.shape
     grid = np.zeros((int(positions[-1]) + 1 if count else 0, p))
     grid[positions] = X * residuals[:, None]
@@ -216,8 +214,16 @@ def newey_west(X: np.ndarray, residuals: np.ndarray, positions: np.ndarray, lag:
         meat += weight * (cross + cross.T)
         if c0 > 0:
             autocorrelation += 2 * weight * float(np.dot(errors[k:], errors[:-k])) / c0
-    covariance = factor @ meat @ factor * count / max(count - p, 1)
-    return covariance, count / max(autocorrelation, 1.0)
+    return meat, max(autocorrelation, 1.0)
+
+
+def newey_west(X: np.ndarray, residuals: np.ndarray, positions: np.ndarray, lag: int,
+               factor: np.ndarray) -> tuple[np.ndarray, float]:
+    """(The Newey-West covariance of a least-squares estimate, the effective sample count); `factor` is
+    (X^T X)^-1, and the covariance factor S factor is scaled by N / (N - p) (see newey_west_sum)."""
+    count, p = X.shape
+    meat, autocorrelation = newey_west_sum(X, residuals, positions, lag)
+    return factor @ meat @ factor * count / max(count - p, 1), count / autocorrelation
 
 
 def parameter_uncertainty(

@@ -175,3 +175,31 @@ def test_a_clean_coulomb_joint_loses_at_most_three_percent(seed):
     assert logs.exclusions.excluded_share <= 0.03
     for name, true in TRUTH.items():
         assert abs(logs.params[name] - true) <= max(0.03 * true, 3 * logs.bse[name]), name
+
+
+def test_the_three_runs_pooled_land_within_three_percent_of_their_mean(documents, capsys):
+    argv = ["fit", "--zero", "down", "--json"]
+    for run in RUNS:
+        argv += ["--csv", str(LOGS / f"pendulum_{run}.csv")]
+    capsys.readouterr()
+    assert main(argv) == 0
+    pooled = json.loads(capsys.readouterr().out)
+    assert [run["name"] for run in pooled["runs"]] == [f"pendulum_{run}.csv" for run in RUNS]
+    for name in ("I", "h"):
+        mean = np.mean([documents[run]["estimate"][name] for run in RUNS])
+        assert abs(pooled["pooled"]["estimate"][name] / mean - 1) <= 0.03, name
+        # each run as fitted alone is the single fit of that file
+        assert [run["estimate"][name] for run in pooled["runs"]] == [documents[r]["estimate"][name] for r in RUNS]
+    assert set(pooled["pooled"]["torque_bias"]) == {f"pendulum_{run}.csv" for run in RUNS}
+    assert all(run["predicted_by_others_rmse"] > 0 for run in pooled["runs"])
+    capsys.readouterr()
+    assert main(argv[:-1 - 6] + argv[-6:]) == 0  # the same without --json
+    text = capsys.readouterr().out
+    assert "3 runs of one joint" in text and "Scatter between the runs" in text
+
+
+def test_several_runs_take_no_heldout_log(capsys):
+    status = main(["fit", "--zero", "down", "--csv", str(LOGS / "pendulum_pd.csv"), "--csv",
+                   str(LOGS / "pendulum_ddp.csv"), "--heldout", str(LOGS / "pendulum_pd.csv")])
+    out, err = capsys.readouterr()
+    assert status == 2 and out == "" and len(err.splitlines()) == 1 and "each run is predicted by the others" in err

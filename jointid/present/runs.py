@@ -1,0 +1,71 @@
+"""Several runs of one joint in words: each run's own fit beside the pooled one, the scatter, who disagrees."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from .text import format_number, text_table
+
+if TYPE_CHECKING:
+    from ..studies.runs import PooledRuns
+
+
+def runs_text(pooled: PooledRuns) -> str:
+    """The per-run table with the pooled row, then the scatter against the errors and any disagreement."""
+    shared = pooled.shared
+    model = pooled.runs[0].result.model
+    bias = "tau0" in model.column_names
+    header = ["run", "samples", "cutoff", "left out", *shared, *(["tau0"] if bias else []), "others predict"]
+    rows = []
+    for k, run in enumerate(pooled.runs):
+        left = run.exclusions
+        share = "-" if left is None else f"{1 - left.kept.mean():.0%}"
+        cutoff = "-" if run.filter is None or not run.filter.active else f"{run.filter.cutoff:.3g} Hz"
+        other = pooled.predicted_by_others[k]
+        rows.append([run.name, str(run.result.training.count), cutoff, share,
+                     *(format_number(run.params[name]) for name in shared),
+                     *([format_number(run.params["tau0"])] if bias else []),
+                     "-" if other is None else f"{format_number(other)} N m"])
+    offsets = pooled.estimate[len(shared):]
+    rows.append(["pooled", str(sum(run.result.training.count for run in pooled.runs)), "", "",
+                 *(format_number(pooled.params[name]) for name in shared), *(["own"] if bias else []), ""])
+    rows.append(["± (Newey-West)", "", "", "", *(format_number(pooled.bse[name]) for name in shared),
+                 *([""] if bias else []), ""])
+    lines = [f"{len(pooled.runs)} runs of one joint, each prepared and fitted alone, then together (model "
+             f"{model.name}; weights 1/σ² of each run's residuals"
+             + ("; each run keeps its own torque bias" if bias else "") + "):",
+             text_table(header, rows)]
+    if bias:
+        lines.append("Pooled torque bias of each run: " + ", ".join(
+            f"{name} {format_number(value)}" for name, value in zip(pooled.names, offsets)) + " N m.")
+    lines.append("Scatter between the runs in their standard errors (about 1 when the errors are honest): "
+                 + ", ".join(f"{name} {value:.1f}" for name, value in pooled.scatter.items()) + ".")
+    if pooled.disagreements:
+        worst = {}
+        for run, name, gap in pooled.disagreements:
+            worst.setdefault(run, []).append(f"{name} {gap:.1f}")
+        lines.append("Disagrees with the pooled fit beyond their combined errors: " + "; ".join(
+            f"{run} ({', '.join(parts)} errors)" for run, parts in worst.items())
+            + ". The runs do not share one joint within their errors: read the scatter, not the ±.")
+    else:
+        lines.append("Every run agrees with the pooled fit within its errors.")
+    lines.append("Others predict: the RMS error of each run's filtered torque predicted by the pooled fit of the "
+                 "other runs (its own offset).")
+    return "\n".join(lines)
+
+
+def runs_document(pooled: PooledRuns) -> dict:
+    """The JSON of several runs: each run's own document summary, the pooled fit, the scatter, disagreements."""
+    from .documents import logs_document  # each run as `jointid fit --csv RUN --json` prints it
+
+    return {
+        "model": pooled.runs[0].result.model.name,
+        "runs": [{**logs_document(run), "name": run.name, "predicted_by_others_rmse": other,
+                  "weight": weight}
+                 for run, other, weight in zip(pooled.runs, pooled.predicted_by_others, pooled.weights)],
+        "pooled": {"estimate": dict(pooled.params), "std_error": dict(pooled.bse),
+                   "torque_bias": dict(zip(pooled.names, map(float, pooled.estimate[len(pooled.shared):])))},
+        "scatter_std_errors": pooled.scatter,
+        "disagreements": [{"run": run, "parameter": name, "combined_std_errors": gap}
+                          for run, name, gap in pooled.disagreements],
+    }

@@ -1,0 +1,165 @@
+"""Several runs of one joint: each prepared and fitted alone, then fitted together, and each predicted by the rest.
+
+Each run goes through the whole log pipeline on its own (timing, derivatives,
+its own cutoff, the robust step, standstill), because runs differ in rate,
+motion and disturbances. The pooled fit stacks every run's filtered, kept
+samples, each weighted by 1 / its own residual variance (a noisy run counts
+for less), and shares the joint's parameters; a torque bias, when the model
+has one, stays each run's own (a sensor's offset is not a property of the
+joint). Its standard errors add each run's Newey-West sum (the runs are
+independent, their samples are not). Leave-one-run-out: the other runs'
+pooled fit predicts each run's filtered torque (the run's own offset fitted
+to it), which says how well one run's joint is another's.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from dataclasses import dataclass
+from functools import cached_property
+from types import MappingProxyType
+
+import numpy as np
+
+from ..estimation.exclusion import ExclusionRequest
+from ..estimation.low_pass import FilterRequest
+from ..estimation.solver import solve_least_squares
+from ..estimation.uncertainty import covariance_factor, newey_west_sum
+from ..logs.pipeline import JointLog
+from ..model.terms import JointModel
+from .log_fit import LoadedLogs, fit_logs
+
+BIAS = "tau0"
+"""The model's torque bias term, which each run keeps for itself."""
+
+DISAGREEMENT = 3.0
+"""A run disagrees when a shared parameter differs from the pooled one by more than this many combined errors."""
+
+
+@dataclass(frozen=True, eq=False)
+class PooledRuns:
+    """Each run's own fit, the fit of all of them together, and each run predicted by the others."""
+
+    runs: tuple[LoadedLogs, ...]
+    """Each run prepared and fitted on its own, in the order given."""
+    shared: tuple[str, ...]
+    """The parameters every run shares (the model's, less its torque bias)."""
+    estimate: np.ndarray
+    """(s + b,) The pooled fit: the shared parameters, then each run's own bias when the model has one."""
+    std_error: np.ndarray
+    """(s + b,) Their standard errors (Newey-West within each run)."""
+    weights: tuple[float, ...]
+    """1 / each run's residual variance (N m)^-2."""
+    predicted_by_others: tuple[float | None, ...]
+    """RMS (N m) of each run's filtered torque less the other runs' pooled prediction (offset its own), or None
+    with fewer than two other runs... or one: None only when no other run has a unique fit."""
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """The run files' names, without their folders."""
+        return tuple(run.name for run in self.runs)
+
+    @cached_property
+    def params(self) -> MappingProxyType:
+        """The pooled shared parameters by name."""
+        return MappingProxyType(dict(zip(self.shared, map(float, self.estimate[: len(self.shared)]))))
+
+    @cached_property
+    def bse(self) -> MappingProxyType:
+        """Their standard errors by name."""
+        return MappingProxyType(dict(zip(self.shared, map(float, self.std_error[: len(self.shared)]))))
+
+    @cached_property
+    def scatter(self) -> dict[str, float]:
+        """Each shared parameter's spread over the runs (standard deviation) in units of the runs' mean standard
+        error: about 1 when the errors are honest, far above when the runs disagree beyond them."""
+        out = {}
+        for name in self.shared:
+            values = [run.params[name] for run in self.runs]
+            errors = [run.bse[name] for run in self.runs]
+            mean_error = float(np.mean(errors))
+            out[name] = float(np.std(values, ddof=1)) / mean_error if mean_error > 0 else math.inf
+        return out
+
+    @cached_property
+    def disagreements(self) -> tuple[tuple[str, str, float], ...]:
+        """(run, parameter, combined errors) where a run's own estimate differs from the pooled one by more than
+        DISAGREEMENT of their combined standard errors."""
+        found = []
+        for run in self.runs:
+            for name in self.shared:
+                combined = math.hypot(run.bse[name], self.bse[name])
+                gap = abs(run.params[name] - self.params[name]) / combined if combined > 0 else 0.0
+                if gap > DISAGREEMENT:
+                    found.append((run.name, name, gap))
+        return tuple(found)
+
+
+def fit_runs(logs: list[JointLog], model: JointModel, filtering: FilterRequest = FilterRequest(),
+             exclusion: ExclusionRequest = ExclusionRequest(), constrained: bool = False,
+             sensitivity: bool = True) -> PooledRuns:
+    """Fit each run alone, then all together; ValueError with fewer than two runs."""
+    if len(logs) < 2:
+        raise ValueError("pooling needs at least two runs")
+    runs = tuple(fit_logs(log, None, model, constrained, filtering, sensitivity, exclusion) for log in logs)
+    everyone = tuple(range(len(runs)))
+    estimate, std_error, weights = _pool(runs, everyone)
+    others = tuple(_predicted_by_others(runs, index) for index in everyone)
+    shared = tuple(name for name in model.column_names if name != BIAS)
+    return PooledRuns(runs, shared, estimate, std_error, weights, others)
+
+
+def _blocks(runs: tuple[LoadedLogs, ...], chosen: tuple[int, ...]):
+    """Each chosen run's kept, filtered rows: (shared columns, bias column or None, torque, positions, lag,
+    weight)."""
+    for index in chosen:
+        result = runs[index].result
+        names = result.model.column_names
+        X = result.training_regressor
+        shared = [j for j, name in enumerate(names) if name != BIAS]
+        bias = names.index(BIAS) if BIAS in names else None
+        residuals = result.training.tau - result.training_predictions
+        weight = 1.0 / max(float(np.mean(residuals**2)), 1e-300)
+        positions, lag = result.correlation if result.correlation is not None else (np.arange(len(X)), 0)
+        yield X[:, shared], None if bias is None else X[:, bias], result.training.tau, positions, lag, weight
+
+
+def _pool(runs: tuple[LoadedLogs, ...], chosen: tuple[int, ...]):
+    """(estimate, standard errors, weights) of the weighted fit of the chosen runs together."""
+    blocks = list(_blocks(runs, chosen))
+    has_bias = blocks[0][1] is not None
+    rows, targets = [], []
+    for k, (X, bias, tau, _, _, weight) in enumerate(blocks):
+        scale = math.sqrt(weight)
+        offsets = np.zeros((len(X), len(blocks) if has_bias else 0))
+        if has_bias:
+            offsets[:, k] = bias
+        rows.append(np.column_stack([X, offsets]) * scale)
+        targets.append(tau * scale)
+    solution = solve_least_squares(np.vstack(rows), np.concatenate(targets))
+    if solution.estimate is None:
+        size = rows[0].shape[1]
+        return np.full(size, np.nan), np.full(size, np.nan), tuple(block[-1] for block in blocks)
+    factor = covariance_factor(solution)
+    meat = np.zeros_like(factor)
+    for X, target, (_, _, _, positions, lag, _) in zip(rows, targets, blocks):
+        meat += newey_west_sum(X, target - X @ solution.estimate, positions, lag)[0]
+    covariance = factor @ meat @ factor
+    return solution.estimate, np.sqrt(np.diag(covariance)), tuple(block[-1] for block in blocks)
+
+
+def _predicted_by_others(runs: tuple[LoadedLogs, ...], index: int) -> float | None:
+    """RMS of run `index`'s filtered torque less the other runs' pooled prediction, its offset its own."""
+    others = tuple(k for k in range(len(runs)) if k != index)
+    estimate, _, _ = _pool(runs, others)
+    if not np.all(np.isfinite(estimate)):
+        return None
+    X, _, tau, _, _, _ = next(_blocks(runs, (index,)))
+    residual = tau - X @ estimate[: X.shape[1]]
+    return float(np.sqrt(np.mean((residual - residual.mean()) ** 2)))
+
+
+def run_name(path: str) -> str:
+    """A run's file name without its folder."""
+    return os.path.basename(os.path.normpath(path))
