@@ -62,7 +62,6 @@ def test_each_run_is_within_ten_percent_of_the_three_runs_mean(documents):
 
 def test_the_energy_shaping_runs_pushes_are_left_out_and_the_pd_run_keeps_its_motion(documents):
     def inside(document):
-        span = document["logs"]["training"]
         return [(a, b) for a, b in document["excluded"] if a > 0.5 and b < 19.5]
 
     pushes = inside(documents["energy_shaping"])
