@@ -66,6 +66,8 @@ class Exclusions:
     """Robust scales a residual must exceed to start a flagged stretch, or None without the robust step."""
     since: np.ndarray
     """(n,) Each sample's time from the log's start (s)."""
+    estimate: np.ndarray | None = None
+    """The robust step's estimate of the filtered columns' coefficients, or None without it."""
 
     @property
     def excluded(self) -> tuple[tuple[float, float], ...]:
@@ -182,11 +184,15 @@ def standstill(speed: np.ndarray, resolution: float, support: int) -> tuple[np.n
 
 
 def outside_torques(X: np.ndarray, y: np.ndarray, usable: np.ndarray, rest: np.ndarray, coulomb: int | None,
-                    support: int, lag: int) -> tuple[np.ndarray, float]:
-    """(True where an outside torque acts, the level in robust scales that starts a flagged stretch).
+                    support: int, lag: int, start: np.ndarray | None = None
+                    ) -> tuple[np.ndarray, float, np.ndarray | None]:
+    """(True where an outside torque acts, the level in robust scales that starts a flagged stretch, the robust
+    estimate of X's coefficients).
 
     `usable`: the samples the robust fit may use (standstill left out); `rest`: samples at rest, where
-    friction up to BREAKAWAY_RATIO x Fc is static, not a push; `coulomb`: the Coulomb column's index or None.
+    friction up to BREAKAWAY_RATIO x Fc is static, not a push; `coulomb`: the Coulomb column's index or None;
+    `start`: a robust estimate of the same joint already found (another filter of the same log), from which
+    the bisquare step starts instead of a new high-breakdown search.
     """
     rng = np.random.default_rng(SEED)
     # In units where every column and the torque are about 1: the flags do not depend on units, and data of
@@ -197,12 +203,13 @@ def outside_torques(X: np.ndarray, y: np.ndarray, usable: np.ndarray, rest: np.n
         torque_scale = float(np.max(np.abs(y))) or 1.0
         X, y = X / column_scale, y / torque_scale
     Xu, yu = X[usable], y[usable]
-    theta = fast_lts(Xu, yu, rng)
+    theta = fast_lts(Xu, yu, rng) if start is None else start * column_scale / torque_scale
     theta = bisquare(Xu, yu, theta, mad_scale(yu - Xu @ theta))
+    estimate = theta * torque_scale / column_scale
     residuals = y - X @ theta
     scale = mad_scale(residuals[usable])
     if not scale > 1e-12 * rms(y):  # an exact fit (noise-free data): nothing stands out
-        return np.zeros(len(y), dtype=bool), math.inf
+        return np.zeros(len(y), dtype=bool), math.inf, estimate
     z = np.abs(residuals) / scale
     if coulomb is not None:
         static = np.abs(residuals + theta[coulomb] * X[:, coulomb]) - BREAKAWAY_RATIO * abs(theta[coulomb])
@@ -219,7 +226,7 @@ def outside_torques(X: np.ndarray, y: np.ndarray, usable: np.ndarray, rest: np.n
     for (_, end), (start, _) in zip(stretches[:-1], stretches[1:]):
         if start - end - 1 < 2 * support:
             flagged[end:start] = True
-    return flagged, level
+    return flagged, level, estimate
 
 
 def intervals(mask: np.ndarray, t: np.ndarray) -> tuple[tuple[float, float], ...]:

@@ -145,8 +145,7 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
             raise LogError(
                 log.path, "its predicted torques overflow double precision; rescale its columns (other units)"
             )
-    found = None if exclusions is None else exclusions.excluded
-    check = _sensitivity(training, model, constrained, chosen, result, regressor, exclusion, found) \
+    check = _sensitivity(training, model, constrained, chosen, result, regressor, exclusion, exclusions) \
         if sensitivity else None
     return LoadedLogs(training, heldout, result, chosen, filtering, check, exclusions, exclusion)
 
@@ -165,7 +164,7 @@ def low_pass_for(log: JointLog, request: FilterRequest) -> ParallelFilter:
 def _fit(training: JointLog, heldout: JointLog | None, model: JointModel, constrained: bool,
          chosen: ParallelFilter, regressor: np.ndarray | None = None,
          exclusion: ExclusionRequest = ExclusionRequest(), found: tuple[tuple[float, float], ...] | None = None,
-         ) -> tuple[FitResult, Exclusions | None]:
+         start: np.ndarray | None = None) -> tuple[FitResult, Exclusions | None]:
     """The fit of the training log's regressor and torque after the parallel low-pass and decimation, leaving out
     what `exclusion` asks, and those exclusions (None when the log has no times to place them on).
 
@@ -179,7 +178,8 @@ def _fit(training: JointLog, heldout: JointLog | None, model: JointModel, constr
     filtered = chosen.apply(X[:, :-1])
     tau = chosen.apply_column(X[:, -1])
     t = None if data.t is None else data.t[rows]
-    exclusions = None if t is None else _exclusions(training, model, chosen, filtered, tau, t, exclusion, found)
+    exclusions = None if t is None else _exclusions(training, model, chosen, filtered, tau, t, exclusion, found,
+                                                    start)
     kept = np.ones(len(rows), dtype=bool) if exclusions is None else exclusions.kept
     fitted = JointData(t=None if t is None else t[kept], q=data.q[rows][kept], qd=data.qd[rows][kept],
                        qdd=data.qdd[rows][kept], tau=tau[kept])
@@ -222,9 +222,10 @@ def smoothed_regressor(log: JointLog, model: JointModel) -> np.ndarray:
 
 
 def _exclusions(training: JointLog, model: JointModel, chosen: ParallelFilter, X: np.ndarray, tau: np.ndarray,
-                t: np.ndarray, request: ExclusionRequest, found) -> Exclusions:
+                t: np.ndarray, request: ExclusionRequest, found, start=None) -> Exclusions:
     """What the fit of a filtered log leaves out: standstill (with a Coulomb term), outside torques found by the
-    robust step (or `found` before), and the intervals given by hand."""
+    robust step (or `found` before; `start`: its estimate on another filter of this log), and the intervals given
+    by hand."""
     origin = None if training.source is None else training.source.table.start_time
     since = t - (training.data.t[0] if origin is None else origin)
     support = 0 if not chosen.active else max(1, math.ceil(chosen.support * chosen.rate / chosen.decimation))
@@ -244,18 +245,18 @@ def _exclusions(training: JointLog, model: JointModel, chosen: ParallelFilter, X
             raise LogError(training.path, f"--exclude {start:g}:{'' if math.isinf(end) else f'{end:g}'} holds no "
                            f"sample; the log spans 0 to {float(since[-1]):.6g} s from its start")
         pushes |= inside
-    level = None
+    level = estimate = None
     if found is not None:
         for start, end in found:
             pushes |= (since >= start) & (since <= end)
     elif request.robust and (~still).sum() > 4 * X.shape[1]:
         lag = max(int(4 * (len(t) / 100) ** (2 / 9)), 2 * support)
-        flagged, level = outside_torques(X, tau, ~still & ~pushes, rest, coulomb, support, lag)
+        flagged, level, estimate = outside_torques(X, tau, ~still & ~pushes, rest, coulomb, support, lag, start)
         pushes |= flagged
     if not (~(pushes | still)).any():
         raise LogError(training.path, "leaves no sample to fit after leaving out standstill and outside torques; "
                        "fit it with --no-robust or --model plain")
-    return Exclusions(pushes, still, threshold, level, since)
+    return Exclusions(pushes, still, threshold, level, since, estimate)
 
 
 def _speed_resolution(log: JointLog, chosen: ParallelFilter) -> float:
@@ -270,7 +271,7 @@ def _speed_resolution(log: JointLog, chosen: ParallelFilter) -> float:
 
 def _sensitivity(training: JointLog, model: JointModel, constrained: bool, chosen: ParallelFilter,
                  result: FitResult, regressor: np.ndarray | None, exclusion: ExclusionRequest,
-                 found: tuple[tuple[float, float], ...] | None) -> SensitivityCheck | None:
+                 exclusions: Exclusions | None) -> SensitivityCheck | None:
     """Refits with the derivative window, then the cutoff, halved and doubled; None without a unique fit.
 
     `regressor`: the training log's full-rate regressor, which the cutoff refits filter again.
@@ -289,8 +290,10 @@ def _sensitivity(training: JointLog, model: JointModel, constrained: bool, chose
                 continue
             try:
                 log = training.with_window(other)
-                # Another window has other polynomial ends: the robust step looks again (a push stays a push).
-                fit, _ = _fit(log, None, model, constrained, low_pass_for(log, same), None, exclusion)
+                # Another window has other polynomial ends: the robust step looks again, from the chosen fit's
+                # robust estimate (the same joint) rather than a new high-breakdown search.
+                start = None if exclusions is None else exclusions.estimate
+                fit, _ = _fit(log, None, model, constrained, low_pass_for(log, same), None, exclusion, None, start)
             except LogError:  # too short for the wider window: that variant is skipped
                 continue
             variants.append(Variant("window", factor, other, chosen.cutoff, fit.estimate))
@@ -300,6 +303,7 @@ def _sensitivity(training: JointLog, model: JointModel, constrained: bool, chose
             # ends, where the filter windows differ in length) and differ only by the cutoff.
             request = FilterRequest(chosen.cutoff * factor, chosen.decimation)
             try:
+                found = None if exclusions is None else exclusions.excluded
                 fit, _ = _fit(training, None, model, constrained, low_pass_for(training, request), regressor,
                               exclusion, found)
             except LogError:  # a doubled cutoff beyond the Nyquist frequency: skipped
