@@ -203,9 +203,13 @@ def outside_torques(X: np.ndarray, y: np.ndarray, usable: np.ndarray, rest: np.n
         torque_scale = float(np.max(np.abs(y))) or 1.0
         X, y = X / column_scale, y / torque_scale
     Xu, yu = X[usable], y[usable]
-    theta = fast_lts(Xu, yu, rng) if start is None else start * column_scale / torque_scale
+    with np.errstate(all="ignore"):  # a start from data of extreme magnitude: checked just below
+        theta = None if start is None else start * column_scale / torque_scale
+    if theta is None or not np.all(np.isfinite(theta)):
+        theta = fast_lts(Xu, yu, rng)
     theta = bisquare(Xu, yu, theta, mad_scale(yu - Xu @ theta))
-    estimate = theta * torque_scale / column_scale
+    with np.errstate(all="ignore"):  # in the log's units it may leave double range; the flags do not need it
+        estimate = theta * torque_scale / column_scale
     residuals = y - X @ theta
     scale = mad_scale(residuals[usable])
     if not scale > 1e-12 * rms(y):  # an exact fit (noise-free data): nothing stands out
