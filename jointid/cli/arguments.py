@@ -6,6 +6,7 @@ import argparse
 import math
 import re
 import sys
+from typing import TYPE_CHECKING
 
 from ..options import (
     FIELDS,
@@ -19,7 +20,6 @@ from ..options import (
 )
 from .exit_status import ExitStatus
 
-TYPE_CHECKING = False  # typing itself would cost 3 ms of every start
 if TYPE_CHECKING:
     from ..synthetic.settings import Settings
 
