@@ -20,7 +20,6 @@ from textual.app import ComposeResult
 from textual.binding import Binding
 from textual.containers import Horizontal, Vertical
 from textual.content import Content
-from textual.events import ScreenResume
 from textual.screen import Screen
 from textual.widgets import Static
 
@@ -42,8 +41,8 @@ from ..widgets.footer import KeyFooter
 from ..widgets.readouts import ReadoutPanel
 from ..widgets.stepper import Stepper
 
-# The log reader, file dialog, progress dialog and export are imported when first used:
-# the explorer's first frame needs none of them (about 15 ms of start-up).
+# The log reader, file dialog, progress dialog, export and views are imported when first used:
+# the first frame needs none of them, which buys 0.18 of the explorer's start (bench_startup_budget lazy-ui-modules).
 if TYPE_CHECKING:
     from jointid.studies.log_fit import LoadedLogs, LoadRequest
 
@@ -193,7 +192,6 @@ class MainScreen(Screen):
         """The fit on screen, of whichever source is shown."""
         self._known_joint = settings.true_joint
         self._title_text = ""
-        self._shown_once = False
         self.designed = None if isinstance(settings.motion, str) else settings.motion
         """The designed FourierMotion, the motion list's fourth entry once there is one."""
         self.design_view_state: tuple = (None, None, "d")
@@ -236,18 +234,6 @@ class MainScreen(Screen):
     def on_mount(self) -> None:
         """Show the initial source."""
         self.show_source()
-
-    def on_screen_resume(self, event: ScreenResume) -> None:
-        """The first time the screen shows, keep its styles: each widget was styled as it mounted.
-
-        Textual restyles every widget of a screen that resumes, for CSS that changed while it was
-        covered; on the first resume nothing has covered it, and restyling the whole screen again
-        cost about 4 ms of the start-up (perf_counter marks, 2026-11-23). Later resumes (a dialog
-        or view closing) restyle as usual. Runs before Textual's own handler.
-        """
-        if not self._shown_once:
-            self._shown_once = True
-            event.refresh_styles = False
 
     def on_resize(self) -> None:
         """Compact rows on small terminals; a plain message when the terminal is too small to read."""
