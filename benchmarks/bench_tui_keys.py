@@ -229,13 +229,6 @@ class StockChart:
             tune_gc = restore_gc = True
             on_ready = JointIdApp.on_ready
             on_unmount = JointIdApp.on_unmount
-            resume_gc = JointIdApp.resume_gc  # called by both (the app pauses the collector until its first frame)
-            collect_when_idle = JointIdApp.collect_when_idle
-
-            def on_event(self, event: events.Event):
-                if isinstance(event, events.Key) and hasattr(self, "_idle_collection"):
-                    self._idle_collection.reset()  # as JointIdApp.on_event
-                return super().on_event(event)
 
             def compose(self) -> ComposeResult:
                 yield PlotextPlot()
