@@ -7,15 +7,17 @@ trick undone (a monkeypatch or an import made before the path starts, the code
 a stock Python program would run instead): each round launches the two side by
 side, alternating, BEST_OF times each, and keeps each one's fastest launch
 (other work on a shared machine only ever slows a launch down); the tricks'
-order rotates from round to round. The paths are `jointid fit --motion rich` (the console script, tui.command),
-`jointid --help`, `jointid sweep`, and the `jointid` command to the explorer's
-first complete frame at 120x40 and the process's end (bench_tui_startup's
-COMMAND). What a trick buys is 1 - with / without per round: the share of its
-path's time (without the trick) it saves; printed as min / median / max over
-the rounds, wall and CPU. The budget's rule: a trick whose median buys less
-than 0.05 goes. Tricks that speed key presses rather than start-up are timed by
-bench_tui_keys.py (`--gc both`, `--adapter NAME`). NAME arguments run only
-those tricks. Bytecode caching is allowed, as on a user's machine.
+order rotates from round to round. The paths are `jointid fit --motion rich`
+(the console script, tui.command), `jointid --help`, `jointid sweep`, and the
+`jointid` command to the explorer's first complete frame at 120x40 and the
+process's end (bench_tui_startup's COMMAND). What a trick buys is
+1 - with / without per round: the share of its path's time (without the trick)
+it saves; printed as min / median / max over the rounds, wall and CPU. The
+budget's rule: a trick whose median buys less than 0.05 goes
+(benchmarks/README.md, "Start-up budget", lists those removed). Tricks that
+speed key presses rather than start-up are timed by bench_tui_keys.py
+(`--gc both`, `--adapter KEY`). NAME arguments run only those tricks. Bytecode
+caching is allowed, as on a user's machine.
 """
 
 from __future__ import annotations
@@ -70,29 +72,10 @@ TRICKS = {
     # name: (where, path, code as shipped, code with the trick undone)
     "end-process": ("jointid/cli/output.py end_process", FIT_PATH, command(FIT),
                     command(FIT, "import jointid.cli\njointid.cli.end_process = lambda status: None")),
-    "named-subcommand-parser": (
-        "jointid/cli/__init__.py build_parser(command)", FIT_PATH, command(FIT),
-        command(FIT, "import jointid.cli as cli\nbuild = cli.build_parser\n"
-                     "cli.build_parser = lambda command=None, *, subcommands=True: build(None, subcommands=subcommands)")),
-    "subparsers-prog": (
-        "jointid/cli/__init__.py add_subparsers(prog=...)", FIT_PATH, command(FIT),
-        command(FIT, "import argparse\nadd = argparse.ArgumentParser.add_subparsers\n"
-                     "def add_subparsers(self, **kwargs):\n    kwargs.pop('prog', None)\n    return add(self, **kwargs)\n"
-                     "argparse.ArgumentParser.add_subparsers = add_subparsers")),
-    "terminal-width-on-help": ("jointid/cli/arguments.py TerminalWidthFormatter", FIT_PATH, command(FIT),
-                               command(FIT, "import shutil\nshutil.get_terminal_size()")),
-    "no-typing-import": ("TYPE_CHECKING = False (arguments, log_arguments, settings)", FIT_PATH, command(FIT),
-                         command(FIT, "import typing")),
     "metadata-on-version": ("jointid/cli/version.py", FIT_PATH, command(FIT), command(FIT, "import importlib.metadata")),
     "student-t-quantile": ("jointid/estimation/student_t.py (no scipy.special)", FIT_PATH, command(FIT),
                            command(FIT, "import scipy.special")),
-    "no-statistics": ("jointid/estimation/student_t.py normal quantile", FIT_PATH, command(FIT),
-                      command(FIT, "import statistics")),
-    "patterns-on-first-use": (
-        "jointid/options.py _DECIMAL, _WHOLE", FIT_PATH, command(FIT),
-        command(FIT, "import re\nfrom jointid import options\nre.compile(options._DECIMAL, re.ASCII | re.IGNORECASE)\n"
-                     "re.compile(options._WHOLE, re.ASCII)")),
-    "json-on-output": ("jointid/present/documents.py", FIT_PATH, command(FIT), command(FIT, "import json")),
+    "pandas-on-first-use": ("jointid/logs/csv_reader.py", FIT_PATH, command(FIT), command(FIT, "import pandas")),
     "lazy-core-modules": (
         "every jointid module imported where first used", FIT_PATH, command(FIT),
         command(FIT, "import importlib, pkgutil, jointid\n"
@@ -103,30 +86,31 @@ TRICKS = {
                            command(["--help"], "import jointid\nfor name in jointid.__all__:\n    getattr(jointid, name)")),
     "sweep-no-percentile": ("jointid/studies/sweep.py (no numpy.ma)", "`jointid sweep`", command(["sweep"]),
                             command(["sweep"], "import numpy.ma")),
-    "explorer-flags-alone": (
-        "jointid/cli/__init__.py parse (two stages)", EXPLORER_PATH, explorer(),
-        explorer("import jointid.cli as cli\ncli.parse = lambda argv: cli.build_parser(None).parse_args(argv)")),
+    # Both keep importlib.metadata out of the explorer's start (tests/tui/test_startup.py), so they go or stay
+    # together: the pair is what decides; each alone is printed beside it.
+    "metadata-off-explorer-start": (
+        "tui/command.py and adapter.installed_version together", EXPLORER_PATH, explorer(),
+        explorer("from tui.third_party import adapter\nadapter._version_beside_package = lambda name: None",
+                 module="jointid.cli")),
     "entry-point-hand-over": ("tui/command.py", EXPLORER_PATH, explorer(), explorer(module="jointid.cli")),
     "versions-from-dist-info": (
         "tui/third_party/adapter.py installed_version", EXPLORER_PATH, explorer(),
         explorer("from tui.third_party import adapter\nadapter._version_beside_package = lambda name: None")),
-    "gc-paused-to-first-frame": (
-        "tui/app.py JointIdApp.on_load", EXPLORER_PATH, explorer(),
-        explorer("import gc\nfrom tui.app import JointIdApp\nload = JointIdApp.on_load\n"
-                 "def on_load(self):\n    load(self)\n    self.resume_gc()\nJointIdApp.on_load = on_load")),
+    "gc-frozen-at-first-frame": (
+        "tui/app.py JointIdApp.on_ready (gc.freeze)", EXPLORER_PATH, explorer(),
+        explorer("import gc\ngc.freeze = lambda: None")),
     "no-gc-restore-at-exit": (
         "tui/app.py restore_gc, tui/entry.py", EXPLORER_PATH, explorer(),
         explorer("from tui.app import JointIdApp\nunmount = JointIdApp.on_unmount\n"
                  "def on_unmount(self):\n    self.restore_gc = True\n    unmount(self)\nJointIdApp.on_unmount = on_unmount")),
-    "first-resume-keeps-styles": (
-        "tui/screens/main.py on_screen_resume", EXPLORER_PATH, explorer(),
-        explorer("from tui.screens.main import MainScreen\nMainScreen.on_screen_resume = lambda self, event: None")),
     "lazy-ui-modules": (
         "tui's screens and jointid's log reader imported when first used", EXPLORER_PATH, explorer(),
         explorer("import importlib, pkgutil, tui\n"
                  "for info in pkgutil.walk_packages(tui.__path__, 'tui.'):\n"
                  "    importlib.import_module(info.name)\n"
                  "import jointid.studies.log_fit, jointid.present.documents")),
+    # The adapters speed key presses, the path that decides them (bench_tui_keys.py --adapter KEY); this is their
+    # share of the start, for information.
     "adapters-at-start": (
         "tui/third_party/adapter.py (all four)", EXPLORER_PATH, explorer(),
         explorer("from tui.third_party import adapter\ncheck = adapter.check\n"

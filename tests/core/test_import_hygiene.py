@@ -42,8 +42,7 @@ def test_the_installed_command_hands_its_explorer_over_and_loads_no_ui_for_a_sub
 
 
 def test_fit_imports_no_scipy():
-    # The 95 % interval's Student-t quantile is pure Python (jointid.estimation.student_t); scipy.special
-    # alone took about 300 ms of every `jointid fit`.
+    # The 95 % interval's Student-t quantile is pure Python (jointid.estimation.student_t has the figure).
     assert packages_loaded("jointid.cli", {"scipy"}, run="jointid.cli.main(['fit', '--noise', '0.2', '--json'])") == []
 
 
