@@ -229,6 +229,7 @@ class StockChart:
             tune_gc = restore_gc = True
             on_ready = JointIdApp.on_ready
             on_unmount = JointIdApp.on_unmount
+            resume_gc = JointIdApp.resume_gc  # called by both (the app pauses the collector until its first frame)
 
             def compose(self) -> ComposeResult:
                 yield PlotextPlot()

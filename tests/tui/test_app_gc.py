@@ -6,11 +6,13 @@ import asyncio
 import gc
 
 import pytest
-from support.tui_support import make_app
+from support.tui_support import THEME, make_app
+
+from tui.app import JointIdApp
 
 
 def collector_state() -> tuple[tuple[int, int, int], int, bool]:
-    """The process-wide settings the app could change while it runs."""
+    """The process-wide settings the app changes while it runs (it pauses the collector until its first frame)."""
     return gc.get_threshold(), gc.get_freeze_count(), gc.isenabled()
 
 
@@ -33,6 +35,26 @@ def test_a_run_under_pilot_leaves_the_collector_as_it_was():
     during = asyncio.run(main())
     assert during != before  # the tuning was in effect while the app ran
     assert collector_state() == before
+
+
+def test_the_collector_is_paused_while_the_screen_is_built_and_runs_from_the_first_frame():
+    seen = {}
+
+    class Recording(JointIdApp):
+        def on_mount(self) -> None:  # after on_load, while the main screen is being built
+            seen["building"] = gc.isenabled()
+
+    async def main():
+        app = Recording()
+        app.theme = THEME
+        async with app.run_test(size=(120, 40)) as pilot:
+            await pilot.pause()
+            seen["ready"] = gc.isenabled()
+
+    assert gc.isenabled()
+    asyncio.run(main())
+    assert seen == {"building": False, "ready": True}
+    assert gc.isenabled()
 
 
 def test_a_run_that_crashes_leaves_the_collector_as_it_was():
