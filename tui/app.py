@@ -65,7 +65,7 @@ class JointIdApp(App):
     restore_gc = True
     """Whether the run's end gives the collector back as it was. `jointid` (tui/entry.py) turns it off: its
     process ends with the app, and unfreezing first makes that exit walk the whole heap; not doing so buys
-    0.14 of the explorer's start to the process's end (bench_startup_budget no-gc-restore-at-exit)."""
+    0.10 of the explorer's start to the process's end (bench_startup_budget no-gc-restore-at-exit)."""
 
     def on_load(self) -> None:
         """Pause the garbage collector until the first frame; turn on the third-party adapters the installed
@@ -87,7 +87,7 @@ class JointIdApp(App):
         """Exempt everything built so far from garbage collection scans, for this run only.
 
         Textual, numpy and plotext leave a large heap of objects that live as long as the app; frozen, no
-        collection walks them again, nor does the process's exit: that buys 0.13 of the explorer's start to
+        collection walks them again, nor does the process's exit: that buys 0.10 of the explorer's start to
         the process's end (bench_startup_budget gc-frozen-at-first-frame). `on_unmount` unfreezes, so a test
         or a program embedding the app gets its collector back as it was. Objects someone else froze are
         left alone.

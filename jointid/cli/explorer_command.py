@@ -7,8 +7,8 @@ entry function checks the explorer's own, narrower ranges and raises
 SettingsError for a value outside them.
 
 The installed `jointid` command starts in the UI (tui/command.py), which hands
-the entry function over itself: the entry-point lookup imports importlib.metadata,
-a few per cent of an explorer start that `python -m jointid` still spends.
+the entry function over itself, sparing the entry-point lookup that `python -m
+jointid` still makes (tui/command.py has the figure).
 """
 
 from __future__ import annotations

@@ -20,7 +20,7 @@ def end_process(status: int) -> NoReturn:
 
     For the console script after a subcommand: every file it wrote is closed by then, and the interpreter's
     teardown (freeing every module's objects one by one) only does what the operating system does when the
-    process ends; skipping it buys 0.12 of `jointid fit`'s start (bench_startup_budget end-process). A reader
+    process ends; skipping it buys 0.10 of `jointid fit`'s start (bench_startup_budget end-process). A reader
     that left (`jointid fit | head -1`) is no error.
     """
     try:

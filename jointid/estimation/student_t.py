@@ -1,6 +1,6 @@
 """Student-t quantiles in pure Python, so that intervals need no scipy.
 
-Not importing ``scipy.special`` for one quantile per fit buys 0.56 of ``jointid
+Not importing ``scipy.special`` for one quantile per fit buys 0.54 of ``jointid
 fit``'s start (bench_startup_budget student-t-quantile). This module uses only
 the standard library.
 

@@ -43,7 +43,7 @@ from ..widgets.readouts import ReadoutPanel
 from ..widgets.stepper import Stepper
 
 # The log reader, file dialog, progress dialog, export and views are imported when first used:
-# the first frame needs none of them, which buys 0.18 of the explorer's start (bench_startup_budget lazy-ui-modules).
+# the first frame needs none of them, which buys 0.15 of the explorer's start (bench_startup_budget lazy-ui-modules).
 if TYPE_CHECKING:
     from jointid.studies.log_fit import LoadedLogs, LoadRequest
 

@@ -72,8 +72,8 @@ def installed_version(distribution: str) -> str | None:
     """The installed version of a distribution, or None when it is not installed.
 
     Read from the name of the `<name>-<version>.dist-info` folder beside the package
-    when there is one: importlib.metadata alone (with the email parser it loads)
-    cost about 10 ms of the explorer's start-up, for three version strings.
+    when there is one, which keeps importlib.metadata out of the explorer's start
+    (tui/command.py has the figure).
     """
     version = _version_beside_package(distribution)
     if version is not None:
