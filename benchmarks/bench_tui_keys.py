@@ -42,7 +42,7 @@ of the min, median, p95 and max latency are printed: the figure that decides
 whether the tuning stays. Each app restores the collector when it exits, so
 the runs do not inherit each other's setting.
 
-With `--adapter KEY` (a key of `tui.third_party.adapter.ADAPTERS`, e.g. dirty-renders) the
+With `--adapter KEY` (a key of `tui.third_party.adapter.ADAPTERS`, e.g. chart-matrix) the
 explorer's runs alternate between every adapter on and that one off (its stock path), and
 the same ratios, stock / adapter, are printed: what the adapter buys a key press is one
 minus the inverse of the median's (benchmarks/bench_startup_budget.py times the start-up).
