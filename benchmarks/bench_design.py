@@ -109,7 +109,7 @@ async def key_latency(rounds: int, presses: int) -> list[tuple[list[float], list
     from textual import events
     from textual.widgets import ProgressBar
 
-    from tui import third_party
+    from tui.third_party import adapter as third_party
     from tui.app import JointIdApp
     from tui.screens.design import DesignScreen
 

@@ -1,6 +1,6 @@
 """Key press to fully updated explorer screen, headless at 120x40, against a stock PlotextPlot.
 
-Run: .venv/bin/python benchmarks/bench_tui_keys.py [--runs N] [--gc tuned|stock|both] [--model NAME]
+Run: .venv/bin/python benchmarks/bench_tui_keys.py [--runs N] [--gc tuned|stock|both] [--model NAME] [--adapter KEY]
 
 The app runs headless under Pilot (`run_test`), which also focuses each control
 in turn. The 200 presses across every control (noise, samples and seed fields
@@ -41,6 +41,11 @@ With `--gc both` the explorer's runs alternate instead between the app's garbage
 of the min, median, p95 and max latency are printed: the figure that decides
 whether the tuning stays. Each app restores the collector when it exits, so
 the runs do not inherit each other's setting.
+
+With `--adapter KEY` (a key of `tui.third_party.adapter.ADAPTERS`, e.g. chart-matrix) the
+explorer's runs alternate between every adapter on and that one off (its stock path), and
+the same ratios, stock / adapter, are printed: what the adapter buys a key press is one
+minus the inverse of the median's (benchmarks/bench_startup_budget.py times the start-up).
 """
 
 from __future__ import annotations
@@ -57,7 +62,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from textual import events  # noqa: E402
 
 from jointid.synthetic.settings import Settings  # noqa: E402
-from tui import third_party  # noqa: E402
+from tui.third_party import adapter as third_party  # noqa: E402
 from tui.app import JointIdApp  # noqa: E402
 from tui.screens.main import MainScreen, cached_experiment  # noqa: E402
 from tui.widgets.torque_plot import TorquePlot  # noqa: E402
@@ -225,12 +230,6 @@ class StockChart:
             on_ready = JointIdApp.on_ready
             on_unmount = JointIdApp.on_unmount
             resume_gc = JointIdApp.resume_gc  # called by both (the app pauses the collector until its first frame)
-            collect_when_idle = JointIdApp.collect_when_idle
-
-            def on_event(self, event: events.Event):
-                if isinstance(event, events.Key) and hasattr(self, "_idle_collection"):
-                    self._idle_collection.reset()  # as JointIdApp.on_event
-                return super().on_event(event)
 
             def compose(self) -> ComposeResult:
                 yield PlotextPlot()
@@ -340,6 +339,54 @@ def compare_with_stock_chart(rounds: int) -> bool:
     return met
 
 
+def without_adapter(key: str):
+    """Turn every adapter on but `key` (its stock path); returns the undo, which turns them all on."""
+    check = third_party.check
+
+    def check_without():
+        usable, lines = check()
+        return usable | {key: False}, lines
+
+    third_party.uninstall()
+    third_party.check = check_without
+    third_party.activate()
+
+    def undo() -> None:
+        third_party.uninstall()
+        third_party.check = check
+        third_party.activate()
+
+    return undo
+
+
+def compare_adapter_latency(key: str, runs: int) -> None:
+    """Key latency with every adapter against `key` switched off, alternating fresh apps (A B B A ...)."""
+    third_party.activate()
+    third_party.after_compositor_refresh(after_refresh)
+    asyncio.run(measure())  # warm-up, untimed: imports and first-use caches
+    everything: dict[str, list[float]] = {"adapter": [], "stock": []}
+    medians: dict[str, list[float]] = {"adapter": [], "stock": []}
+    order = [name for pair in range(runs) for name in (("adapter", "stock") if pair % 2 == 0 else ("stock", "adapter"))]
+    for name in order:
+        undo = without_adapter(key) if name == "stock" else None
+        try:
+            latencies, _, _, _ = asyncio.run(measure())
+        finally:
+            if undo is not None:
+                undo()
+        everything[name] += latencies
+        medians[name].append(statistics.median(latencies))
+        print(f"{key} {'off' if name == 'stock' else 'on'}: {summary(latencies)}")
+    adapter, stock = everything["adapter"], everything["stock"]
+    ratios = [s / a for s, a in zip(medians["stock"], medians["adapter"])]
+    print(f"stock / adapter ({key}), all presses: median {statistics.median(stock) / statistics.median(adapter):.3f}, "
+          f"p95 {percentile(stock, 0.95) / percentile(adapter, 0.95):.3f}; per pair of runs, medians: "
+          f"{min(ratios):.3f} / {statistics.median(ratios):.3f} / {max(ratios):.3f}")
+    print(f"what it buys a key press (1 - adapter / stock, medians per pair): "
+          f"{min(1 - 1 / r for r in ratios):+.3f} / {statistics.median(1 - 1 / r for r in ratios):+.3f} / "
+          f"{max(1 - 1 / r for r in ratios):+.3f}")
+
+
 def compare_models_latency(model: str, rounds: int) -> None:
     """Key latency with `model` against the plain model, alternating fresh apps (A B B A ...)."""
     third_party.activate()
@@ -366,7 +413,13 @@ def main() -> None:
     parser.add_argument("--model", default=None, metavar="NAME",
                         help="also time the explorer fitting this model, alternating with the plain model, "
                              "and print the ratio (e.g. coulomb+bias)")
+    parser.add_argument("--adapter", default=None, metavar="KEY",
+                        choices=[adapter.key for adapter in third_party.ADAPTERS],
+                        help="time the explorer with every adapter on against this one off, alternating")
     args = parser.parse_args()
+    if args.adapter is not None:
+        compare_adapter_latency(args.adapter, args.runs or RUNS)
+        return
     if args.model is not None:
         compare_models_latency(args.model, args.runs or RUNS)
         return

@@ -153,15 +153,14 @@ LIMIT_SYMBOLS = {"q_max": "|q|", "qd_max": "|qd|", "qdd_max": "|qdd|", "tau_max"
 # what it shows in any terminal font, so only ASCII decimal notation is read
 # here; inf and nan are still read, so that range checks can say what is wrong.
 
-# Compiled on first use (re caches them): a command given no number should not pay 0.3 ms for them.
-_DECIMAL = r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?|[+-]?(inf|infinity|nan)"
-_WHOLE = r"[+-]?\d+"
+_DECIMAL = re.compile(r"[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?|[+-]?(inf|infinity|nan)", re.ASCII | re.IGNORECASE)
+_WHOLE = re.compile(r"[+-]?\d+", re.ASCII)
 
 
 def parse_float(text: str) -> float:
     """float(text) for ASCII decimal notation, 'inf' and 'nan' included; ValueError for anything else."""
     text = text.strip()
-    if not re.fullmatch(_DECIMAL, text, re.ASCII | re.IGNORECASE):
+    if not _DECIMAL.fullmatch(text):
         raise ValueError(f"not a decimal number: {text!r}")
     return float(text)
 
@@ -169,7 +168,7 @@ def parse_float(text: str) -> float:
 def parse_int(text: str) -> int:
     """int(text) for ASCII decimal digits with an optional sign; ValueError for anything else."""
     text = text.strip()
-    if not re.fullmatch(_WHOLE, text, re.ASCII):
+    if not _WHOLE.fullmatch(text):
         raise ValueError(f"not a whole number: {text!r}")
     return int(text)  # ValueError too beyond Python's 4300-digit limit
 

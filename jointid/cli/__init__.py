@@ -20,34 +20,17 @@ from .version import VersionAction
 SUBCOMMANDS = {"fit": "fit_command", "compare": "compare_command", "torque": "torque_command",
                "sweep": "sweep_command", "matrix": "matrix_command", "simulate": "simulate_command",
                "design": "design_command", "bag-info": "bag_info_command"}
-"""Each subcommand's name and the module that defines it (its NAME), in help order. A run imports only
-the module of the subcommand it names, none for the explorer (all of them to list them in `jointid
---help`): the others cost about 8 ms of every start (see parse)."""
-
-HELP_FLAGS = ("-h", "--help")
-"""argparse's help flags: the top-level help lists every subcommand, so it needs them all."""
-
-
-class ParseRefused(Exception):
-    """A refusal by the parser of the explorer's flags alone, which the whole parser then words (see parse)."""
-
-
-class _FlagsOnlyParser(OneLineParser):
-    """The top-level parser without its subcommands: it raises ParseRefused where OneLineParser prints."""
-
-    def error(self, message: str):
-        raise ParseRefused(message)
+"""Each subcommand's name and the module that defines it (its NAME), in help order."""
 
 
 def subcommand(name: str):
-    """The module that defines subcommand `name` (a key of SUBCOMMANDS), imported on first use."""
+    """The module that defines subcommand `name` (a key of SUBCOMMANDS)."""
     return import_module(f".{SUBCOMMANDS[name]}", __name__)
 
 
-def build_parser(command: str | None = None, *, subcommands: bool = True) -> OneLineParser:
-    """The top-level parser with every subcommand attached (only `command`'s, when one is named). Without
-    `subcommands`, none: the explorer's flags alone, refused with ParseRefused rather than a printed line."""
-    parser = (OneLineParser if subcommands else _FlagsOnlyParser)(
+def build_parser() -> OneLineParser:
+    """The top-level parser with every subcommand attached."""
+    parser = OneLineParser(
         prog="jointid",
         # Whole option names only here: with --heldout, torque's --h would be read as an ambiguous prefix.
         allow_abbrev=False,
@@ -63,34 +46,15 @@ def build_parser(command: str | None = None, *, subcommands: bool = True) -> One
     add_settings_arguments(parser)
     add_model_argument(parser)
     add_log_arguments(parser)
-    if not subcommands:
-        parser.set_defaults(command=None)
-        return parser
-    # With no positional arguments before COMMAND, the subcommands' usage prefix is just "jointid"; saying
-    # so spares argparse formatting it, which measures the terminal (shutil: about 3 ms of every start).
-    subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=OneLineParser,
-                                       prog=parser.prog)
+    subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=OneLineParser)
     for name in SUBCOMMANDS:
-        if command is None or name == command:
-            subcommand(name).add_parser(subparsers)
+        subcommand(name).add_parser(subparsers)
     return parser
 
 
 def parse(argv: list[str]):
-    """The arguments' namespace (`command` None for the explorer), building only the parsers it needs.
-
-    A subcommand named first is the only one argparse can reach, so only its parser is built. With no
-    subcommand's name anywhere and no help flag (the help lists the subcommands), the explorer's flags are
-    parsed alone, importing no subcommand's module; whatever that refuses is parsed again by the whole
-    parser, so every outcome and message is the whole parser's (tests/cli/test_fuzz.py).
-    """
-    if not any(word in SUBCOMMANDS or word in HELP_FLAGS for word in argv):
-        try:
-            return build_parser(subcommands=False).parse_args(argv)
-        except ParseRefused:
-            pass
-    first = argv[0] if argv else None
-    return build_parser(first if first in SUBCOMMANDS else None).parse_args(argv)
+    """The arguments' namespace (`command` None for the explorer)."""
+    return build_parser().parse_args(argv)
 
 
 def console_script(explorer=None) -> None:

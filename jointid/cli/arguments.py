@@ -6,6 +6,7 @@ import argparse
 import math
 import re
 import sys
+from typing import TYPE_CHECKING
 
 from ..options import (
     FIELDS,
@@ -20,7 +21,6 @@ from ..options import (
 )
 from .exit_status import ExitStatus
 
-TYPE_CHECKING = False  # typing itself would cost 3 ms of every start
 if TYPE_CHECKING:
     from ..synthetic.settings import Settings
 
@@ -49,30 +49,6 @@ def attach_negative_values(argv: list[str]) -> list[str]:
     return joined
 
 
-class TerminalWidthFormatter(argparse.HelpFormatter):
-    """argparse's help formatter, measuring the terminal when it formats help rather than when it is made.
-
-    argparse makes a formatter for every argument it adds, and measuring the
-    terminal imports shutil (with zlib, bz2 and lzma, about 3 ms of every start);
-    only help needs the width, and gets the same one.
-    """
-
-    def __init__(self, prog, indent_increment=2, max_help_position=24, width=None):
-        self._requested = (max_help_position, width)
-        super().__init__(prog, indent_increment, max_help_position, width=80 if width is None else width)
-
-    def format_help(self):
-        """argparse's format_help at the width argparse would have measured."""
-        max_help_position, width = self._requested
-        if width is None:
-            import shutil
-
-            width = shutil.get_terminal_size().columns - 2
-        self._width = width
-        self._max_help_position = min(max_help_position, max(width - 20, self._indent_increment * 2))
-        return super().format_help()
-
-
 class OneLineParser(argparse.ArgumentParser):
     """An ArgumentParser whose errors are one line on stderr and exit status 2 (no usage dump).
 
@@ -81,8 +57,8 @@ class OneLineParser(argparse.ArgumentParser):
     number after a flag is that flag's value.
     """
 
-    def __init__(self, *args, allow_abbrev: bool = False, formatter_class=TerminalWidthFormatter, **kwargs):
-        super().__init__(*args, allow_abbrev=allow_abbrev, formatter_class=formatter_class, **kwargs)
+    def __init__(self, *args, allow_abbrev: bool = False, **kwargs):
+        super().__init__(*args, allow_abbrev=allow_abbrev, **kwargs)
 
     def parse_known_args(self, args=None, namespace=None):
         """argparse's parse_known_args after `attach_negative_values`."""

@@ -7,8 +7,8 @@ entry function checks the explorer's own, narrower ranges and raises
 SettingsError for a value outside them.
 
 The installed `jointid` command starts in the UI (tui/command.py), which hands
-the entry function over itself: the entry-point lookup imports importlib.metadata,
-a few per cent of an explorer start that `python -m jointid` still spends.
+the entry function over itself, sparing the entry-point lookup that `python -m
+jointid` still makes (tui/command.py has the figure).
 """
 
 from __future__ import annotations
@@ -34,7 +34,7 @@ status."""
 
 def load_explorer():
     """The registered explorer entry function; UserError when no UI is installed."""
-    from importlib.metadata import entry_points  # here: about 20 ms that no subcommand needs
+    from importlib.metadata import entry_points  # here: no subcommand needs it (version.py has the figure)
 
     found = entry_points(group=ENTRY_POINT_GROUP, name=ENTRY_POINT_NAME)
     if not found:

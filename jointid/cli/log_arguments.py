@@ -10,13 +10,13 @@ defaults in afterwards (`with_default_settings`).
 from __future__ import annotations
 
 import argparse
+from typing import TYPE_CHECKING
 
 from ..options import DEFAULT_ORDER, LOG_MODEL, SETTING_DEFAULTS
 from .arguments import UserError, finite_float, whole_number
 from .exit_status import ExitStatus
 from .output import print_json
 
-TYPE_CHECKING = False  # typing itself would cost 3 ms of every start
 if TYPE_CHECKING:
     from ..logs.pipeline import JointLog
     from ..studies.log_fit import LoadedLogs

@@ -19,8 +19,9 @@ def end_process(status: int) -> NoReturn:
     """Flush what was printed and end the process at once with `status` (USER_ERROR if the output cannot be written).
 
     For the console script after a subcommand: every file it wrote is closed by then, and the interpreter's
-    teardown (freeing every module's objects one by one, about a tenth of a large log's fit) only does what
-    the operating system does when the process ends. A reader that left (`jointid fit | head -1`) is no error.
+    teardown (freeing every module's objects one by one) only does what the operating system does when the
+    process ends; skipping it buys 0.10 of `jointid fit`'s start (bench_startup_budget end-process). A reader
+    that left (`jointid fit | head -1`) is no error.
     """
     try:
         sys.stdout.flush()

@@ -9,6 +9,7 @@ would otherwise write Infinity and NaN, which strict parsers reject.
 
 from __future__ import annotations
 
+import json
 import math
 from typing import TYPE_CHECKING
 
@@ -33,8 +34,6 @@ class NonFiniteValue(ValueError):
 
 def json_text(document, *, ensure_ascii: bool = True) -> str:
     """The document as strict JSON text (indent 2); NonFiniteValue naming the first inf or NaN in it."""
-    import json  # only here: text output and the explorer's start need no json module
-
     try:
         return json.dumps(document, indent=2, allow_nan=False, ensure_ascii=ensure_ascii)
     except ValueError:

@@ -10,6 +10,7 @@ command line parses settings before it loads the numeric modules (and uses
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from ..options import (
     FIELDS,
@@ -17,7 +18,6 @@ from ..options import (
     check_setting,
 )
 
-TYPE_CHECKING = False  # typing itself would cost 3 ms of every start
 if TYPE_CHECKING:
     from ..model.terms import JointModel
     from ..model.truth import TrueJoint

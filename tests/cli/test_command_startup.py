@@ -49,15 +49,6 @@ def test_every_subcommand_module_defines_the_name_it_is_listed_under():
         assert subcommand(name).NAME == name
 
 
-def test_a_command_loads_only_its_own_subcommand_module():
-    probe = ("import sys\nfrom jointid.cli import main\nmain(['fit', '--json'])\n"
-             "print(sorted(m for m in sys.modules if m.startswith('jointid.cli.') and m.endswith('_command')))")
-    done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
-    assert done.stdout.splitlines()[-1] == "['jointid.cli.fit_command']"
-    _, listed = heavy_modules_after("from jointid.cli import main; main(['--help'])")
-    assert listed == []  # listing every subcommand imports each module, still without numpy
-
-
 def test_import_jointid_loads_no_numpy_until_a_name_is_used():
     _, loaded = heavy_modules_after("import jointid")
     assert loaded == []

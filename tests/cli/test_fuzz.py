@@ -8,8 +8,6 @@ stderr.
 
 from __future__ import annotations
 
-import contextlib
-import io
 import json
 import os
 import subprocess
@@ -19,10 +17,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
-from hypothesis import strategies as st
 
-from jointid.cli import build_parser, main, parse
+from jointid.cli import main
 from jointid.model.terms import G
 from jointid.options import WORK_BUDGET
 from jointid.synthetic.motions import ALL_MOTIONS
@@ -329,27 +325,3 @@ def test_a_real_process_prints_strict_json():
     status, out, err = run_process("fit", "--model", "coulomb+bias", "--motion", "slow", "--noise", "0.2", "--json")
     assert (status, err) == (0, "")
     assert strict_json(out)["model"] == "coulomb+bias"
-
-
-ARGUMENT_WORDS = ["--motion", "slow", "bogus", "--seed", "3", "-4", "x", "--noise", "0.2", "--samples", "--csv",
-                  "log.csv", "--heldout", "--model", "coulomb", "--constrained", "--cutoff", "--decimate", "--window",
-                  "--order", "--degrees", "--bag", "--joint", "--", "--bogus", "foo", "fit", "sweep", "--json", "-h"]
-"""Words of explorer flags, their values, junk, help and two subcommands' names, for the parser's differential
-test."""
-
-
-@settings(max_examples=300, deadline=None)
-@given(st.lists(st.sampled_from(ARGUMENT_WORDS), max_size=6))
-def test_parsing_only_what_argparse_can_reach_changes_no_outcome(argv):
-    """`parse` builds the explorer's flags alone when no subcommand is named: every namespace, help text,
-    refusal and status equals that of the parser with every subcommand attached."""
-    outcomes = []
-    for parse_with in (parse, lambda words: build_parser().parse_args(words)):
-        output, error = io.StringIO(), io.StringIO()
-        with contextlib.redirect_stdout(output), contextlib.redirect_stderr(error):
-            try:
-                outcome = vars(parse_with(list(argv)))
-            except SystemExit as stop:
-                outcome = stop.code
-        outcomes.append((outcome, output.getvalue(), error.getvalue()))
-    assert outcomes[0] == outcomes[1]

@@ -41,16 +41,8 @@ def test_the_installed_command_hands_its_explorer_over_and_loads_no_ui_for_a_sub
     assert json.loads(done.stdout) == ["rich", False]
 
 
-def test_the_explorer_imports_no_subcommand_module():
-    # With no subcommand named, the explorer's flags are parsed alone (jointid.cli.parse).
-    loaded = packages_loaded("jointid.cli", {"jointid"},
-                             run="jointid.cli.main(['--motion', 'slow'], explorer=lambda *given: 0)")
-    assert [name for name in loaded if name.endswith("_command")] == ["jointid.cli.explorer_command"]
-
-
 def test_fit_imports_no_scipy():
-    # The 95 % interval's Student-t quantile is pure Python (jointid.estimation.student_t); scipy.special
-    # alone took about 300 ms of every `jointid fit`.
+    # The 95 % interval's Student-t quantile is pure Python (jointid.estimation.student_t has the figure).
     assert packages_loaded("jointid.cli", {"scipy"}, run="jointid.cli.main(['fit', '--noise', '0.2', '--json'])") == []
 
 
@@ -145,21 +137,20 @@ def test_the_cycle_finder_sees_a_lazy_import(tmp_path, monkeypatch):
 
 
 SYNTHETIC_COMMANDS = (["fit"], ["fit", "--json"], ["sweep"], ["matrix"])
-UNUSED_AT_START = {"shutil", "jointid.studies.sensitivity", "jointid.present.sensitivity", "jointid.synthetic.fourier",
+UNUSED_AT_START = {"jointid.studies.sensitivity", "jointid.present.sensitivity", "jointid.synthetic.fourier",
                    "jointid.estimation.bounded", "jointid.model.breakdown"}
-"""What a synthetic, unconstrained run has no use for: shutil only measures the terminal for help (3 ms),
-the others serve log fits, designed motions, the sign constraint and `jointid torque`."""
+"""What a synthetic, unconstrained run has no use for: these serve log fits, designed motions, the sign
+constraint and `jointid torque`."""
 
 
 @pytest.mark.parametrize("command", SYNTHETIC_COMMANDS, ids=" ".join)
 def test_a_synthetic_command_loads_nothing_it_does_not_use(command):
-    loaded = packages_loaded("jointid.cli", {"jointid", "shutil"}, run=f"jointid.cli.main({command!r})")
+    loaded = packages_loaded("jointid.cli", {"jointid"}, run=f"jointid.cli.main({command!r})")
     assert "jointid.estimation.fit" in loaded  # the command did run
     assert sorted(UNUSED_AT_START.intersection(loaded)) == []
 
 
 def test_the_modules_left_out_still_load_when_needed():
-    # The check above must be able to fail: a constrained fit loads jointid.estimation.bounded, help loads shutil.
+    # The check above must be able to fail: a constrained fit loads jointid.estimation.bounded.
     assert "jointid.estimation.bounded" in packages_loaded(
         "jointid.cli", {"jointid"}, run="jointid.cli.main(['fit', '--constrained', '--json'])")
-    assert packages_loaded("jointid.cli", {"shutil"}, run="jointid.cli.build_parser('fit').format_help()") == ["shutil"]

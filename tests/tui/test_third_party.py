@@ -63,7 +63,7 @@ def test_importing_the_app_patches_nothing():
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=ROOT)
     unchanged, active = json.loads(done.stdout)
     assert unchanged
-    assert active == [False, False, False, False]
+    assert active == [False, False, False]
 
 
 def test_activation_installs_the_fast_helpers_once_and_uninstall_restores_plotexts_own():
@@ -87,7 +87,6 @@ def test_status_lines_name_the_installed_versions():
         "plotext 5.3.2: fast chart helpers active",
         "plotext 5.3.2, textual-plotext 1.0.1: direct chart strips active",
         "textual 8.2.8: repaint-only number fields active",
-        "textual 8.2.8: partial updates render dirty widgets only",
     ]
     for name, version in third_party.PINNED.items():
         assert metadata.version(name) == version  # the pins match pyproject.toml's
@@ -210,52 +209,3 @@ def test_only_the_adapter_modules_touch_third_party_internals():
             if PRIVATE_NAMES.search(line):
                 offenders.append(f"{relative}:{number}: {line.strip()}")
     assert offenders == []
-
-
-def test_partial_updates_write_what_textuals_own_write_and_render_fewer_widgets(monkeypatch):
-    """Each key's partial update, made twice from the same dirty regions: Textual's way, then the adapter's."""
-    from textual._compositor import Compositor
-    from textual.widget import Widget
-
-    update, real_active, render_lines = Compositor.render_partial_update, third_party.active, Widget.render_lines
-    rendered = {"stock": 0, "adapter": 0}
-    outputs = []
-    way, consoles = [None], []
-
-    def counted(self, crop):
-        if way[0] is not None:
-            rendered[way[0]] += 1
-        return render_lines(self, crop)
-
-    def both_ways(self):
-        dirty = set(self._dirty_regions)
-        way[0] = "stock"
-        monkeypatch.setattr(third_party, "active", lambda key: key != third_party.DIRTY_RENDERS and real_active(key))
-        stock = update(self)
-        monkeypatch.setattr(third_party, "active", real_active)
-        way[0] = "adapter"
-        self._dirty_regions.update(dirty)
-        ours = update(self)
-        way[0] = None
-        if stock is not None or ours is not None:
-            outputs.append((stock.render_segments(consoles[0]), ours.render_segments(consoles[0])))
-        return ours
-
-    async def main():
-        app = make_app()
-        async with app.run_test(size=(120, 40)) as pilot:
-            await pilot.pause()
-            assert third_party.active(third_party.DIRTY_RENDERS)
-            consoles.append(app.console)
-            monkeypatch.setattr(Widget, "render_lines", counted)
-            monkeypatch.setattr(Compositor, "render_partial_update", both_ways)
-            app.screen.query_one("#noise").focus()
-            for key in ("right", "shift+right", "left", "2", "tab", "down", "enter", "r"):
-                await pilot.press(key)
-                await pilot.pause()
-
-    asyncio.run(main())
-    assert len(outputs) >= 5  # a frame may gather two keys' changes
-    for stock, ours in outputs:
-        assert ours == stock
-    assert rendered["adapter"] < 0.9 * rendered["stock"]  # the number fields and the footer, mostly

@@ -42,8 +42,8 @@ from ..widgets.footer import KeyFooter
 from ..widgets.readouts import ReadoutPanel
 from ..widgets.stepper import Stepper
 
-# The log reader, file dialog, progress dialog and export are imported when first used:
-# the explorer's first frame needs none of them (about 15 ms of start-up).
+# The log reader, file dialog, progress dialog, export and views are imported when first used:
+# the first frame needs none of them, which buys 0.15 of the explorer's start (bench_startup_budget lazy-ui-modules).
 if TYPE_CHECKING:
     from jointid.studies.log_fit import LoadedLogs, LoadRequest
 
@@ -241,9 +241,10 @@ class MainScreen(Screen):
         """The first time the screen shows, keep its styles: each widget was styled as it mounted.
 
         Textual restyles every widget of a screen that resumes, for CSS that changed while it was
-        covered; on the first resume nothing has covered it, and restyling the whole screen again
-        cost about 4 ms of the start-up (perf_counter marks, 2026-11-23). Later resumes (a dialog
-        or view closing) restyle as usual. Runs before Textual's own handler.
+        covered; on the first resume nothing has covered it. Skipping that restyle buys 0.026 of the
+        explorer's start (bench_startup_budget first-resume-keeps-styles): under the budget's 5 %, kept
+        for the explorer's 1.10x start-up limit (benchmarks/README.md, "Start-up budget"). Later resumes
+        (a dialog or view closing) restyle as usual. Runs before Textual's own handler.
         """
         if not self._shown_once:
             self._shown_once = True

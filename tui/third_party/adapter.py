@@ -29,13 +29,11 @@ PINNED = {"textual": "8.2.8", "textual-plotext": "1.0.1", "plotext": "5.3.2"}
 """The releases whose internals this module was written against (pyproject.toml pins the same)."""
 
 PLOTEXT_HELPERS = "plotext-helpers"
-"""Adapter: tui/plotext_speedups.py's drop-ins for five plotext internals (a chart builds in about 42 % of the time)."""
+"""Adapter: tui/plotext_speedups.py's drop-ins for five plotext internals (bench_tui_keys --adapter has the figure)."""
 CHART_MATRIX = "chart-matrix"
 """Adapter: torque charts become strips straight from plotext's cell matrix, not via ANSI text."""
 NUMBER_FIELDS = "number-fields"
 """Adapter: a number field's new value repaints the field instead of relayouting the screen."""
-DIRTY_RENDERS = "dirty-renders"
-"""Adapter: a partial screen update renders only the widgets under its dirty regions."""
 
 
 @dataclass(frozen=True)
@@ -61,8 +59,6 @@ ADAPTERS = (
             "stock chart rendering (PlotextPlot.render, slower)"),
     Adapter(NUMBER_FIELDS, ("textual",), "repaint-only number fields active",
             "stock number fields (a new value relayouts the screen)"),
-    Adapter(DIRTY_RENDERS, ("textual",), "partial updates render dirty widgets only",
-            "stock partial updates (every widget in the dirty rectangle renders)"),
 )
 """Every adapter, in status order."""
 
@@ -76,8 +72,8 @@ def installed_version(distribution: str) -> str | None:
     """The installed version of a distribution, or None when it is not installed.
 
     Read from the name of the `<name>-<version>.dist-info` folder beside the package
-    when there is one: importlib.metadata alone (with the email parser it loads)
-    cost about 10 ms of the explorer's start-up, for three version strings.
+    when there is one, which keeps importlib.metadata out of the explorer's start
+    (tui/command.py has the figure).
     """
     version = _version_beside_package(distribution)
     if version is not None:
@@ -139,8 +135,6 @@ def activate() -> list[str]:
         usable, lines = check()
         if usable[PLOTEXT_HELPERS]:
             _put_plotext_helpers(fast=True)
-        if usable[DIRTY_RENDERS]:
-            _wrap_partial_updates()
         _in_use, _status = usable, lines
     return list(_status)
 
@@ -216,8 +210,9 @@ def plotext_theme_name(widget: PlotextPlot) -> str:
 def figure_strips(widget: PlotextPlot, width: int, height: int) -> list[Strip]:
     """A PlotextPlot's set-up figure as one strip per line, read from plotext's cell matrix.
 
-    The stock widget prints the figure to an ANSI string and parses it back,
-    about 8 ms per chart at 120x40; this gives the same cells without the text.
+    The stock widget prints the figure to an ANSI string and parses it back; this
+    gives the same cells without the text, which buys 0.52 of a key press's latency
+    (median; bench_tui_keys --adapter chart-matrix).
     """
     from rich.segment import Segment
     from textual.strip import Strip
@@ -259,6 +254,7 @@ class RepaintOnValue:
     (Reset from seed 107 to 7); the field's own width is fixed, so a repaint is
     enough. The replacement also posts no `Input.Changed` and leaves the cursor
     alone: the stepper commits on Enter, blur and steps, not on each change.
+    It buys 0.98 of a key press's p95 latency (0.035 of the median; bench_tui_keys --adapter number-fields).
     """
 
     def _watch_value(self, value: str) -> None:
@@ -271,63 +267,6 @@ class RepaintOnValue:
         self.set_reactive(Input.virtual_size, Size(self.content_width, 1))
         self._suggestion = ""
         self.refresh()
-
-
-def _wrap_partial_updates() -> None:
-    """Wrap Textual's partial screen update to render only the widgets under its dirty regions (once a process).
-
-    Textual renders every widget that overlaps the rectangle *around* all dirty
-    regions; a key press dirties the side panel and the charts, whose rectangle
-    is nearly the screen, so the number fields, the motion list, the footer and
-    their containers were rendered on every press (about 1.5 ms at 120x40) and
-    then thrown away: only the dirty spans are written. A widget that overlaps
-    no dirty region puts nothing in those spans, so skipping it changes no cell.
-    The wrappers run Textual's own code while the adapter is off (`uninstall()`).
-    `tests/tui/test_third_party.py` compares every update's output with Textual's.
-    """
-    global _partial_updates_wrapped
-    if _partial_updates_wrapped:
-        return
-    from textual._compositor import Compositor
-
-    render_partial_update, get_renders = Compositor.render_partial_update, Compositor._get_renders
-
-    def partial_update_of_dirty_widgets(self):
-        self._jointid_dirty = tuple(self._dirty_regions)  # render_partial_update empties the set
-        try:
-            return render_partial_update(self)
-        finally:
-            self._jointid_dirty = None
-
-    def renders_under_dirty_regions(self, crop=None):
-        dirty = getattr(self, "_jointid_dirty", None)
-        if not dirty or crop is None or not active(DIRTY_RENDERS):
-            yield from get_renders(self, crop)
-            return
-        visible = self.visible_widgets
-        # place: (the widget's region, the clip of its container); what it paints is their intersection.
-        under = {widget: place for widget, place in visible.items()
-                 if any(region.overlaps(place[0].intersection(place[1])) for region in dirty)}
-        # Textual's loop reads `visible_widgets` (a cache of this attribute) once, before its
-        # first render: show it the widgets under a dirty region for that read, then put it back.
-        self._visible_widgets = under
-        try:
-            renders = get_renders(self, crop)
-            first = next(renders, None)
-        finally:
-            if self._visible_widgets is under:
-                self._visible_widgets = visible
-        if first is not None:
-            yield first
-            yield from renders
-
-    Compositor.render_partial_update = partial_update_of_dirty_widgets
-    Compositor._get_renders = renders_under_dirty_regions
-    _partial_updates_wrapped = True
-
-
-_partial_updates_wrapped = False
-"""Whether `_wrap_partial_updates` ran (the wrappers stay; `active(DIRTY_RENDERS)` switches them)."""
 
 
 def _require_pinned_textual(what: str) -> None:

@@ -1,7 +1,6 @@
 """Faster drop-ins for five plotext 5.3.2 internals, so a torque chart builds in half the time.
 
-A key press rebuilds both torque charts, and plotext's build took about 3.4 ms
-a chart at 74x14, a fifth of a 60 Hz frame each. Most of that was spent in
+A key press rebuilds both torque charts, and most of plotext's build is spent in
 helpers written for generality rather than speed:
 
 - `_utility.hd_group` groups the braille line's points into cells: it built a
@@ -12,8 +11,8 @@ helpers written for generality rather than speed:
 - `matrix_class.insert_element` writes one cell through five method calls;
 - `_utility.get_matrix_data` maps each point through two lambdas.
 
-The versions here compute the same values in plain loops and slices (1.5 ms a
-chart, 56 % less, with the first three; the last two take another 5 % off).
+The versions here compute the same values in plain loops and slices, which buys
+0.17 of a key press's latency (median; bench_tui_keys --adapter plotext-helpers).
 `tests/tui/test_plotext_speedups.py` builds many random figures with and without
 them and requires every character and colour to be equal.
 Nothing here is installed on import: `tui.third_party.adapter.activate()` puts them in

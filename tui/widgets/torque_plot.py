@@ -18,8 +18,7 @@ class TorquePlot(PlotextPlot):
     """PlotextPlot with a cached line renderer.
 
     The stock widget prints the figure to an ANSI string and parses it back on
-    every render, about 8 ms per chart at 120x40; a key press redraws two
-    charts, so that alone would miss a 60 Hz frame. Here the figure's matrix
+    every render, and a key press redraws two charts. Here the figure's matrix
     of characters and colours becomes strips directly (`third_party.figure_strips`;
     the stock text when the versions differ), and only when the data, the size
     or the theme changed; recent figures are kept, so stepping back or

@@ -109,20 +109,7 @@ def test_module_itself_needs_only_the_standard_library():
     assert json.loads(output.stdout) == []
 
 
-def test_the_normal_quantile_is_wichuras_as_statistics_computes_it():
-    # Our AS 241 must give the standard library's bits (it exists to avoid importing statistics);
-    # a single mistyped coefficient digit would show somewhere on this grid.
-    from statistics import NormalDist
-
-    from jointid.estimation.student_t import _upper_normal_quantile
-
-    tails = [k / 4000 for k in range(1, 2001)] + [10.0**-k for k in range(2, 320)] + [0.075, 0.0749, 0.0751]
-    tails += [math.ldexp(1.0, -e) * m for e in range(2, 1070, 7) for m in (1.0, 1.37, 1.999)]
-    assert [_upper_normal_quantile(p) for p in tails] == [-NormalDist().inv_cdf(p) for p in tails]
-    assert _upper_normal_quantile(0.025) == pytest.approx(1.959963984540054, rel=1e-15)
-
-
-def test_a_fit_imports_neither_scipy_nor_statistics():
-    loaded = packages_loaded("jointid.cli", {"scipy", "statistics"},
+def test_a_fit_imports_no_scipy():
+    loaded = packages_loaded("jointid.cli", {"scipy"},
                              run="jointid.cli.main(['fit', '--noise', '0.2', '--json'])")
     assert loaded == []
