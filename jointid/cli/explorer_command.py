@@ -13,7 +13,7 @@ jointid` still makes (tui/command.py has the figure).
 
 from __future__ import annotations
 
-from ..options import SettingsError
+from ..options import LOG_MODEL, SettingsError
 from .arguments import UserError, settings_from
 from .floating_point import strict_arithmetic
 from .log_arguments import (
@@ -66,4 +66,6 @@ def _defaults(args):
     """The synthetic defaults behind a log (load_logs has refused any setting flag already)."""
     for name in LOG_ONLY_FLAGS:
         setattr(args, name, None)
+    if args.model is None:  # the explorer refits the log with its model setting: the log's default
+        args.model = LOG_MODEL
     return with_default_settings(args)
