@@ -98,3 +98,20 @@ def exclusion_object(logs: LoadedLogs) -> dict:
                            "standstill_speed_threshold": left.speed_threshold,
                            "flag_level_robust_scales": None if left.level is None or not math.isfinite(left.level)
                            else left.level}}
+
+
+def left_out_brief(logs: LoadedLogs) -> str | None:
+    """What the fit left out in a few words, or None when it kept every sample."""
+    left = logs.exclusions
+    if left is None or left.kept.all():
+        return None
+    first, last = float(left.since[0]), float(left.since[-1])
+    inside = [stretch for stretch in left.excluded if stretch[0] > first and stretch[1] < last]
+    parts = []
+    if inside:
+        parts.append(f"{len(inside)} stretch{'es' if len(inside) > 1 else ''} of outside torque")
+    if len(inside) < len(left.excluded):
+        parts.append("the ends")
+    pushed = f"{' and '.join(parts)} ({left.excluded_share:.1%})" if parts else None
+    still = f"standstill ({left.standstill_share:.0%})" if left.standstill.any() else None
+    return "Left out: " + ", ".join(part for part in (pushed, still) if part) + "."

@@ -176,27 +176,24 @@ def as_sentence(text: str) -> str:
 
 
 def log_status(logs, compact: bool = False) -> str:
-    """A log fit's status sentence, the sensitivity warning, then what was read and the notes (logfit.LoadedLogs).
+    """A log fit's status sentence, the sensitivity warning, what was left out in a few words, and where the notes
+    are (logfit.LoadedLogs): the notes themselves have their own view (`log_notes_text`), so they never push the
+    readouts off a small screen.
 
-    The warning "your derivative settings decide this estimate" comes straight
-    after the status sentence, so it is seen even when the notes are cut.
-
-    Compact (80x24): what was read goes to `log_sources` beside the readouts, and the
-    notes name files without their folders, so the sentence keeps to about four lines
-    (full paths made it seven).
+    Compact (80x24): the sensitivity warning in its short form.
     """
     # Only log fits carry a sensitivity check: a synthetic fit need not import it.
-    from .notes import log_notes, short_log_notes
-    from .sensitivity import sensitivity_summary, sensitivity_warning
+    from .notes import left_out_brief
+    from .sensitivity import sensitivity_warning
 
     check = logs.sensitivity
-    warning = () if check is None or not check.flagged else (sensitivity_warning(check),)
-    if compact:
-        warning = () if not warning else (sensitivity_warning(check, compact=True),)
-        return " ".join((status_message(logs.result), *warning, *map(as_sentence, short_log_notes(logs))))
-    sources = logs.source_texts()
-    summary = () if check is None else (sensitivity_summary(check),)
-    return " ".join((status_message(logs.result), *warning, *summary, *map(as_sentence, (*sources, *log_notes(logs)))))
+    warning = () if check is None or not check.flagged else (sensitivity_warning(check, compact=compact),)
+    left = left_out_brief(logs)
+    return " ".join((status_message(logs.result), *warning, *(() if left is None else (left,)), NOTES_POINTER))
+
+
+NOTES_POINTER = "n: the notes (how the log was read, filtered and checked)."
+"""Where a log fit's notes are, at the end of its status."""
 
 
 def simulation_text(check, label_width: int = 28) -> str:

@@ -25,6 +25,23 @@ def log_notes(logs: LoadedLogs) -> tuple[str, ...]:
     return notes.log_notes(logs)
 
 
+def log_notes_text(logs: LoadedLogs) -> str:
+    """Everything a fit of logs says beyond its readouts, one paragraph each: what was read, the sensitivity
+    check, what was left out, and every note (the explorer's notes view)."""
+    from .sensitivity import sensitivity_text
+
+    parts = [*logs.source_lines()]
+    if logs.sensitivity is not None:
+        parts.append(sensitivity_text(logs.sensitivity))
+    from .notes import exclusion_text
+
+    left = exclusion_text(logs)
+    if left is not None:
+        parts.append(left)
+    parts += log_notes(logs)
+    return "\n\n".join(parts)
+
+
 def log_fit_summary(logs: LoadedLogs) -> str:
     """What was read, the readouts, the uncertainty, the sensitivity check and every note."""
     parts = [*logs.source_lines(), readouts_text(logs.result), "", uncertainty_text(logs.result, logs.unsettled)]

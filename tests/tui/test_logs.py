@@ -420,9 +420,19 @@ async def test_a_jittered_log_shows_its_notes_and_the_sensitivity_warning(tmp_pa
         async with app.run_test(size=size) as pilot:
             await load(pilot, path, window=window)
             status = str(main_screen(app).query_one("#status").render())
-            assert "resampled" in status and "Savitzky-Golay" in status and "low-passed" in status
+            assert status.endswith("n: the notes (how the log was read, filtered and checked).")
             warned = "Your derivative settings decide this estimate" in status
             assert warned == (window is not None), status
+            # The notes have their own view: n opens it, with everything the command line says of the log.
+            await pilot.press("n")
+            await pilot.pause()
+            notes = str(app.screen.query_one("Static").render())
+            assert type(app.screen).__name__ == "NotesScreen"
+            assert "resampled" in notes and "Savitzky-Golay" in notes and "low-passed" in notes
+            assert "Sensitivity check" in notes
+            await pilot.press("escape")
+            await pilot.pause()
+            assert app.screen is main_screen(app)
 
 
 @synchronous

@@ -173,6 +173,9 @@ class MainScreen(Screen):
                 tooltip="Load a CSV joint log or a ROS bag joint as training or held-out data"),
         Binding("c", "close_log", "Close log",
                 tooltip="Leave the log and return to the synthetic experiment"),
+        # Not in the footer (80 columns have no room): the status under the charts names it.
+        Binding("n", "notes", "Notes", priority=True, show=False,
+                tooltip="The log's notes: how it was read, filtered and checked, and what the fit left out"),
         Binding("ctrl+s", "export", "Export", priority=True,
                 tooltip="Save the fit as JSON and the screen as SVG into a folder"),
     ]
@@ -497,7 +500,7 @@ class MainScreen(Screen):
 
     def check_action(self, action: str, parameters: tuple) -> bool | None:
         """Close log exists only while a log is shown, 4 once a motion is designed; the sweep, the matrix and Reset are off (None) while one is."""
-        if action == "close_log":
+        if action in ("close_log", "notes"):
             return self.logs is not None
         if action == "motion" and parameters == (DESIGNED,):  # 4 appears once there is a designed motion
             return self.designed is not None
@@ -510,6 +513,12 @@ class MainScreen(Screen):
     def action_explain_synthetic(self, view: str) -> None:
         """Say why a view of synthetic settings does not open while a log is shown."""
         self.needs_synthetic(view)
+
+    def action_notes(self) -> None:
+        """Open the log's notes in their own view."""
+        from .notes import NotesScreen  # only a log's fit has notes
+
+        self.app.push_screen(NotesScreen(self.logs))
 
     def action_close_log(self) -> None:
         """Return from the log to the synthetic experiment."""
