@@ -202,3 +202,26 @@ def test_several_runs_take_no_heldout_log(capsys):
                    str(LOGS / "pendulum_ddp.csv"), "--heldout", str(LOGS / "pendulum_pd.csv")])
     out, err = capsys.readouterr()
     assert status == 2 and out == "" and len(err.splitlines()) == 1 and "each run is predicted by the others" in err
+
+
+def test_an_exclude_window_outside_the_log_is_one_line_and_exit_2(capsys):
+    status = main(["fit", "--zero", "down", "--csv", str(LOGS / "pendulum_pd.csv"), "--exclude", "10:12"])
+    out, err = capsys.readouterr()
+    assert (status, out) == (2, "") and len(err.splitlines()) == 1
+    assert "--exclude 10:12 holds no sample; the log spans 0 to 3.89" in err
+
+
+def test_an_exclude_window_by_hand_is_left_out_and_reported(documents, capsys):
+    document = fitted(capsys, "ddp", "--exclude", "2:3", "--no-robust")
+    assert document["excluded"][0][0] == pytest.approx(2.0, abs=0.02)
+    assert document["excluded"][0][1] == pytest.approx(3.0, abs=0.02)
+    assert document["exclusions"]["robust"] is False and document["exclusions"]["by_hand"] == [[2.0, 3.0]]
+    assert document["estimate"]["I"] != documents["ddp"]["estimate"]["I"]
+
+
+def test_runs_that_disagree_beyond_their_errors_are_said_not_refused(capsys):
+    argv = ["fit", "--zero", "down", *sum((["--csv", str(LOGS / f"pendulum_{run}.csv")] for run in RUNS), [])]
+    capsys.readouterr()
+    assert main(argv) == 0
+    text = capsys.readouterr().out
+    assert "Disagrees with the pooled fit beyond their combined errors: pendulum_ddp.csv" in text
