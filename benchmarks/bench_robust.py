@@ -50,6 +50,16 @@ def timed(run) -> float:
     return time.perf_counter() - start
 
 
+def interleaved_ratios(ours, baseline, rounds: int) -> list[float]:
+    """ours / baseline wall time per round, which runs first alternating."""
+    ratios = []
+    for round_index in range(rounds):
+        first, second = (ours, baseline) if round_index % 2 == 0 else (baseline, ours)
+        a, b = timed(first), timed(second)
+        ratios.append(a / b if round_index % 2 == 0 else b / a)
+    return ratios
+
+
 def summary(ratios: list[float]) -> str:
     """min / median / max."""
     return f"{min(ratios):.2f} / {float(np.median(ratios)):.2f} / {max(ratios):.2f}"
@@ -59,13 +69,7 @@ def main() -> None:
     """Print both ratios."""
     rounds = int(sys.argv[1]) if len(sys.argv) > 1 else 3
     big = joint_log(1_000_000, 1)
-    robust_ratios = []
-    for round_index in range(rounds):
-        pair = [("robust", lambda: fit_log(big)), ("plain", lambda: fit_log(big, robust=False))]
-        if round_index % 2:
-            pair.reverse()
-        seconds = dict((name, timed(run)) for name, run in pair)
-        robust_ratios.append(seconds["robust"] / seconds["plain"])
+    robust_ratios = interleaved_ratios(lambda: fit_log(big), lambda: fit_log(big, robust=False), rounds)
     print(f"1,000,000 rows, robust default / robust=False (both with the sensitivity check), {rounds} rounds: "
           f"{summary(robust_ratios)}  (goal 1.5)")
 
@@ -73,13 +77,7 @@ def main() -> None:
     logs = [joint_log_from_table(read_arrays(run)) for run in runs]
     joined = joint_log_from_table(read_arrays({key: np.concatenate([run[key] for run in runs]) for key in runs[0]}))
     model = model_named("coulomb+bias")
-    pooling_ratios = []
-    for round_index in range(rounds):
-        pair = [("runs", lambda: fit_runs(logs, model)), ("joined", lambda: fit_logs(joined, model=model))]
-        if round_index % 2:
-            pair.reverse()
-        seconds = dict((name, timed(run)) for name, run in pair)
-        pooling_ratios.append(seconds["runs"] / seconds["joined"])
+    pooling_ratios = interleaved_ratios(lambda: fit_runs(logs, model), lambda: fit_logs(joined, model=model), rounds)
     print(f"10 runs of 100,000 rows, fit_runs / fit_logs of their concatenation, {rounds} rounds: "
           f"{summary(pooling_ratios)}  (goal 1.2)")
 

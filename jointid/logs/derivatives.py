@@ -63,13 +63,6 @@ class DerivativeEstimate:
         }
 
     @property
-    def short_description(self) -> str:
-        """A few words for a narrow status line."""
-        how = "given" if self.choice is None else "automatic"
-        return (f"{' and '.join(self.estimated)} by Savitzky-Golay smoothing, window {self.window} "
-                f"({(self.window - 1) * self.step:.3g} s, {how}), order {self.order}")
-
-    @property
     def description(self) -> str:
         """One sentence for a person, e.g. in a note under the readouts."""
         names = " and ".join(self.estimated)

@@ -4,7 +4,6 @@ jittered), missing derivatives estimated, units converted."""
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import dataclass
 
 import numpy as np
@@ -75,18 +74,6 @@ class JointLog:
             notes.append(f"{self.path}: {self.derivatives.description}")
         return tuple(notes)
 
-    @property
-    def short_notes(self) -> tuple[str, ...]:
-        """The notes in a few words each, naming the file without its folder, for a narrow status line."""
-        name = os.path.basename(os.path.normpath(self.path))
-        notes = [f"{name}: {note}" for note in self.read_notes]
-        if self.ignored:
-            notes.append(f"{name}: ignored " + ", ".join(repr(n) for n in self.ignored))
-        if self.timing is not None:
-            notes.extend(f"{name}: {text}" for text in self.timing.short_descriptions)
-        if self.derivatives is not None:
-            notes.append(f"{name}: {self.derivatives.short_description}")
-        return tuple(notes)
 
     @property
     def origin(self) -> dict:

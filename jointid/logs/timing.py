@@ -74,17 +74,6 @@ class TimeCheck:
         }
 
     @property
-    def short_descriptions(self) -> tuple[str, ...]:
-        """The same, in a few words each, for a narrow status line."""
-        out = []
-        if self.duplicates:
-            out.append(f"{self.duplicates} repeated rows dropped")
-        if self.resampled:
-            out.append(f"jitter {self.median_jitter:.1%} median, {self.max_jitter:.1%} max: resampled at "
-                       f"{1 / self.step:.6g} Hz ({INTERPOLATION})")
-        return tuple(out)
-
-    @property
     def descriptions(self) -> tuple[str, ...]:
         """Sentences for a person: repeats dropped, and how jittered time was resampled (none if neither)."""
         out = []

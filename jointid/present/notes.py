@@ -24,15 +24,6 @@ def log_notes(logs: LoadedLogs) -> tuple[str, ...]:
     return tuple(notes)
 
 
-def short_log_notes(logs: LoadedLogs) -> tuple[str, ...]:
-    """The notes in a few words each (files without folders), for a narrow status line."""
-    notes = list(logs.training.short_notes)
-    if logs.filter is not None:
-        notes.append(f"{os.path.basename(logs.training.path)}: {low_pass_short_note(logs.filter)}")
-    if logs.heldout is not None:
-        notes.extend(logs.heldout.short_notes)
-    return tuple(notes)
-
 
 def low_pass_short_note(low_pass: ParallelFilter) -> str:
     """The low-pass in a few words, for a narrow status line."""

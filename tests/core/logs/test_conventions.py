@@ -75,8 +75,6 @@ def test_robot_header_is_read_and_noted(tmp_path):
     assert log.notes[0] == (f"{path}: columns read as t=Time, q=position, qd=velocity, qdd=accel, "
                             "tau=effort.")
     assert log.notes[1] == f"{path}: ignored columns 'current'."
-    assert log.short_notes[0] == ("robot.csv: columns read as t=Time, q=position, qd=velocity, qdd=accel, "
-                                  "tau=effort.")
     assert log.conventions["columns"] == {"t": "Time", "q": "position", "qd": "velocity", "qdd": "accel",
                                           "tau": "effort"}
 
