@@ -175,11 +175,22 @@ def exclusion_options(args: argparse.Namespace):
 
 
 def convention_options(args: argparse.Namespace):
-    """The column map and angle convention of --columns, --zero and --clockwise: a conventions.LogConventions."""
+    """The column map and angle convention of --columns, --zero and --clockwise: a conventions.LogConventions, or
+    None when none is given (the explorer then starts without importing them)."""
+    if getattr(args, "columns", None) is None and getattr(args, "zero", None) is None \
+            and not getattr(args, "clockwise", False):
+        return None
     from ..logs.conventions import AngleConvention, LogConventions
 
     return LogConventions(getattr(args, "columns", None),
                           AngleConvention(getattr(args, "zero", None) or "right", bool(getattr(args, "clockwise", False))))
+
+
+def _conventions_or_defaults(args: argparse.Namespace):
+    """convention_options, or jointid's own conventions when no flag asks for others."""
+    from ..logs.conventions import LogConventions
+
+    return convention_options(args) or LogConventions()
 
 
 def derivative_options(args: argparse.Namespace) -> tuple[int | None, int]:
@@ -227,7 +238,7 @@ def log_requests(args: argparse.Namespace):
     window, order = derivative_options(args)
     common = dict(degrees=args.degrees, window=window, order=order, joint=args.joint, topic=args.topic,
                   effort_scale=1.0 if args.effort_scale is None else args.effort_scale, filtering=filter_options(args),
-                  **convention_options(args).request_fields())
+                  **_conventions_or_defaults(args).request_fields())
     path = args.bag if args.bag is not None else args.csv
     training = LoadRequest(path, TRAINING, time_window=args.train_window, **common)
     if args.heldout is None and args.heldout_window is None:
