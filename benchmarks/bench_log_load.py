@@ -20,7 +20,7 @@ It prints min / median / max of the per-round ratios and whether each median
 meets its goal, and two floors: how much more jointid holds than the script
 when pandas starts reading (both peaks come during that read), and
 the share of the script's time that jointid's checks the script does not make
-(time checks, the motion's bandwidth, the sensitivity refits) take. It checks
+(time checks, the automatic cutoff, the robust step, the sensitivity refits) take. It checks
 both estimates against the true parameters, and exits 1 if a goal is missed.
 """
 
@@ -44,7 +44,8 @@ sys.path.insert(0, str(ROOT))
 from common import write_log  # noqa: E402  (this folder is first on sys.path)
 
 from jointid.logs.csv_reader import load_log, read_table  # noqa: E402
-from jointid.logs.derivatives import motion_bandwidth  # noqa: E402
+from jointid.estimation.exclusion import ExclusionRequest  # noqa: E402
+from jointid.estimation.low_pass import automatic_cutoff  # noqa: E402
 from jointid.logs.pipeline import check_time, joint_log_from_table
 from jointid.model.terms import TRUE_PARAMETERS  # noqa: E402
 from jointid.studies.log_fit import fit_logs  # noqa: E402
@@ -125,7 +126,7 @@ def in_process(function) -> float:
 
 def checks_the_script_skips(path: Path) -> dict[str, float]:
     """Median seconds (of 5 warm calls each) of what `jointid fit` does to a loaded log beyond a regressor and
-    a solve: the time checks, the motion's bandwidth (for the automatic cutoff) and the sensitivity check's
+    a solve: the time checks, the automatic cutoff, the robust step with standstill, and the sensitivity check's
     refits. Warm, so lower than in a fresh process, where new arrays also cost page faults."""
     table = read_table(path)
     log = joint_log_from_table(table)  # the same log as load_log(path), without reading the file again
@@ -133,9 +134,12 @@ def checks_the_script_skips(path: Path) -> dict[str, float]:
     def median_seconds(function) -> float:
         return statistics.median(in_process(function) for _ in range(5))
 
-    refits = median_seconds(lambda: fit_logs(log)) - median_seconds(lambda: fit_logs(log, sensitivity=False))
+    single = median_seconds(lambda: fit_logs(log, sensitivity=False))
+    refits = median_seconds(lambda: fit_logs(log)) - single
+    robust = single - median_seconds(lambda: fit_logs(log, sensitivity=False, exclusion=ExclusionRequest(False)))
     return {"time checks": median_seconds(lambda: check_time(table, uniform=False)),
-            "motion bandwidth": median_seconds(lambda: motion_bandwidth(log.data.q, log.timing.step)),
+            "automatic cutoff": median_seconds(lambda: automatic_cutoff(log.data.q, log.timing.step)),
+            "robust step and standstill": robust,
             "sensitivity refits": refits}
 
 
