@@ -45,23 +45,9 @@ def command(argv: list[str], undo: str = "") -> str:
 
 def explorer(undo: str = "", module: str = "tui.command") -> str:
     """`jointid` with no subcommand to the explorer's first complete frame, then the process's end, after `undo`."""
-    return f"""
-import functools, sys
-{undo}
-from tui.app import JointIdApp
+    from bench_tui_startup import command_line  # one template for both scripts
 
-explorer_ready = JointIdApp.on_ready
-
-def on_ready(self):
-    explorer_ready(self)
-    self.call_after_refresh(self.exit)
-
-JointIdApp.on_ready = on_ready
-JointIdApp.run = functools.partialmethod(JointIdApp.run, headless=True, size=(120, 40))
-sys.argv = ["jointid"]
-from {module} import console_script
-console_script()
-"""
+    return command_line(module, undo)
 
 
 FIT = ["fit", "--motion", "rich"]
