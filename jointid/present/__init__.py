@@ -9,5 +9,7 @@ written once and the two faces cannot disagree.
 - `readouts`: the lab's readouts, precision notes and the uncertainty text;
 - `tables`: the sweep statistics and the cross-excitation matrix;
 - `charts`: the series and one-line summaries of every chart;
-- `documents`: the JSON documents of `jointid ... --json` and the explorer's export.
+- `documents`: the JSON documents of `jointid ... --json` and the explorer's export;
+- `notes`, `summary`, `runs`: a log fit's notes and what it left out, the text `jointid fit` prints (the
+  library's `summary()`), and several runs side by side.
 """
