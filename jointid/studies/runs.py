@@ -15,7 +15,6 @@ to it), which says how well one run's joint is another's.
 from __future__ import annotations
 
 import math
-import os
 from dataclasses import dataclass
 from functools import cached_property
 from types import MappingProxyType
@@ -52,8 +51,8 @@ class PooledRuns:
     weights: tuple[float, ...]
     """1 / each run's residual variance (N m)^-2."""
     predicted_by_others: tuple[float | None, ...]
-    """RMS (N m) of each run's filtered torque less the other runs' pooled prediction (offset its own), or None
-    with fewer than two other runs... or one: None only when no other run has a unique fit."""
+    """RMS (N m) of each run's filtered torque less the other runs' pooled prediction (its offset its own), or
+    None when the other runs have no unique fit together."""
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -159,7 +158,3 @@ def _predicted_by_others(runs: tuple[LoadedLogs, ...], index: int) -> float | No
     residual = tau - X @ estimate[: X.shape[1]]
     return float(np.sqrt(np.mean((residual - residual.mean()) ** 2)))
 
-
-def run_name(path: str) -> str:
-    """A run's file name without its folder."""
-    return os.path.basename(os.path.normpath(path))
