@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..norms import rms
+from .uncertainty import newey_west_sum
 
 COVERAGE = 0.5
 """LTS keeps this share of the samples: it tolerates up to half of them being outliers."""
@@ -157,14 +158,11 @@ def widened(mask: np.ndarray, count: int) -> np.ndarray:
 
 def effective_count(residuals: np.ndarray, kept: np.ndarray, lag: int) -> float:
     """How many independent residuals the kept ones are worth (Bartlett-weighted autocorrelation, gaps zeroed)."""
-    e = np.where(kept, residuals, 0.0)
-    c0 = float(np.dot(e, e))
-    if c0 == 0:
-        return float(kept.sum())
-    total = 1.0
-    for k in range(1, min(lag, len(e) - 1) + 1):
-        total += 2 * (1 - k / (lag + 1)) * float(np.dot(e[:-k], e[k:])) / c0
-    return float(kept.sum()) / max(total, 1.0)
+    positions = np.flatnonzero(kept)
+    if not len(positions):
+        return 0.0
+    _, autocorrelation = newey_west_sum(np.ones((len(positions), 1)), residuals[positions], positions, lag)
+    return len(positions) / autocorrelation
 
 
 def standstill(speed: np.ndarray, resolution: float, support: int) -> tuple[np.ndarray, np.ndarray, float]:

@@ -160,10 +160,6 @@ class FilterRequest:
     cutoff: float | None = None
     decimate: int | None = None
 
-    def scaled(self, factor: float) -> FilterRequest:
-        """The same request with its cutoff multiplied by `factor` (for the sensitivity check)."""
-        return self if self.cutoff in (None, 0) else FilterRequest(self.cutoff * factor, self.decimate)
-
 
 @dataclass(frozen=True, eq=False)
 class ParallelFilter:

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import os
 from typing import TYPE_CHECKING
 
 from ..estimation.low_pass import ATTENUATION_DB, FILTER_NAME, FLATNESS
