@@ -7,8 +7,9 @@ qdd, tau at 1 kHz: nothing to differentiate, so the check refits with the
 cutoff halved and doubled) and times, as fresh processes, interleaved in a
 rotated order each round:
 
-- default: `jointid fit --csv FILE --json` (low-pass, decimation, sensitivity check),
-- off:     `jointid fit --csv FILE --json --cutoff 0` (neither),
+- default: `jointid fit --csv FILE --json` (low-pass, decimation, the robust step and standstill with the
+  log's coulomb+bias model, sensitivity check),
+- off:     `jointid fit --csv FILE --json --cutoff 0 --no-robust --model plain` (none of them),
 - pandas:  the script a user would write, `pandas.read_csv(path)` + `numpy.linalg.lstsq`.
 
 Each child's wall time (from spawning it to its exit), CPU time (user +
@@ -22,7 +23,7 @@ at most 1.0).
 
 Then, in this process, 7 interleaved rounds of `fit_logs` on the loaded log
 (the filter's choice from the motion's bandwidth, the low-pass and decimation,
-the fit, and the sensitivity refits), `fit_logs` with `--cutoff 0` and no
+the fit, and the sensitivity refits), `fit_logs` with `--cutoff 0`, no robust step and no
 check, and one `numpy.linalg.lstsq` of the full-rate 1e6 x 3 regressor,
 printed as ratios to lstsq.
 """
@@ -77,7 +78,9 @@ def in_process(path: Path, rounds: int) -> None:
     import numpy as np
 
     sys.path.insert(0, str(ROOT))
+    from jointid.estimation.exclusion import ExclusionRequest
     from jointid.estimation.low_pass import FilterRequest
+    from jointid.present.notes import low_pass_note
     from jointid.logs.csv_reader import load_log
     from jointid.model.terms import PLAIN
     from jointid.studies.log_fit import fit_logs
@@ -87,7 +90,7 @@ def in_process(path: Path, rounds: int) -> None:
     tau = log.data.tau
     cases = {
         "default": lambda: fit_logs(log),
-        "off": lambda: fit_logs(log, filtering=FilterRequest(0), sensitivity=False),
+        "off": lambda: fit_logs(log, filtering=FilterRequest(0), sensitivity=False, exclusion=ExclusionRequest(False)),
         "lstsq": lambda: np.linalg.lstsq(X, tau, rcond=None),
     }
     times = {name: [] for name in cases}
@@ -98,7 +101,7 @@ def in_process(path: Path, rounds: int) -> None:
             cases[name]()
             times[name].append(time.perf_counter() - start)
     chosen = fit_logs(log).filter
-    print(f"\nin process ({rounds} rounds): the chosen low-pass: {chosen.description}")
+    print(f"\nin process ({rounds} rounds): the chosen low-pass: {low_pass_note(chosen)}")
     for name in ("default", "off"):
         ratios = [a / b for a, b in zip(times[name], times["lstsq"])]
         print(f"  fit_logs {name:<8} / one lstsq of the {len(tau)} x 3 regressor: {spread(ratios)}")
@@ -119,7 +122,8 @@ def main(rows: int = 1_000_000, rounds: int = 7) -> int:
              "--noise", "0.2", "--out", str(path)])
         print(f"log: {rows} rows x 5 columns at 1 kHz, {path.stat().st_size / 1e6:.1f} MB; {rounds} rounds")
         fit = [python, "-m", "jointid", "fit", "--csv", str(path), "--json"]
-        commands = {"default": fit, "off": fit + ["--cutoff", "0"], "pandas": [python, str(script), str(path)]}
+        commands = {"default": fit, "off": fit + ["--cutoff", "0", "--no-robust", "--model", "plain"],
+                    "pandas": [python, str(script), str(path)]}
         seconds = {name: [] for name in commands}
         cpu = {name: [] for name in commands}
         rss = {name: [] for name in commands}
