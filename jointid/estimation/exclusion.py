@@ -69,11 +69,28 @@ class Exclusions:
     """(n,) Each sample's time from the log's start (s)."""
     estimate: np.ndarray | None = None
     """The robust step's estimate of the filtered columns' coefficients, or None without it."""
+    times: np.ndarray | None = None
+    """(n,) The samples' times as the log gives them (s), for charts of every sample, kept or not."""
+    regressor: np.ndarray | None = None
+    """(n, p) The filtered regressor of every sample, kept or not: the rows these decisions were made on."""
+    torque: np.ndarray | None = None
+    """(n,) The filtered torque of every sample, kept or not."""
 
     @property
     def excluded(self) -> tuple[tuple[float, float], ...]:
         """[start, end] seconds from the log's start of each stretch left out for an outside torque."""
         return intervals(self.pushes, self.since)
+
+    @property
+    def within(self) -> tuple[tuple[float, float], ...]:
+        """The excluded stretches that touch neither end of the log: outside torques (pushes, by hand)."""
+        first, last = float(self.since[0]), float(self.since[-1])
+        return tuple(stretch for stretch in self.excluded if stretch[0] > first and stretch[1] < last)
+
+    @property
+    def at_ends(self) -> tuple[tuple[float, float], ...]:
+        """The excluded stretches at the log's ends, where the smoothing and the low-pass reach past the log."""
+        return tuple(stretch for stretch in self.excluded if stretch not in self.within)
 
     @property
     def excluded_share(self) -> float:

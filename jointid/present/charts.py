@@ -17,6 +17,7 @@ from .text import format_number, ordinal
 
 if TYPE_CHECKING:
     from ..estimation.fit import FitResult
+    from ..studies.log_fit import LoadedLogs
     from ..estimation.residuals import ResidualData
     from ..samples import JointData
     from ..studies.sweep import SweepResult
@@ -35,6 +36,8 @@ class ChartData:
         line_label: Legend text for the line.
         summaries: The one-line text summary, longest first.
         x_label: The x axis label.
+        left_out: (N,) True for the dots the fit left out (drawn faint), or None when it used them all.
+        shaded: (start, end) times shaded as left out for an outside torque (a push, or by hand).
     """
 
     titles: tuple[str, ...]
@@ -45,6 +48,8 @@ class ChartData:
     line_label: str
     summaries: tuple[str, ...]
     x_label: str = "Time (s)"
+    left_out: np.ndarray | None = None
+    shaded: tuple[tuple[float, float], ...] = ()
 
     def same_as(self, other: ChartData | None) -> bool:
         """True when other would draw exactly the same chart (arrays compared by value)."""
@@ -57,12 +62,17 @@ class ChartData:
         pairs = [(self.t, other.t), (self.dots, other.dots)]
         if self.line is not None:
             pairs.append((self.line, other.line))
+        if (self.left_out is None) != (other.left_out is None) or self.shaded != other.shaded:
+            return False
+        if self.left_out is not None:
+            pairs.append((self.left_out, other.left_out))
         return all(np.array_equal(a, b) for a, b in pairs)
 
     def key(self) -> tuple:
         """A hashable value that is equal exactly when two charts draw the same figure."""
         line = None if self.line is None else self.line.tobytes()
-        return (self.titles, self.x_label, self.t.tobytes(), self.dots.tobytes(), line)
+        left_out = None if self.left_out is None else self.left_out.tobytes()
+        return (self.titles, self.x_label, self.t.tobytes(), self.dots.tobytes(), line, left_out, self.shaded)
 
 
 def thin_stride(count: int, columns: int) -> int:
@@ -116,6 +126,41 @@ def training_chart(result: FitResult, *, log_name: str | None = None, columns: i
     return torque_chart(result, result.training, result.training_predictions, result.training_rmse,
                         titles=titles, what="measured", dots_label="measured", line_label="fitted",
                         columns=columns)
+
+
+def log_training_chart(logs: LoadedLogs, *, columns: int | None = None) -> ChartData:
+    """A training log's chart: every filtered sample as a dot, the ones the fit left out (standstill, outside
+    torques) faint, the fit's line over all of them, and the stretches of outside torques within the log shaded,
+    so a user sees what was left out and how the torque there departs from the joint's. The torque axis spans
+    the kept samples: a push's torque may run off it (it is drawn at the edge)."""
+    result, left = logs.result, logs.exclusions
+    chart = training_chart(result, log_name=logs.name, columns=columns)
+    if left is None or left.regressor is None or bool(left.kept.all()):
+        return chart
+    count = len(left.torque)
+    stride = 1 if columns is None else thin_stride(count, columns)
+    shown = slice(None, None, stride)
+    line = None if result.estimate is None else (left.regressor @ result.estimate)[shown]
+    offset = float(left.times[0] - left.since[0])  # the notes' times are from the log's start, the axis the log's
+    shaded = tuple((start + offset, end + offset) for start, end in left.within)
+    omitted = int(count - left.kept.sum())
+    low, high = (format_number(float(f(left.torque)), 2) for f in (np.min, np.max))
+    rmse = "no fitted line" if line is None else f"RMSE {format_number(result.training_rmse)} N m"
+    error = rmse if line is None else f"{rmse} on the kept"
+    where = ", ".join(f"{start:.2f}-{end:.2f}" for start, end in shaded)
+    pushes = f"; shaded: outside torque at {where} s" if shaded else ""
+    thinned = f"; every {ordinal(stride)} of {count} samples shown" if stride > 1 else ""
+    summaries = (
+        f"{count} filtered torques (dots), {low} to {high} N m, {omitted} left out (faint); {error}{pushes}"
+        f"{thinned}.",
+        f"{omitted} of {count} left out (faint); {rmse}{pushes}",
+        f"{omitted} of {count} left out (faint); {rmse}{'; pushes shaded' if shaded else ''}",
+        f"{omitted} of {count} left out (faint){'; pushes shaded' if shaded else ''}",
+        f"{omitted}/{count} left out{'; pushes shaded' if shaded else ''}",
+    )
+    return ChartData(titles=chart.titles, t=left.times[shown], dots=left.torque[shown], line=line,
+                     dots_label="measured", line_label="fitted", summaries=summaries, x_label=chart.x_label,
+                     left_out=~left.kept[shown], shaded=shaded)
 
 
 def heldout_chart(result: FitResult, *, log_name: str | None = None,

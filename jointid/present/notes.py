@@ -52,9 +52,7 @@ def exclusion_text(logs: LoadedLogs) -> str | None:
     if left is None or left.kept.all() and logs.exclusion.robust:
         return None if left is None or logs.exclusion.robust else "Every sample kept (--no-robust)."
     parts = []
-    first, last = float(left.since[0]), float(left.since[-1])
-    ends = [(start, end) for start, end in left.excluded if start <= first or end >= last]
-    inside = [(start, end) for start, end in left.excluded if (start, end) not in ends]
+    ends, inside = left.at_ends, left.within
     found = "found by the robust fit" + (" or given with --exclude" if logs.exclusion.by_hand else "") \
         if logs.exclusion.robust else "given with --exclude"
     if inside:
@@ -95,8 +93,7 @@ def left_out_brief(logs: LoadedLogs) -> str | None:
     left = logs.exclusions
     if left is None or left.kept.all():
         return None
-    first, last = float(left.since[0]), float(left.since[-1])
-    inside = [stretch for stretch in left.excluded if stretch[0] > first and stretch[1] < last]
+    inside = left.within
     parts = []
     if inside:
         parts.append(f"{len(inside)} stretch{'es' if len(inside) > 1 else ''} of outside torque")

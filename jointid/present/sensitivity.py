@@ -31,14 +31,17 @@ def sensitivity_warning(check, compact: bool = False) -> str | None:
     """
     if not check.flagged:
         return None
-    parts = []
+    moves: dict[str, list[str]] = {}  # by the setting that moves them most, so each setting is named once
     for j, name in enumerate(check.names):
         if check.flags[j]:
             variant, move = check.worst(j)
-            if compact:
-                parts.append(f"{name} moves {move:.1f} standard errors")
-            else:
-                parts.append(f"{name} moves {move:.2f} standard errors with the {variant.label}")
+            moves.setdefault("" if compact else f"with the {variant.label}, ", []).append(
+                f"{name} {move:.{1 if compact else 2}f}")
+    parts = []
+    for setting, named in moves.items():
+        first, *rest = named
+        name, move = first.split(" ")
+        parts.append(f"{setting}{name} moves {move} standard errors" + "".join(f", {other}" for other in rest))
     return f"{SETTINGS_DECIDE}: " + "; ".join(parts) + "."
 
 

@@ -180,12 +180,14 @@ def log_status(logs, compact: bool = False) -> str:
     are (logfit.LoadedLogs): the notes themselves have their own view (`log_notes_text`), so they never push the
     readouts off a small screen.
 
-    Compact (80x24): the sensitivity warning in its short form.
+    Compact (80x24): `compact_log_status`, which names parameters and leaves their errors to the readouts.
     """
     # Only log fits carry a sensitivity check: a synthetic fit need not import it.
     from .notes import left_out_brief
     from .sensitivity import sensitivity_warning
 
+    if compact:
+        return compact_log_status(logs)
     check = logs.sensitivity
     warning = () if check is None or not check.flagged else (sensitivity_warning(check, compact=compact),)
     left = left_out_brief(logs)
@@ -194,6 +196,36 @@ def log_status(logs, compact: bool = False) -> str:
 
 NOTES_POINTER = "n: the notes (how the log was read, filtered and checked)."
 """Where a log fit's notes are, at the end of its status."""
+
+
+def compact_log_status(logs) -> str:
+    """A log fit's status in about four lines of 78 columns, so 80x24 keeps every readout on screen: the rank,
+    the parameters not or weakly determined and those the derivative settings move, by name (the readouts beside
+    give their values and errors), what was left out, and where the notes are."""
+    from .notes import left_out_brief
+
+    result = logs.result
+    if result.estimate is None:
+        return f"{status_message(result)} n: notes."
+    tested = ("untested (no held-out log)" if result.heldout_rmse is None
+              else f"held-out RMSE {format_number(result.heldout_rmse)} N m")
+    parts = [f"Rank {result.rank} of {result.parameter_count}: a unique fit, {tested}."]
+    names = result.model.names
+    parts.extend(f"Fitted {name} fails its sign rule." for name in result.sign_failures)
+    verdicts = result.uncertainty.verdicts
+    if verdicts is not None:
+        found = [f"{', '.join(name for name, judged in zip(names, verdicts) if judged == verdict)} {words}"
+                 for verdict, words in ((NOT_DETERMINED, "not determined"), (WEAK, "weak"))
+                 if verdict in verdicts]
+        if found:
+            parts.append(f"Unique is not accurate: {'; '.join(found)}.")
+    check = logs.sensitivity
+    if check is not None and check.flagged:
+        moved = [name for name, flagged in zip(check.names, check.flags) if flagged]
+        largest = max(check.worst(j)[1] for j, flagged in enumerate(check.flags) if flagged)
+        parts.append(f"The derivative settings move {', '.join(moved)} (up to {largest:.1f} standard errors).")
+    left = left_out_brief(logs)
+    return " ".join((*parts, *(() if left is None else (left,)), "n: notes."))
 
 
 def simulation_text(check, label_width: int = 28) -> str:

@@ -256,7 +256,7 @@ def _exclusions(training: JointLog, model: JointModel, chosen: ParallelFilter, X
     if not (~(pushes | still)).any():
         raise LogError(training.path, "leaves no sample to fit after leaving out standstill and outside torques; "
                        "fit it with --no-robust or --model plain")
-    return Exclusions(pushes, still, threshold, level, since, estimate)
+    return Exclusions(pushes, still, threshold, level, since, estimate, t, X, tau)
 
 
 def _speed_resolution(log: JointLog, chosen: ParallelFilter) -> float:

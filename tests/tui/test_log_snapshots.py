@@ -9,13 +9,14 @@ from __future__ import annotations
 
 import pytest
 from support.log_files import CORPUS
+from support.real_logs import REAL_LOGS, needs_real_logs
 from support.robot_logs import robot_log, write_log
 from support.tui_support import make_app
 from test_snapshots import COMPACT, WIDE, steady
 
 from jointid.cli import main
 from jointid.logs.csv_reader import load_log
-from jointid.studies.log_fit import LoadRequest, fit_logs
+from jointid.studies.log_fit import LoadRequest, fit_log, fit_logs
 
 
 @pytest.fixture
@@ -65,4 +66,14 @@ def test_a_jittered_robot_log_with_its_notes_and_sensitivity_check(snap_compare,
     monkeypatch.chdir(tmp_path)
     write_log(tmp_path / "robot.csv", robot_log(300, duration=8.0))
     app = make_app(logs=fit_logs(load_log("robot.csv", window=window)))
+    assert snap_compare(app, terminal_size=size, run_before=steady)
+
+
+@needs_real_logs
+@pytest.mark.parametrize("size", [WIDE, COMPACT], ids=["120x40", "80x24"])
+def test_a_real_log_with_pushes_shows_what_was_left_out(snap_compare, monkeypatch, size):
+    """The real pendulum's energy-shaping run: the three pushes shaded, standstill and the pushes' samples faint,
+    the fitted line over every sample, and every readout still on screen."""
+    monkeypatch.chdir(REAL_LOGS)
+    app = make_app(logs=fit_log("pendulum_energy_shaping.csv", zero="down"))
     assert snap_compare(app, terminal_size=size, run_before=steady)

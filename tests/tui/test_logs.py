@@ -132,7 +132,9 @@ async def test_synthetic_controls_are_off_with_the_reason_and_come_back(logs):
         assert all(s.disabled and s.value == FROM_LOG for s in steppers)
         note = str(screen.query_one("#log-note").render())
         fitted = screen.result.training.count  # after the default low-pass's decimation (checked above)
-        assert note.startswith(f"From log: train.csv, {fitted} samples fitted") and "1/2/3 or c" in note
+        assert note == f"From log: c or 1/2/3 for synthetic\ntrain.csv: 600 rows, radians; {fitted} fitted"
+        # The number fields and Reset give way: they do not apply to a log.
+        assert not any(s.display for s in screen.query(".field")) and not screen.query_one("#reset-row").display
         choices = screen.query_one(ChoiceList)
         assert choices.pressed == "motion-log" and "motion-log" in choices.shown
         assert choices.render().plain.splitlines()[-1].endswith(" Log: train.csv ")
@@ -353,7 +355,7 @@ async def test_a_log_with_its_heldout_fits_80x24_without_scrolling(logs):
         assert side.max_scroll_y == 0 and panel.region.bottom <= side.region.bottom
         # What was read goes beside the readouts, file names only; the status keeps to its 4 rows.
         assert str(screen.query_one("#log-note").render()).splitlines() == [
-            "From log: c or 1/2/3 for synthetic", "train.csv: 600 rows, radians",
+            "From log: c or 1/2/3 for synthetic", f"train.csv: 600 rows, radians; {screen.result.training.count} fitted",
             "Held-out test.csv: 200 rows, radians"]
         status = screen.query_one("#status")
         assert status.size.height == STATUS_LINES and str(tmp_path_of(train)) not in str(status.render())
@@ -420,8 +422,11 @@ async def test_a_jittered_log_shows_its_notes_and_the_sensitivity_warning(tmp_pa
         async with app.run_test(size=size) as pilot:
             await load(pilot, path, window=window)
             status = str(main_screen(app).query_one("#status").render())
-            assert status.endswith("n: the notes (how the log was read, filtered and checked).")
-            warned = "Your derivative settings decide this estimate" in status
+            compact = size == (80, 24)  # names the moved parameters and leaves their errors to the readouts
+            assert status.endswith("n: notes." if compact else "n: the notes (how the log was read, filtered and "
+                                   "checked).")
+            warned = ("The derivative settings move I" if compact
+                      else "Your derivative settings decide this estimate") in status
             assert warned == (window is not None), status
             # The notes have their own view: n opens it, with everything the command line says of the log.
             await pilot.press("n")

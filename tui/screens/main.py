@@ -27,7 +27,7 @@ from textual.widgets import Static
 from jointid.estimation.fit import FitResult
 from jointid.model.terms import PLAIN, G
 from jointid.model.truth import LESSON_JOINT, TrueJoint
-from jointid.present.charts import heldout_chart, training_chart
+from jointid.present.charts import heldout_chart, log_training_chart, training_chart
 from jointid.present.readouts import precision, readouts
 from jointid.present.status import log_sources, log_status, status_message
 from jointid.studies.experiment import run_experiment
@@ -54,8 +54,8 @@ STEPPER_HINT = "←/→ step, Shift+←/→ more, or type"
 
 FROM_LOG = "from log"
 """Text of the noise, samples and seed fields while a log is shown."""
-COMPACT_LOG_NOTE = "From log: c or 1/2/3 for synthetic"
-"""The log note on small terminals, one line (the help gives the rest)."""
+LOG_NOTE = "From log: c or 1/2/3 for synthetic"
+"""The first line of the note shown while a log is (the help gives the rest)."""
 
 MIN_SIZE = (70, 22)
 """Smallest (width, height) the layout stays readable at; below it the screen asks for more."""
@@ -118,17 +118,14 @@ def missing_physics(joint: TrueJoint) -> list[tuple[str, float]]:
             if value]
 
 
-def log_note(logs: LoadedLogs, compact: bool = False) -> str:
-    """Why the synthetic controls are off, and how to get them back; compact, short lines with what was read.
+def log_note(logs: LoadedLogs) -> str:
+    """Why the synthetic controls are gone and how to get them back, then one short line per log read.
 
-    Compact screens hide the number fields and Reset while a log is shown, which
-    leaves rows here for the files read: the status sentence then need not name them.
+    The number fields and Reset give way while a log is shown, which leaves rows here for the files read:
+    the status sentence then need not name them.
     """
-    if compact:
-        return "\n".join((COMPACT_LOG_NOTE, *log_sources(logs)))
-    heldout = f", held-out {logs.heldout_name}" if logs.heldout is not None else ""
-    return (f"From log: {logs.name}{heldout}, {logs.result.training.count} samples fitted; "
-            "noise, samples and seed do not apply. 1/2/3 or c: back to synthetic.")
+    training, *others = log_sources(logs)
+    return "\n".join((LOG_NOTE, f"{training}; {logs.result.training.count} fitted", *others))
 
 
 class MainScreen(Screen):
@@ -264,8 +261,7 @@ class MainScreen(Screen):
             self.query_one(ReadoutPanel).set_compact(compact)
         self.update_classes(classes)  # restyles the screen only when a class changes
         if switched:
-            self.show_log_note()  # these read the new -compact class
-            self.show_status()
+            self.show_status()  # reads the new -compact class
         if classes["-too-small"]:
             self.query_one("#too-small", Static).update(
                 f"Please enlarge the terminal.\n\n"
@@ -314,7 +310,7 @@ class MainScreen(Screen):
         else:
             result = logs.result
             columns = max(self.app.size.width, 80)  # a chart is never wider than the terminal
-            training = training_chart(result, log_name=logs.name, columns=columns)
+            training = log_training_chart(logs, columns=columns)
             heldout = heldout_chart(result, log_name=logs.heldout_name, columns=columns)
         self.result = result
         self.show_title()
@@ -348,9 +344,9 @@ class MainScreen(Screen):
             known_parameters_text(self.settings.true_joint, self.has_class("-compact")))
 
     def show_log_note(self) -> None:
-        """The note on the off controls, one line on compact screens (80x24 has no room for more)."""
+        """The note on the synthetic controls, which give way while a log is shown."""
         if self.logs is not None:
-            self.query_one("#log-note", Static).update(log_note(self.logs, self.has_class("-compact")))
+            self.query_one("#log-note", Static).update(log_note(self.logs))
 
     # --- the controls' callbacks and the actions --------------------------------------
 

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 from functools import lru_cache
 
+import numpy as np
+
 from textual.app import ComposeResult
 from textual.containers import Vertical
 from textual.content import Content
@@ -25,25 +27,37 @@ LINE_MARKER = "braille"
 about 2 ms a chart instead of 4 ms but draw a line as thick as the data; readability wins."""
 LEGEND_LINE = "⠒⠒"
 """How the fitted line looks in the legend."""
+MUTED = 0.5
+"""How far the dots a fit left out and the shading fade into the background: Textual's '-muted' colours, which
+the legend uses, are the same colours at half strength."""
+SHADE_MARKER = "░"
+"""Fill of the stretches left out for an outside torque: light, so dots and line stay readable over it."""
 
 
 def chart_headings(data: ChartData) -> tuple[Content, ...]:
     """Title and legend on one line, longest first (the legend never hides data here)."""
     line_label = None if data.line is None else data.line_label
-    return heading_variants(data.titles, data.dots_label, line_label)
+    return heading_variants(data.titles, data.dots_label, line_label, data.left_out is not None, bool(data.shaded))
 
 
 @lru_cache(maxsize=64)
-def heading_variants(titles: tuple[str, ...], dots_label: str, line_label: str | None) -> tuple[Content, ...]:
+def heading_variants(titles: tuple[str, ...], dots_label: str, line_label: str | None,
+                     left_out: bool = False, shaded: bool = False) -> tuple[Content, ...]:
     """A chart's heading for each title, with the legend; parsed once (a few per chart, reused every press)."""
     markup = "[b]$title[/b]  [$primary]$dot[/] $dots"
     if line_label is not None:
         markup += "  [$accent]$line[/] $line_label"
-    return tuple(
-        Content.from_markup(markup, title=title, dot=DOT_MARKER, dots=dots_label,
-                            line=LEGEND_LINE, line_label=line_label or "")
-        for title in titles
-    )
+    if left_out:
+        markup += "  [$primary-muted]$dot[/] left out"
+    if shaded:
+        markup += "  [$warning-muted]$shade[/] outside torque"
+    values = dict(dot=DOT_MARKER, dots=dots_label, line=LEGEND_LINE, line_label=line_label or "", shade=SHADE_MARKER)
+    variants = [Content.from_markup(markup, title=title, **values) for title in titles]
+    if left_out:  # a narrow chart keeps the kept/left-out/pushed key and drops the line's (it is plainly a line)
+        short = "[b]$title[/b] [$primary]$dot[/]kept [$primary-muted]$dot[/]out" + (
+            " [$warning-muted]$shade[/]push" if shaded else "")
+        variants.append(Content.from_markup(short, title=titles[-1], **values))
+    return tuple(variants)
 
 
 class TorqueChart(Vertical):
@@ -97,10 +111,14 @@ class TorqueChart(Vertical):
 
     def _draw(self, plt) -> None:
         """Set up the plotext figure for the current data (the plot calls this when it builds)."""
-        draw_torque_chart(plt, self.data, line_rgb=theme_rgb(self.app, "accent"), dots_rgb=theme_rgb(self.app, "primary"))
+        app = self.app
+        draw_torque_chart(plt, self.data, line_rgb=theme_rgb(app, "accent"), dots_rgb=theme_rgb(app, "primary"),
+                          faint_rgb=theme_rgb(app, "primary", MUTED), shade_rgb=theme_rgb(app, "warning", MUTED))
 
 
-def draw_torque_chart(plt, data: ChartData, line_rgb: tuple[int, int, int], dots_rgb: tuple[int, int, int]) -> None:
+def draw_torque_chart(plt, data: ChartData, line_rgb: tuple[int, int, int], dots_rgb: tuple[int, int, int],
+                      faint_rgb: tuple[int, int, int] = (96, 96, 96),
+                      shade_rgb: tuple[int, int, int] = (128, 96, 32)) -> None:
     """Set up a plotext figure for a torque chart.
 
     Every setting the chart uses is set here each time, so the figure does not
@@ -114,13 +132,23 @@ def draw_torque_chart(plt, data: ChartData, line_rgb: tuple[int, int, int], dots
     plt.xaxes(True, False)
     plt.yaxes(True, False)
     plt.xlim(float(data.t[0]), float(data.t[-1]))
-    low, high = float(data.dots.min()), float(data.dots.max())
+    # The kept samples set the torque axis; a push's dots and the line through it are clipped to its edges.
+    kept = slice(None) if data.left_out is None or data.left_out.all() else ~data.left_out
+    low, high = float(data.dots[kept].min()), float(data.dots[kept].max())
     if data.line is not None:
-        low, high = min(low, float(data.line.min())), max(high, float(data.line.max()))
+        low, high = min(low, float(data.line[kept].min())), max(high, float(data.line[kept].max()))
     # A flat series (holds) would give plotext a zero-height axis; pad it.
     pad = max(0.05 * (high - low), 0.1)
     plt.ylim(low - pad, high + pad)
-    # The line goes first so the dots, the data the fit must explain, are drawn on top.
+    # Shading first, the line next, so the dots, the data the fit must explain, are drawn on top.
+    for start, end in data.shaded:
+        plt.rectangle([start, end], [low - pad, high + pad], marker=SHADE_MARKER, color=shade_rgb, fill=True)
     if data.line is not None:
-        plt.plot(data.t, data.line, marker=LINE_MARKER, color=line_rgb)
-    plt.scatter(data.t, data.dots, marker=DOT_MARKER, color=dots_rgb)
+        plt.plot(data.t, np.clip(data.line, low - pad, high + pad), marker=LINE_MARKER, color=line_rgb)
+    if data.left_out is None:
+        plt.scatter(data.t, data.dots, marker=DOT_MARKER, color=dots_rgb)
+        return
+    dots = np.clip(data.dots, low - pad, high + pad)
+    for chosen, colour in ((data.left_out, faint_rgb), (~data.left_out, dots_rgb)):
+        if chosen.any():
+            plt.scatter(data.t[chosen], dots[chosen], marker=DOT_MARKER, color=colour)

@@ -15,15 +15,17 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from support.real_logs import REAL_LOGS, needs_real_logs
+
 from jointid.cli import main
 
 G = 9.81
-LOGS = Path(__file__).resolve().parents[4] / "shared" / "real-logs"
+LOGS = REAL_LOGS
 RUNS = ("pd", "ddp", "energy_shaping")
 PUBLISHED = {"I": 0.06259, "h": 0.1022, "B": 0.04707, "Fc": 0.1839, "tau0": -0.07586}
 """The repository's own identification of the pd run (its friction is Fc atan(100 qd))."""
 
-pytestmark = pytest.mark.skipif(not LOGS.is_dir(), reason="../shared/real-logs is not beside the checkout")
+pytestmark = needs_real_logs
 
 
 def fitted(capsys, run: str, *options) -> dict:
@@ -225,3 +227,24 @@ def test_runs_that_disagree_beyond_their_errors_are_said_not_refused(capsys):
     assert main(argv) == 0
     text = capsys.readouterr().out
     assert "Disagrees with the pooled fit beyond their combined errors: pendulum_ddp.csv" in text
+
+
+def test_the_training_chart_shades_each_push_and_shows_its_torque_off_the_fitted_line():
+    """The chart keeps every filtered sample: the ones left out faint, each push shaded, and there the measured
+    torque sits about the push's 1 N m off the joint's line, while the kept samples follow it."""
+    from jointid import fit_log
+    from jointid.present.charts import log_training_chart
+
+    logs = fit_log(coulomb_joint_log(1, PUSHES), sensitivity=False)
+    chart = log_training_chart(logs)
+    assert len(chart.t) == len(logs.exclusions.since) > logs.result.training.count
+    assert np.array_equal(chart.left_out, ~logs.exclusions.kept)
+    for start, length, size in PUSHES:
+        assert any(a <= start + 0.1 * length and b >= start + 0.9 * length for a, b in chart.shaded), start
+    departure = chart.dots - chart.line
+    for start, length, size in PUSHES[1:]:  # the 0.5 s bump is partly above the cutoff, the longer two are not
+        middle = np.abs(chart.t - (start + length / 2)) <= 0.1
+        assert np.allclose(departure[middle], -size, atol=0.25), (start, departure[middle])
+    kept = ~chart.left_out
+    assert np.sqrt(np.mean(departure[kept] ** 2)) == pytest.approx(logs.result.training_rmse, rel=1e-9)
+    assert np.sqrt(np.mean(departure[kept] ** 2)) < 0.1

@@ -1,0 +1,13 @@
+"""Where the real pendulum's measured runs are: ../shared/real-logs beside the checkout (CI places it there)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+REAL_LOGS = Path(__file__).resolve().parents[3] / "shared" / "real-logs"
+"""The folder of the three measured runs and their README."""
+
+needs_real_logs = pytest.mark.skipif(not REAL_LOGS.is_dir(), reason="../shared/real-logs is not beside the checkout")
+"""Marks a test (or a module, as pytestmark) that reads the real runs."""
