@@ -1,0 +1,60 @@
+"""Several runs of one joint: the runs already fitted are pooled as they are, one more run is added to them
+without refitting them, and runs whose angles are read in a unit their columns do not name are refused."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from jointid.logs.conventions import ColumnMap
+from jointid.logs.request import LoadRequest, load_joint_log
+from jointid.logs.table import LogError
+from jointid.model.terms import model_named
+from jointid.studies.runs import add_run, fit_runs
+
+G = 9.81
+TRUTH = {"I": 0.8, "h": 0.4, "B": 0.15}
+
+
+def write_run(path, seed: int, angle: str = "q", scale: float = 1.0):
+    """A plain joint swinging on a two-sine motion, 12 s at 200 Hz, torque noise 0.02 N m; the angle column
+    named `angle` and given in its unit (`scale` per radian)."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(0, 12, 1 / 200)
+    a, w = 0.6 + 0.1 * seed, 1.1 + 0.2 * seed
+    q = a * np.sin(w * t) + 0.2 * np.sin(2.9 * t)
+    qd = a * w * np.cos(w * t) + 0.58 * np.cos(2.9 * t)
+    qdd = -a * w * w * np.sin(w * t) - 0.2 * 2.9**2 * np.sin(2.9 * t)
+    tau = TRUTH["I"] * qdd + TRUTH["h"] * G * np.cos(q) + TRUTH["B"] * qd + 0.02 * rng.standard_normal(len(t))
+    lines = [f"t,{angle},tau"] + [f"{a:.6f},{b * scale:.9f},{c:.9f}" for a, b, c in zip(t, q, tau)]
+    path.write_text("\n".join(lines) + "\n")
+    return str(path)
+
+
+def test_a_run_added_to_pooled_runs_is_the_pooled_fit_of_all_three_and_keeps_the_first_two_as_fitted(tmp_path):
+    paths = [write_run(tmp_path / f"run{k}.csv", k) for k in range(3)]
+    logs = [load_joint_log(LoadRequest(path)) for path in paths]
+    plain = model_named("plain")
+    two = fit_runs(logs[:2], plain, sensitivity=False)
+    three = add_run(two, logs[2], plain, sensitivity=False)
+    assert three.runs[:2] == two.runs  # the same fits, not refitted
+    everyone = fit_runs(logs, plain, sensitivity=False)
+    for name, true in TRUTH.items():
+        assert three.params[name] == pytest.approx(everyone.params[name], rel=1e-12)
+        assert abs(three.params[name] - true) <= max(0.02 * true, 3 * three.bse[name]), name
+
+
+def test_a_run_whose_angle_column_names_degrees_but_is_read_in_radians_is_refused(tmp_path):
+    radians = write_run(tmp_path / "a.csv", 0, "angle_rad")
+    degrees = write_run(tmp_path / "b.csv", 1, "angle_deg", 180 / np.pi)
+    logs = [load_joint_log(LoadRequest(radians, columns=ColumnMap.parse("q=angle_rad"))),
+            load_joint_log(LoadRequest(degrees, columns=ColumnMap.parse("q=angle_deg")))]
+    with pytest.raises(LogError) as refused:
+        fit_runs(logs, model_named("plain"), sensitivity=False)
+    message = str(refused.value)
+    assert "b.csv" in message and "'angle_deg' in degrees but is read in radians" in message
+    assert "\n" not in message
+    # Read in its unit, the same run pools with the other and gives the joint.
+    logs[1] = load_joint_log(LoadRequest(degrees, degrees=True, columns=ColumnMap.parse("q=angle_deg")))
+    pooled = fit_runs(logs, model_named("plain"), sensitivity=False)
+    assert pooled.params["I"] == pytest.approx(TRUTH["I"], rel=0.02)
