@@ -22,7 +22,9 @@ from .log_arguments import (
     derivative_options,
     filter_options,
     fit_loaded_logs,
+    fit_pooled_runs,
     has_log,
+    several_runs,
     with_default_settings,
 )
 from .version import ENTRY_POINT_GROUP
@@ -49,7 +51,7 @@ def run(args, explore=None) -> int:
     """
     # A bad log is one line on stderr and status 2 before the app starts, as for `jointid fit --csv/--bag`.
     with strict_arithmetic():
-        loaded = fit_loaded_logs(args) if has_log(args) else None
+        loaded = (fit_pooled_runs(args) if several_runs(args) else fit_loaded_logs(args)) if has_log(args) else None
     derivatives = derivative_options(args)  # also for logs opened later with Ctrl+O
     filtering = filter_options(args)
     conventions = convention_options(args)  # before _defaults clears the log flags

@@ -292,7 +292,7 @@ def fit_loaded_logs(args: argparse.Namespace) -> LoadedLogs:
 
 def run_log_fit(args: argparse.Namespace) -> int:
     """Load the training (and held-out) log, fit, and print text or JSON; exit status 0."""
-    if len(getattr(args, "runs", None) or ()) > 1:
+    if several_runs(args):
         return run_several(args)
     logs = fit_loaded_logs(args)
     if args.json:
@@ -306,8 +306,9 @@ def run_log_fit(args: argparse.Namespace) -> int:
     return ExitStatus.SUCCESS
 
 
-def run_several(args: argparse.Namespace) -> int:
-    """Several runs of one joint (--csv given more than once): each fitted alone, then together; text or JSON."""
+def fit_pooled_runs(args: argparse.Namespace):
+    """Several runs of one joint (--csv given more than once), each fitted alone, then together (a
+    studies.runs.PooledRuns); UserError (one line) on any problem."""
     if args.heldout is not None or args.heldout_window is not None:
         raise UserError("--heldout and --heldout-window: with several runs each run is predicted by the others "
                         "instead; drop them")
@@ -321,10 +322,20 @@ def run_several(args: argparse.Namespace) -> int:
     training, _ = log_requests(args)
     try:
         logs = [load_joint_log(dataclasses.replace(training, path=path)) for path in args.runs]
-        pooled = fit_runs(logs, model_named(args.model or LOG_MODEL), filter_options(args), exclusion_options(args),
-                          getattr(args, "constrained", False))
+        return fit_runs(logs, model_named(args.model or LOG_MODEL), filter_options(args), exclusion_options(args),
+                        getattr(args, "constrained", False))
     except LogError as error:
         raise UserError(str(error)) from None
+
+
+def several_runs(args: argparse.Namespace) -> bool:
+    """Whether --csv was given more than once."""
+    return len(getattr(args, "runs", None) or ()) > 1
+
+
+def run_several(args: argparse.Namespace) -> int:
+    """Several runs of one joint: the per-run table and the pooled fit, as text or JSON; exit status 0."""
+    pooled = fit_pooled_runs(args)
     if args.json:
         from ..present.runs import runs_document
 

@@ -18,10 +18,10 @@ from ..options import DEFAULT_ORDER, DEFAULT_WINDOW
 from .conventions import AngleConvention, ColumnMap
 from .timewindow import TimeWindow
 
-TRAINING, HELDOUT = "training", "heldout"
-"""The two roles a log can be loaded in."""
+TRAINING, HELDOUT, RUN = "training", "heldout", "run"
+"""The roles a log can be loaded in: the training log, the held-out log, or one more run of the joint."""
 
-ROLE_WORDS = {TRAINING: "training", HELDOUT: "held-out"}
+ROLE_WORDS = {TRAINING: "training", HELDOUT: "held-out", RUN: "training"}
 """How notes name each role."""
 
 

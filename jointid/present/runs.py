@@ -12,6 +12,13 @@ if TYPE_CHECKING:
 
 def runs_text(pooled: PooledRuns) -> str:
     """The per-run table with the pooled row, then the scatter against the errors and any disagreement."""
+    heading, table, *sentences = runs_parts(pooled)
+    return "\n".join((heading, table, *sentences))
+
+
+def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
+    """runs_text in its parts: the heading, the table, then one sentence a line (a narrow screen scrolls the
+    table sideways and wraps the sentences)."""
     shared = pooled.shared
     model = pooled.runs[0].result.model
     bias = "tau0" in model.column_names
@@ -51,7 +58,7 @@ def runs_text(pooled: PooledRuns) -> str:
         lines.append("Every run agrees with the pooled fit within its errors.")
     lines.append("Others predict: the RMS error of each run's filtered torque predicted by the pooled fit of the "
                  "other runs (its own offset).")
-    return "\n".join(lines)
+    return tuple(lines)
 
 
 def runs_document(pooled: PooledRuns) -> dict:

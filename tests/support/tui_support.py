@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import asyncio
+import functools
 import signal
 from contextlib import contextmanager
 from pathlib import Path
@@ -117,3 +118,13 @@ def regenerate_readouts() -> None:
 if __name__ == "__main__":
     # Regenerate pinned readouts:  .venv/bin/python tests/support/tui_support.py
     regenerate_readouts()
+
+
+def synchronous(test):
+    """Run an async test body with asyncio.run (the suite has no async plugin); fixtures still apply."""
+
+    @functools.wraps(test)
+    def run(*args, **kwargs):
+        return asyncio.run(test(*args, **kwargs))
+
+    return run

@@ -16,7 +16,12 @@ from test_snapshots import COMPACT, WIDE, steady
 
 from jointid.cli import main
 from jointid.logs.csv_reader import load_log
+from jointid.logs.conventions import AngleConvention
+from jointid.logs.request import load_joint_log
+from jointid.model.terms import model_named
+from jointid.options import LOG_MODEL
 from jointid.studies.log_fit import LoadRequest, fit_log, fit_logs
+from jointid.studies.runs import fit_runs
 
 
 @pytest.fixture
@@ -77,3 +82,22 @@ def test_a_real_log_with_pushes_shows_what_was_left_out(snap_compare, monkeypatc
     monkeypatch.chdir(REAL_LOGS)
     app = make_app(logs=fit_log("pendulum_energy_shaping.csv", zero="down"))
     assert snap_compare(app, terminal_size=size, run_before=steady)
+
+
+@needs_real_logs
+@pytest.mark.parametrize("view", ["main", "runs"])
+def test_the_real_pendulums_three_runs_at_80x24(snap_compare, monkeypatch, view):
+    """`jointid --zero down --csv pd --csv ddp --csv energy_shaping`: the first run with the pooled fit named
+    beside it, and u's view of every run beside the pooled fit (the table scrolls sideways at 80 columns)."""
+    monkeypatch.chdir(REAL_LOGS)
+    logs = [load_joint_log(LoadRequest(f"pendulum_{run}.csv", angle=AngleConvention("down")))
+            for run in ("pd", "ddp", "energy_shaping")]
+    app = make_app(logs=fit_runs(logs, model_named(LOG_MODEL)))
+
+    async def open_view(pilot):
+        steady(pilot)
+        if view == "runs":
+            await pilot.press("u")
+            await pilot.pause()
+
+    assert snap_compare(app, terminal_size=COMPACT, run_before=open_view)

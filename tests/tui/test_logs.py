@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import asyncio
 import dataclasses
 import functools
 import json
@@ -11,7 +10,7 @@ import math
 import numpy as np
 import pytest
 from support.log_files import CORPUS, HEADER, good_rows
-from support.tui_support import displayed_readouts, make_app
+from support.tui_support import displayed_readouts, make_app, synchronous
 from textual.widgets import Input
 
 from jointid.cli import main
@@ -33,16 +32,6 @@ from tui.widgets.readouts import ReadoutPanel
 from tui.widgets.stepper import Stepper
 
 SIZE = (120, 40)
-
-
-def synchronous(test):
-    """Run an async test body with asyncio.run (the suite has no async plugin); fixtures still apply."""
-
-    @functools.wraps(test)
-    def run(*args, **kwargs):
-        return asyncio.run(test(*args, **kwargs))
-
-    return run
 
 
 @pytest.fixture

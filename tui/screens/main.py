@@ -30,6 +30,7 @@ from jointid.model.truth import LESSON_JOINT, TrueJoint
 from jointid.present.charts import heldout_chart, log_training_chart, training_chart
 from jointid.present.readouts import precision, readouts
 from jointid.present.status import log_sources, log_status, status_message
+from jointid.present.text import format_number
 from jointid.studies.experiment import run_experiment
 from jointid.synthetic.motions import TRAINING_MOTIONS
 from jointid.synthetic.settings import DEFAULT_SETTINGS, Settings
@@ -46,6 +47,7 @@ from ..widgets.stepper import Stepper
 # the first frame needs none of them, which buys 0.15 of the explorer's start (bench_startup_budget lazy-ui-modules).
 if TYPE_CHECKING:
     from jointid.studies.log_fit import LoadedLogs, LoadRequest
+    from jointid.studies.runs import PooledRuns
 
     from .loading import LoadingScreen
 
@@ -128,6 +130,12 @@ def log_note(logs: LoadedLogs) -> str:
     return "\n".join((LOG_NOTE, f"{training}; {logs.result.training.count} fitted", *others))
 
 
+def runs_note(runs, shown: int) -> str:
+    """Which of several runs is shown and where they are pooled: 'Run 2 of 3 · u: every run, pooled I 0.1872'."""
+    pooled = ", ".join(f"{name} {format_number(runs.params[name], 4)}" for name in runs.shared[:2])
+    return f"Run {shown + 1} of {len(runs.runs)} · u: every run, pooled {pooled}"
+
+
 class MainScreen(Screen):
     """Controls, charts and readouts; the only place the settings (and a loaded log) live."""
 
@@ -173,21 +181,26 @@ class MainScreen(Screen):
         # Not in the footer (80 columns have no room): the status under the charts names it.
         Binding("n", "notes", "Notes", priority=True, show=False,
                 tooltip="The log's notes: how it was read, filtered and checked, and what the fit left out"),
+        # Only with several runs (check_action); the log note names it.
+        Binding("u", "runs", "Runs", priority=True, show=False,
+                tooltip="Several runs: each run's fit beside the pooled one; a digit there shows a run"),
         Binding("ctrl+s", "export", "Export", priority=True,
                 tooltip="Save the fit as JSON and the screen as SVG into a folder"),
     ]
 
-    def __init__(self, settings: Settings = DEFAULT_SETTINGS, logs: LoadedLogs | None = None) -> None:
+    def __init__(self, settings: Settings = DEFAULT_SETTINGS, logs: LoadedLogs | PooledRuns | None = None) -> None:
         """Create the screen.
 
         Args:
             settings: Settings to open at.
-            logs: A loaded log to show first (`jointid --csv`).
+            logs: A loaded log to show first (`jointid --csv`), or several runs (`--csv` repeated).
         """
         super().__init__()
         self.settings = settings
         """The synthetic experiment's settings (kept while a log is shown)."""
-        self.logs = logs
+        self.runs = logs if hasattr(logs, "runs") else None
+        """Several runs of one joint (studies.runs.PooledRuns) when loaded; `logs` is then the run shown."""
+        self.logs = logs.runs[0] if self.runs is not None else logs
         """The loaded log and its fit; while set, it is the source shown."""
         self.result: FitResult | None = None
         """The fit on screen, of whichever source is shown."""
@@ -279,9 +292,19 @@ class MainScreen(Screen):
         self.show_source()
 
     def set_logs(self, logs: LoadedLogs | None) -> None:
-        """Show a loaded log, or go back to the synthetic experiment with None."""
-        self.logs = logs
+        """Show a loaded log, or go back to the synthetic experiment with None (leaving any runs)."""
+        self.logs, self.runs = logs, None
         self.show_source()
+
+    def set_runs(self, runs: PooledRuns, shown: int) -> None:
+        """Show one of several runs (its own fit), the others and their pooled fit a key (u) away."""
+        self.runs, self.logs = runs, runs.runs[shown]
+        self.show_source()
+
+    def show_run(self, index: int) -> None:
+        """The runs view's digit: show that run."""
+        if self.runs is not None and 0 <= index < len(self.runs.runs):
+            self.set_runs(self.runs, index)
 
     def show_source(self) -> None:
         """Fit the source shown (or take the log's fit) and push the result down to every widget."""
@@ -293,7 +316,9 @@ class MainScreen(Screen):
         self.set_class(settings.joint_model.size > PLAIN.size or settings.true_joint.has_missing_physics
                        or settings.constrained, "-extended")
         motion = self.query_one("#motion", ChoiceList)
-        motion.set_option("motion-log", label=None if logs is None else f"Log: {logs.name}", shown=logs is not None)
+        run = "" if self.runs is None else f"Run {self.runs.runs.index(logs) + 1}: "
+        motion.set_option("motion-log", label=None if logs is None else f"{run or 'Log: '}{logs.name}",
+                          shown=logs is not None)
         motion.set_option(f"motion-{DESIGNED}", shown=self.designed is not None)
         motion.show_pressed("motion-log" if logs is not None else f"motion-{settings.motion_name}")
         for steps in STEP_RANGES:  # by id: a type query walks the whole screen (0.3 ms)
@@ -346,7 +371,8 @@ class MainScreen(Screen):
     def show_log_note(self) -> None:
         """The note on the synthetic controls, which give way while a log is shown."""
         if self.logs is not None:
-            self.query_one("#log-note", Static).update(log_note(self.logs))
+            runs = () if self.runs is None else (runs_note(self.runs, self.runs.runs.index(self.logs)),)
+            self.query_one("#log-note", Static).update("\n".join((log_note(self.logs), *runs)))
 
     # --- the controls' callbacks and the actions --------------------------------------
 
@@ -362,7 +388,31 @@ class MainScreen(Screen):
             self.set_settings(settings)
             return
         self.settings = settings
+        if self.runs is not None:
+            self.refit_runs_worker(self.runs, self.runs.runs.index(self.logs), settings)
+            return
         self.refit_worker(self.logs, settings)
+
+    @work(thread=True, exclusive=True, group="log-refit")
+    def refit_runs_worker(self, runs: PooledRuns, shown: int, settings: Settings) -> None:
+        """Refit every run with the settings' model and constraint off the main thread, then pool them again;
+        shown if nothing changed meanwhile."""
+        from jointid.studies.runs import fit_runs
+
+        first = runs.runs[0]
+        try:
+            refitted = fit_runs([run.training for run in runs.runs], settings.joint_model, first.filtering,
+                                first.exclusion, settings.constrained)
+        except ValueError as error:  # LogError: numbers beyond double precision
+            self.app.call_from_thread(self.notify, str(error).splitlines()[0], title="Runs not refitted",
+                                      severity="error")
+            return
+        self.app.call_from_thread(self.finish_runs_refit, runs, shown, settings, refitted)
+
+    def finish_runs_refit(self, runs: PooledRuns, shown: int, settings: Settings, refitted: PooledRuns) -> None:
+        """Show the runs refitted unless other data, a model or constraint was chosen while they were."""
+        if self.runs is runs and self.settings == settings:
+            self.set_runs(refitted, shown)
 
     @work(thread=True, exclusive=True, group="log-refit")
     def refit_worker(self, logs: LoadedLogs, settings: Settings) -> None:
@@ -498,6 +548,8 @@ class MainScreen(Screen):
         """Close log exists only while a log is shown, 4 once a motion is designed; the sweep, the matrix and Reset are off (None) while one is."""
         if action in ("close_log", "notes"):
             return self.logs is not None
+        if action == "runs":
+            return self.runs is not None
         if action == "motion" and parameters == (DESIGNED,):  # 4 appears once there is a designed motion
             return self.designed is not None
         if action in ("sweep", "matrix", "reset"):  # reset: the four controls do not apply to a log
@@ -515,6 +567,12 @@ class MainScreen(Screen):
         from .notes import NotesScreen  # only a log's fit has notes
 
         self.app.push_screen(NotesScreen(self.logs))
+
+    def action_runs(self) -> None:
+        """Open the runs view: each run's fit beside the pooled one."""
+        from .runs import RunsScreen  # only several runs have it
+
+        self.app.push_screen(RunsScreen(self.runs, self.show_run))
 
     def action_close_log(self) -> None:
         """Return from the log to the synthetic experiment."""
@@ -536,7 +594,8 @@ class MainScreen(Screen):
         from .open_log import OpenLogScreen
 
         folder = os.path.dirname(os.path.abspath(self.logs.training.path)) if self.logs else None
-        self.app.push_screen(OpenLogScreen(folder, heldout_allowed=self.logs is not None,
+        self.app.push_screen(OpenLogScreen(folder, heldout_allowed=self.logs is not None and self.runs is None,
+                                           run_allowed=self.logs is not None,
                                            derivatives=self.app.derivatives, filtering=self.app.filtering,
                                            conventions=self.app.conventions),
                              self.start_loading)
@@ -549,19 +608,36 @@ class MainScreen(Screen):
 
         dialog = LoadingScreen(request.path)
         self.app.push_screen(dialog)
-        self.load_worker(request, self.logs, dialog)
+        self.load_worker(request, self.logs if self.runs is None else self.runs, dialog)
 
     @work(thread=True, exclusive=True, group="log-load")
-    def load_worker(self, request: LoadRequest, current: LoadedLogs | None, dialog: LoadingScreen) -> None:
+    def load_worker(self, request: LoadRequest, current: LoadedLogs | PooledRuns | None,
+                    dialog: LoadingScreen) -> None:
         """Read and fit the log off the main thread; the outcome is applied on the main thread."""
+        from jointid.logs.request import HELDOUT, RUN
         from jointid.logs.table import LoadCancelled
         from jointid.studies.log_fit import load_request
 
         app = self.app
+        progress = lambda done, total: app.call_from_thread(dialog.advance, done, total)  # noqa: E731
         try:
-            logs = load_request(request, current, self.settings.joint_model, self.settings.constrained,
-                                lambda done, total: app.call_from_thread(dialog.advance, done, total),
-                                dialog.cancelled.is_set)
+            if request.role == RUN:  # one more run of the joint: pooled with the runs (or the log) shown
+                from jointid.logs.request import load_joint_log
+                from jointid.studies.runs import add_run
+
+                if current is None:
+                    raise ValueError(f"{request.path}: another run needs a training log first")
+                log = load_joint_log(request, progress=progress, cancel=dialog.cancelled.is_set)
+                logs = add_run(current, log, self.settings.joint_model, self.settings.constrained)
+            elif hasattr(current, "runs"):  # several runs: each is predicted by the others; a new log replaces them
+                if request.role == HELDOUT:
+                    raise ValueError(f"{request.path}: with several runs each run is predicted by the others; "
+                                     "no held-out log (c leaves the runs)")
+                logs = load_request(request, None, self.settings.joint_model, self.settings.constrained,
+                                    progress, dialog.cancelled.is_set)
+            else:
+                logs = load_request(request, current, self.settings.joint_model, self.settings.constrained,
+                                    progress, dialog.cancelled.is_set)
         except LoadCancelled:
             app.call_from_thread(self.finish_loading, dialog, None, "Loading cancelled; nothing changed.")
         except (ValueError, OSError) as error:  # LogError is a ValueError with a one-line text
@@ -569,13 +645,19 @@ class MainScreen(Screen):
         else:
             app.call_from_thread(self.finish_loading, dialog, logs, None)
 
-    def finish_loading(self, dialog: LoadingScreen, logs: LoadedLogs | None, problem: str | None) -> None:
-        """Close the progress dialog and show the new logs, or say why the current data stay."""
+    def finish_loading(self, dialog: LoadingScreen, logs: LoadedLogs | PooledRuns | None,
+                       problem: str | None) -> None:
+        """Close the progress dialog and show the new logs (or the run added), or say why the current data stay."""
         if dialog.is_attached:
             dialog.dismiss()
         if logs is None:
             cancelled = dialog.cancelled.is_set()
             self.notify(problem, title="Log not loaded", severity="warning" if cancelled else "error")
+            return
+        if hasattr(logs, "runs"):
+            self.set_runs(logs, len(logs.runs) - 1)
+            self.notify(f"{logs.runs[-1].training.source_text()}; u: every run and the pooled fit",
+                        title=f"Run {len(logs.runs)} added")
             return
         self.set_logs(logs)
         loaded = logs.heldout if logs.heldout is not None and logs.heldout.path == dialog.path else logs.training
@@ -585,6 +667,10 @@ class MainScreen(Screen):
 
     def export_content(self) -> tuple[str, dict]:
         """File stem and JSON document of the current result, as `jointid fit [--csv] --json` prints it."""
+        if self.runs is not None:
+            from jointid.present.runs import runs_document
+
+            return f"{Path(self.runs.runs[0].training.path).stem}-runs-fit", runs_document(self.runs)
         if self.logs is not None:
             from jointid.present.documents import logs_document
 

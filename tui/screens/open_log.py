@@ -17,7 +17,7 @@ from textual.widgets import DirectoryTree, Input, Label, RadioSet, Static
 
 from jointid.estimation.low_pass import FilterRequest
 from jointid.logs.conventions import LogConventions
-from jointid.logs.request import HELDOUT, TRAINING, LoadRequest
+from jointid.logs.request import HELDOUT, RUN, TRAINING, LoadRequest
 from jointid.options import DEFAULT_ORDER, DEFAULT_WINDOW
 
 from ..widgets.footer import KeyFooter
@@ -69,6 +69,7 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
     BINDINGS = [Binding("escape", "cancel", "Cancel", tooltip="Close without loading")]
 
     def __init__(self, folder: str | os.PathLike | None = None, *, heldout_allowed: bool = False,
+                 run_allowed: bool = False,
                  derivatives: tuple[int | None, int] = (DEFAULT_WINDOW, DEFAULT_ORDER),
                  filtering: FilterRequest | None = None, conventions: LogConventions | None = None) -> None:
         """Create the dialog.
@@ -76,6 +77,7 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
         Args:
             folder: Folder the tree starts in (default: the current directory).
             heldout_allowed: True when a training log is loaded, so a held-out log can be chosen.
+            run_allowed: True when a training log (or several runs) is loaded, so another run can be added.
             derivatives: Savitzky-Golay window and order for a log without qd or qdd
                 (the explorer's --window and --order; a window of None is automatic).
             filtering: The parallel low-pass (the explorer's --cutoff and --decimate); None is automatic.
@@ -85,6 +87,7 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
         super().__init__()
         self.folder = Path(folder or os.getcwd())
         self.heldout_allowed = heldout_allowed
+        self.run_allowed = run_allowed
         self.derivatives = derivatives
         self.filtering = FilterRequest() if filtering is None else filtering
         self.conventions = LogConventions() if conventions is None else conventions
@@ -100,12 +103,16 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
                     yield ClearRadioButton("Training log", value=True, id=f"role-{TRAINING}")
                     yield ClearRadioButton("Held-out log", id=f"role-{HELDOUT}",
                                       disabled=not self.heldout_allowed)
+                    yield ClearRadioButton("Another run", id=f"role-{RUN}", disabled=not self.run_allowed)
                 yield ClearCheckbox("Angles in degrees", id="open-degrees", compact=True)
             yield Static(
                 "Tab moves between the path, the options and the tree; in the tree Enter opens "
                 "a folder or loads a file. A ROS bag (its folder's path, or a .bag, .mcap or .db3 file) "
                 "asks for a joint next. Escape cancels."
-                + ("" if self.heldout_allowed else " A held-out log needs a training log first."),
+                + (" Another run is fitted alone, then pooled with the log shown (u: every run)."
+                   if self.run_allowed else " A held-out log or another run needs a training log first.")
+                + ("" if self.heldout_allowed or not self.run_allowed
+                   else " With several runs each is predicted by the others: no held-out log."),
                 classes="dialog--hint", markup=False,
             )
             yield DirectoryTree(self.folder, id="open-tree")
@@ -120,7 +127,8 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
     def request(self, path: str, joint: str | None = None, topic: str | None = None) -> LoadRequest:
         """The load request for a path (and a bag's joint and topic) with the chosen role and unit."""
         pressed = self.query_one("#open-role", RadioSet).pressed_button
-        role = HELDOUT if pressed is not None and pressed.id == f"role-{HELDOUT}" else TRAINING
+        roles = {f"role-{role}": role for role in (TRAINING, HELDOUT, RUN)}
+        role = TRAINING if pressed is None else roles.get(pressed.id, TRAINING)
         window, order = self.derivatives
         degrees = self.query_one("#open-degrees", ClearCheckbox).value
         return LoadRequest(os.path.expanduser(path.strip()), role, degrees, window=window, order=order,
