@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import re
 
 import numpy as np
 
@@ -32,9 +33,29 @@ TURN_LIMIT = 1000
 """Whole turns from zero beyond which they are removed (float64 spacing is then 1e-12 rad and coarser)."""
 
 
+UNIT_WORDS = {"degrees": {"deg", "degs", "degree", "degrees"}, "radians": {"rad", "rads", "radian", "radians"}}
+"""Words in an angle column's name that say its unit ('position_deg', 'angle_rad')."""
+
+
+def check_angle_unit(table, degrees: bool) -> None:
+    """LogError when the angle column's name says one unit and the log is read in the other: a log in degrees read
+    as radians fits a joint 57 times too small (and runs of one joint would not pool)."""
+    name = dict(table.read_as).get("q", "")
+    words = set(re.split(r"[^a-z]+", name.lower()))
+    read = "degrees" if degrees else "radians"
+    for unit, names in UNIT_WORDS.items():
+        if words & names and unit != read:
+            from .table import LogError
+
+            how = "give --degrees" if unit == "degrees" else "drop --degrees"
+            raise LogError(table.path, f"names its angle column {name!r} in {unit} but it is read in {read}: {how} "
+                           "(it applies to every log read; convert a log whose unit differs)")
+
+
 def read_angle(table, convention: AngleConvention = AngleConvention(), degrees: bool = False):
     """The table with its q column made continuous (wraps undone, far-off turns removed), the convention
     recorded for the pipeline, and a note for each; the same table when there is nothing to do."""
+    check_angle_unit(table, degrees)
     angle = table.columns["q"]
     period = 360.0 if degrees else 2 * math.pi
     name = logged_angle_name(table.read_as)

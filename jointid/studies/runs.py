@@ -15,7 +15,6 @@ to it), which says how well one run's joint is another's.
 from __future__ import annotations
 
 import math
-import re
 from dataclasses import dataclass
 from functools import cached_property
 from types import MappingProxyType
@@ -27,7 +26,6 @@ from ..estimation.low_pass import FilterRequest
 from ..estimation.solver import solve_least_squares
 from ..estimation.uncertainty import covariance_factor, newey_west_sum
 from ..logs.pipeline import JointLog
-from ..logs.table import LogError
 from ..model.terms import JointModel
 from .log_fit import LoadedLogs, fit_logs
 
@@ -100,11 +98,9 @@ class PooledRuns:
 def fit_runs(logs: list[JointLog], model: JointModel, filtering: FilterRequest = FilterRequest(),
              exclusion: ExclusionRequest = ExclusionRequest(), constrained: bool = False,
              sensitivity: bool = True) -> PooledRuns:
-    """Fit each run alone, then all together; ValueError with fewer than two runs, LogError (naming both files)
-    when two runs give their angle in different units."""
+    """Fit each run alone, then all together; ValueError with fewer than two runs."""
     if len(logs) < 2:
         raise ValueError("pooling needs at least two runs")
-    check_angle_units(logs)
     return pool_runs(tuple(fit_logs(log, None, model, constrained, filtering, sensitivity, exclusion)
                            for log in logs))
 
@@ -114,35 +110,9 @@ def add_run(current: LoadedLogs | PooledRuns, log: JointLog, model: JointModel, 
     """The runs so far (one fitted log, or pooled runs) with one more run, prepared and fitted as the first was
     (its low-pass request and exclusions), then all pooled again; the runs already fitted are not refitted."""
     runs = current.runs if isinstance(current, PooledRuns) else (current,)
-    check_angle_units([run.training for run in runs] + [log])
     first = runs[0]
     added = fit_logs(log, None, model, constrained, first.filtering, sensitivity, first.exclusion)
     return pool_runs((*runs, added))
-
-
-def check_angle_units(logs: list[JointLog]) -> None:
-    """LogError when a run's angle column names one unit ('position_deg', 'angle_rad') and the run is read in the
-    other: runs in different units read alike would pool one run's joint at 57 times another's."""
-    for log in logs:
-        table = None if log.source is None else log.source.table
-        name = dict(table.read_as).get("q", "") if table is not None else ""
-        named, read = _named_unit(name), "degrees" if log.degrees else "radians"
-        if named is not None and named != read:
-            others = [other.path for other in logs if other is not log]
-            how = "--degrees" if named == "degrees" else "no --degrees"
-            raise LogError(log.path, f"names its angle column {name!r} in {named} but is read in {read}, as "
-                           f"{', '.join(others)} {'is' if len(others) == 1 else 'are'}; runs of one joint are read "
-                           f"in one unit: convert it, or fit it apart with {how}")
-
-
-def _named_unit(name: str) -> str | None:
-    """'degrees' or 'radians' when a column's name says so ('position_deg', 'angle_rad'), else None."""
-    words = set(re.split(r"[^a-z]+", name.lower()))
-    for unit, names in (("degrees", {"deg", "degs", "degree", "degrees"}),
-                        ("radians", {"rad", "rads", "radian", "radians"})):
-        if words & names:
-            return unit
-    return None
 
 
 def pool_runs(runs: tuple[LoadedLogs, ...]) -> PooledRuns:

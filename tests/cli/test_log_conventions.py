@@ -133,6 +133,26 @@ def test_a_map_naming_a_missing_column_is_one_line(capsys, robot_log):
         "velocity, acceleration, effort")
 
 
+def test_runs_whose_angle_column_names_degrees_are_refused_unless_read_in_degrees(capsys, tmp_path):
+    """Read as radians, a log in degrees fits a joint 57 times too small: one line and status 2, naming the fix."""
+    t = np.arange(0, 8, 0.005)
+    q = 0.6 * np.sin(1.3 * t)
+    tau = 0.8 * -0.6 * 1.69 * np.sin(1.3 * t) + 0.4 * 9.81 * np.cos(q)
+    paths = []
+    for k in (1, 2):
+        path = tmp_path / f"run{k}.csv"
+        path.write_text("time,position_deg,torque\n" + "".join(
+            f"{a:.4f},{math.degrees(b):.9f},{c:.9f}\n" for a, b, c in zip(t, q, tau)))
+        paths += ["--csv", str(path)]
+    line = refused(capsys, "fit", "--columns", "q=position_deg", "--model", "plain", *paths)
+    assert line == (f"jointid: {tmp_path / 'run1.csv'}: names its angle column 'position_deg' in degrees but it is "
+                    "read in radians: give --degrees (it applies to every log read; convert a log whose unit "
+                    "differs)")
+    assert main(["fit", "--columns", "q=position_deg", "--degrees", "--model", "plain", "--json", *paths]) == 0
+    pooled = json.loads(capsys.readouterr().out)["pooled"]["estimate"]
+    assert pooled["I"] == pytest.approx(0.8, rel=0.02) and pooled["h"] == pytest.approx(0.4, rel=0.02)
+
+
 def test_two_columns_for_one_quantity_are_one_line(capsys, tmp_path):
     path = tmp_path / "both.csv"
     path.write_text("time,q,position,torque\n0,0,0,1\n0.01,0,0,1\n0.02,0,0,1\n0.03,0,0,1\n")

@@ -1,5 +1,5 @@
 """Several runs of one joint: the runs already fitted are pooled as they are, one more run is added to them
-without refitting them, and runs whose angles are read in a unit their columns do not name are refused."""
+without refitting them, and a log whose angle is read in a unit its column does not name is refused."""
 
 from __future__ import annotations
 
@@ -44,17 +44,20 @@ def test_a_run_added_to_pooled_runs_is_the_pooled_fit_of_all_three_and_keeps_the
         assert abs(three.params[name] - true) <= max(0.02 * true, 3 * three.bse[name]), name
 
 
-def test_a_run_whose_angle_column_names_degrees_but_is_read_in_radians_is_refused(tmp_path):
+def test_a_log_whose_angle_column_names_degrees_but_is_read_in_radians_is_refused(tmp_path):
+    """Read as radians, a log in degrees fits a joint 57 times too small, and its runs would not pool with
+    others: refused in one line; read in its unit, it pools with a run in radians and gives the joint."""
     radians = write_run(tmp_path / "a.csv", 0, "angle_rad")
     degrees = write_run(tmp_path / "b.csv", 1, "angle_deg", 180 / np.pi)
-    logs = [load_joint_log(LoadRequest(radians, columns=ColumnMap.parse("q=angle_rad"))),
-            load_joint_log(LoadRequest(degrees, columns=ColumnMap.parse("q=angle_deg")))]
     with pytest.raises(LogError) as refused:
-        fit_runs(logs, model_named("plain"), sensitivity=False)
+        load_joint_log(LoadRequest(degrees, columns=ColumnMap.parse("q=angle_deg")))
     message = str(refused.value)
-    assert "b.csv" in message and "'angle_deg' in degrees but is read in radians" in message
+    assert "b.csv" in message and "'angle_deg' in degrees but it is read in radians: give --degrees" in message
     assert "\n" not in message
-    # Read in its unit, the same run pools with the other and gives the joint.
-    logs[1] = load_joint_log(LoadRequest(degrees, degrees=True, columns=ColumnMap.parse("q=angle_deg")))
+    with pytest.raises(LogError, match="'angle_rad' in radians but it is read in degrees: drop --degrees"):
+        load_joint_log(LoadRequest(radians, degrees=True, columns=ColumnMap.parse("q=angle_rad")))
+    logs = [load_joint_log(LoadRequest(radians, columns=ColumnMap.parse("q=angle_rad"))),
+            load_joint_log(LoadRequest(degrees, degrees=True, columns=ColumnMap.parse("q=angle_deg")))]
     pooled = fit_runs(logs, model_named("plain"), sensitivity=False)
-    assert pooled.params["I"] == pytest.approx(TRUTH["I"], rel=0.02)
+    for name, true in TRUTH.items():
+        assert abs(pooled.params[name] - true) <= max(0.02 * true, 3 * pooled.bse[name]), name
