@@ -175,7 +175,7 @@ class MainScreen(Screen):
                 tooltip="Fit subject to the sign rules, or not (toggle)"),
         # c is active only while a log is shown (check_action).
         Binding("ctrl+o", "open_log", "Open log", priority=True,
-                tooltip="Load a CSV joint log or a ROS bag joint as training or held-out data"),
+                tooltip="Load a CSV joint log or a ROS bag joint as training or held-out data, or as another run"),
         Binding("c", "close_log", "Close log",
                 tooltip="Leave the log and return to the synthetic experiment"),
         # Not in the footer (80 columns have no room): the status under the charts names it.
