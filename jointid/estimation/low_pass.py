@@ -349,8 +349,9 @@ def _by_fft_blocks(column: np.ndarray, taps: np.ndarray, step: int, kept: int, s
 
 
 def choose_filter(request: FilterRequest, step: float | None, uniform: bool, q: np.ndarray | None,
-                  count: int) -> ParallelFilter:
-    """The low-pass and decimation for a log sampled every `step` s: as requested, or chosen from its angle `q`.
+                  count: int, automatic: tuple[float, str] | None = None) -> ParallelFilter:
+    """The low-pass and decimation for a log sampled every `step` s: as requested, or chosen from its angle `q`
+    (`automatic`: `automatic_cutoff(q, step)` when already computed).
 
     FilterRequestError when a requested cutoff is not below the Nyquist
     frequency or the log is shorter than its filter, or a log without uniform
@@ -373,7 +374,7 @@ def choose_filter(request: FilterRequest, step: float | None, uniform: bool, q: 
                                      f"got {request.cutoff:g}")
         cutoff, why = request.cutoff, "cutoff given"
     else:
-        automatic = automatic_cutoff(q, step)
+        automatic = automatic if automatic is not None else automatic_cutoff(q, step)
         if automatic is None:
             return ParallelFilter(None, rate, _decimation(request, None, rate, count),
                                   "automatic: q shows no motion to take a bandwidth from")

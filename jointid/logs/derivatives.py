@@ -84,9 +84,13 @@ class WindowChoice:
     """The low-pass cutoff (Hz) the window follows."""
     reason: str
     """Why, for the note."""
+    automatic: tuple[float, str] | None = None
+    """The automatic cutoff (Hz) and its reason when the window followed it, so the fit's low-pass need not
+    compute it again; None when the cutoff was given."""
 
 
-def smoothing_window(step: float, cutoff: float, order: int, count: int) -> WindowChoice:
+def smoothing_window(step: float, cutoff: float, order: int, count: int,
+                     automatic: tuple[float, str] | None = None) -> WindowChoice:
     """The automatic window: its smoothing's -3 dB point at SMOOTHING_MULTIPLE x `cutoff` (Schafer 2011:
     f_3dB / (rate / 2) is about (order + 1) / (3.2 M - 4.6) for a window of 2M + 1), odd, more than `order` + 1
     samples and at most MAX_WINDOW and the log's length."""
@@ -101,7 +105,7 @@ def smoothing_window(step: float, cutoff: float, order: int, count: int) -> Wind
     if window < least:
         window, limits = least, [f"raised to {least} samples, more than order + 1"]
     why = f"automatic: its -3 dB point near {SMOOTHING_MULTIPLE:g} x the cutoff {cutoff:.3g} Hz"
-    return WindowChoice(window, cutoff, why + "".join(", " + limit for limit in limits))
+    return WindowChoice(window, cutoff, why + "".join(", " + limit for limit in limits), automatic)
 
 
 class FilterSettingError(ValueError):
