@@ -20,6 +20,7 @@ from math import factorial
 
 import numpy as np
 
+from ..estimation.low_pass import correlated
 from ..options import MAX_ORDER, MAX_WINDOW
 
 METHOD = "savitzky-golay smoothing, central differences"
@@ -170,9 +171,7 @@ def smooth(values: np.ndarray, window: int, order: int) -> np.ndarray:
     if window <= 64:
         out[half: count - half] = np.correlate(values, weights, mode="valid")
     else:  # long windows by FFT: N log N rather than N x window
-        size = 1 << int(np.ceil(np.log2(count + window)))
-        full = np.fft.irfft(np.fft.rfft(values, size) * np.fft.rfft(weights[::-1], size), size)
-        out[half: count - half] = full[window - 1: count]
+        out[half: count - half] = correlated(values, weights)
     offsets = np.arange(window, dtype=float)
     out[:half] = np.polyval(np.polyfit(offsets, values[:window], order), offsets[:half])
     out[count - half:] = np.polyval(np.polyfit(offsets, values[-window:], order), offsets[window - half:])
