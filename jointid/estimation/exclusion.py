@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..norms import rms
+from .low_pass import PRODUCT_PIECE
 from .uncertainty import newey_west_sum
 
 COVERAGE = 0.5
@@ -114,38 +115,98 @@ def mad_scale(residuals: np.ndarray) -> float:
 
 
 def fast_lts(X: np.ndarray, y: np.ndarray, rng: np.random.Generator) -> np.ndarray:
-    """The least-trimmed-squares estimate: minimises the sum of the COVERAGE share of smallest squared residuals."""
+    """The least-trimmed-squares estimate: minimises the sum of the COVERAGE share of smallest squared residuals.
+
+    The starts' concentration steps run together (one product, one partition and one stack of small solves for
+    all of them per step).
+    """
     n, p = X.shape
     sub = np.arange(n) if n <= SUBSAMPLE else np.sort(rng.choice(n, SUBSAMPLE, replace=False))
-
-    def concentrate(theta, rows, steps):
-        Xs, ys = X[rows], y[rows]
-        keep = max(p + 1, int(COVERAGE * len(rows)))
-        objective = math.inf
-        for _ in range(steps):
-            squares = (ys - Xs @ theta) ** 2
-            chosen = np.argpartition(squares, keep - 1)[:keep]
-            value = float(squares[chosen].sum())
-            if value >= objective * (1 - 1e-9):
-                break
-            objective = value
-            theta = np.linalg.lstsq(Xs[chosen], ys[chosen], rcond=None)[0]
-        squares = (ys - Xs @ theta) ** 2
-        return float(np.partition(squares, keep - 1)[:keep].sum()), theta
-
-    starts = []
-    for _ in range(STARTS):
-        rows = rng.choice(sub, p, replace=False)
-        theta, _, rank, _ = np.linalg.lstsq(X[rows], y[rows], rcond=None)
-        if rank == p:
-            starts.append(concentrate(theta, sub, 2))
-    if not starts:  # no p rows of full rank among the draws: the data cannot single out a majority fit
+    draws = np.array([rng.choice(sub, p, replace=False) for _ in range(STARTS)])
+    solutions, ranks = _elemental_fits(X[draws], y[draws])
+    full = ranks == p
+    if not full.any():  # no p rows of full rank among the draws: the data cannot single out a majority fit
         return np.linalg.lstsq(X, y, rcond=None)[0]
-    starts.sort(key=lambda pair: pair[0])
-    best = sorted((concentrate(theta, sub, 30) for _, theta in starts[:10]), key=lambda pair: pair[0])
+    values, thetas = _concentrated(X[sub], y[sub], solutions[full], 2)
+    order = np.argsort(values, kind="stable")[:10]
+    values, thetas = _concentrated(X[sub], y[sub], thetas[order], 30)
+    order = np.argsort(values, kind="stable")
     if len(sub) < n:
-        best = sorted((concentrate(theta, np.arange(n), 30) for _, theta in best[:2]), key=lambda pair: pair[0])
-    return best[0][1]
+        values, thetas = _concentrated(X, y, thetas[order[:2]], 30)
+        order = np.argsort(values, kind="stable")
+    return thetas[order[0]]
+
+
+def _elemental_fits(A: np.ndarray, b: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(K, p) least-squares solutions and (K,) ranks of K square systems A (K, p, p) x = b (K, p), as
+    np.linalg.lstsq gives them one by one (rank: singular values above p eps times the largest)."""
+    u, singular, vt = np.linalg.svd(A)
+    ranks = (singular > A.shape[-1] * np.finfo(float).eps * singular[:, :1]).sum(axis=1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        inverse = np.where(np.arange(A.shape[-1]) < ranks[:, None], 1.0 / singular, 0.0)
+    solutions = np.einsum("kji,kj,kjl,kl->ki", vt, inverse, u.transpose(0, 2, 1), b)
+    return solutions, ranks
+
+
+def _concentrated(X: np.ndarray, y: np.ndarray, thetas: np.ndarray, steps: int) -> tuple[np.ndarray, np.ndarray]:
+    """((K,) trimmed sums of squares, (K, p) estimates) after up to `steps` concentration steps from each of the
+    K `thetas`: refit to the COVERAGE share of smallest squared residuals until the trimmed sum stops falling."""
+    n, p = X.shape
+    keep = max(p + 1, int(COVERAGE * n))
+    thetas = np.array(thetas, dtype=float)
+    objectives = np.full(len(thetas), math.inf)
+    active = np.arange(len(thetas))
+    for _ in range(steps):
+        if not len(active):
+            break
+        squares = _squared_residuals(X, y, thetas[active])
+        chosen = np.argpartition(squares, keep - 1, axis=1)[:, :keep]
+        values = np.take_along_axis(squares, chosen, axis=1).sum(axis=1)
+        going = values < objectives[active] * (1 - 1e-9)
+        active, chosen = active[going], chosen[going]
+        objectives[active] = values[going]
+        if len(active):
+            thetas[active] = _refits(X, y, chosen)
+    squares = _squared_residuals(X, y, thetas)
+    return np.partition(squares, keep - 1, axis=1)[:, :keep].sum(axis=1), thetas
+
+
+def _refits(X: np.ndarray, y: np.ndarray, chosen: np.ndarray) -> np.ndarray:
+    """(K, p) least-squares estimates on each of the K row sets `chosen` (K, m).
+
+    Small sets together, by their Gram matrices (a stack of small products, each on one OpenBLAS thread): one
+    np.linalg.lstsq per set took most of the 200 starts' time. The columns are scaled to about 1 (see
+    `outside_torques`), so squaring their condition costs nothing the concentration steps could notice; a set
+    whose Gram matrix is singular, and large sets, go through np.linalg.lstsq.
+    """
+    K, m = chosen.shape
+    p = X.shape[1]
+    if K == 1 or (p + 1) ** 2 * m >= PRODUCT_PIECE:
+        return np.array([np.linalg.lstsq(X[rows], y[rows], rcond=None)[0] for rows in chosen])
+    augmented = np.column_stack([X, y])[chosen]  # (K, m, p + 1)
+    gram = np.matmul(augmented.transpose(0, 2, 1), augmented)
+    out = np.empty((K, p))
+    singular = np.zeros(K, dtype=bool)
+    try:
+        out[:] = np.linalg.solve(gram[:, :p, :p], gram[:, :p, p:])[..., 0]
+    except np.linalg.LinAlgError:
+        singular[:] = True
+    singular |= ~np.isfinite(out).all(axis=1)
+    for k in np.flatnonzero(singular):
+        out[k] = np.linalg.lstsq(X[chosen[k]], y[chosen[k]], rcond=None)[0]
+    return out
+
+
+def _squared_residuals(X: np.ndarray, y: np.ndarray, thetas: np.ndarray) -> np.ndarray:
+    """(K, n) squared residuals of each of the K estimates, a row each (contiguous for the partition)."""
+    out = np.empty((len(thetas), len(y)))
+    # Products below 2^18 multiply-adds, which OpenBLAS runs on one thread: waking its threads for each one
+    # made the 200 starts' steps three times slower on this busy 2-core machine.
+    piece = max(1, PRODUCT_PIECE // max(1, X.size))
+    for first in range(0, len(thetas), piece):
+        np.matmul(thetas[first:first + piece], X.T, out=out[first:first + piece])
+    np.subtract(y, out, out=out)
+    return np.square(out, out=out)
 
 
 def bisquare(X: np.ndarray, y: np.ndarray, theta: np.ndarray, scale: float) -> np.ndarray:

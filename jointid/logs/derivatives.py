@@ -20,6 +20,7 @@ from math import factorial
 
 import numpy as np
 
+from ..estimation.low_pass import correlated
 from ..options import MAX_ORDER, MAX_WINDOW
 
 METHOD = "savitzky-golay smoothing, central differences"
@@ -84,9 +85,13 @@ class WindowChoice:
     """The low-pass cutoff (Hz) the window follows."""
     reason: str
     """Why, for the note."""
+    automatic: tuple[float, str] | None = None
+    """The automatic cutoff (Hz) and its reason when the window followed it, so the fit's low-pass need not
+    compute it again; None when the cutoff was given."""
 
 
-def smoothing_window(step: float, cutoff: float, order: int, count: int) -> WindowChoice:
+def smoothing_window(step: float, cutoff: float, order: int, count: int,
+                     automatic: tuple[float, str] | None = None) -> WindowChoice:
     """The automatic window: its smoothing's -3 dB point at SMOOTHING_MULTIPLE x `cutoff` (Schafer 2011:
     f_3dB / (rate / 2) is about (order + 1) / (3.2 M - 4.6) for a window of 2M + 1), odd, more than `order` + 1
     samples and at most MAX_WINDOW and the log's length."""
@@ -101,7 +106,7 @@ def smoothing_window(step: float, cutoff: float, order: int, count: int) -> Wind
     if window < least:
         window, limits = least, [f"raised to {least} samples, more than order + 1"]
     why = f"automatic: its -3 dB point near {SMOOTHING_MULTIPLE:g} x the cutoff {cutoff:.3g} Hz"
-    return WindowChoice(window, cutoff, why + "".join(", " + limit for limit in limits))
+    return WindowChoice(window, cutoff, why + "".join(", " + limit for limit in limits), automatic)
 
 
 class FilterSettingError(ValueError):
@@ -166,9 +171,7 @@ def smooth(values: np.ndarray, window: int, order: int) -> np.ndarray:
     if window <= 64:
         out[half: count - half] = np.correlate(values, weights, mode="valid")
     else:  # long windows by FFT: N log N rather than N x window
-        size = 1 << int(np.ceil(np.log2(count + window)))
-        full = np.fft.irfft(np.fft.rfft(values, size) * np.fft.rfft(weights[::-1], size), size)
-        out[half: count - half] = full[window - 1: count]
+        out[half: count - half] = correlated(values, weights)
     offsets = np.arange(window, dtype=float)
     out[:half] = np.polyval(np.polyfit(offsets, values[:window], order), offsets[:half])
     out[count - half:] = np.polyval(np.polyfit(offsets, values[-window:], order), offsets[window - half:])

@@ -174,9 +174,10 @@ def _derive(source: LogSource, *, degrees: bool, window: int | None, order: int,
     if missing and window is None:
         window = order + 2 if order % 2 else order + 3  # too few rows for a motion: refused just below
         if count >= max(window, MIN_FIT_ROWS) and step is not None:
-            follows = cutoff if cutoff else (automatic_cutoff(q, step) or (None,))[0]
+            automatic = None if cutoff else automatic_cutoff(q, step)
+            follows = cutoff if cutoff else (automatic or (None,))[0]
             if follows:
-                choice = smoothing_window(step, follows, order, count)
+                choice = smoothing_window(step, follows, order, count, automatic)
                 window = choice.window
             else:
                 choice = WindowChoice(window, 0.0, "automatic: the shortest for the order, as q shows no motion "

@@ -135,9 +135,11 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
     otherwise be shown as if it were a result) or the filter cannot apply.
     """
     chosen = low_pass_for(training, filtering)
-    # Built once at full rate: the fit and the sensitivity check's cutoff refits filter the same columns.
-    regressor = smoothed_regressor(training, model)
-    result, exclusions = _fit(training, heldout, model, constrained, chosen, regressor, exclusion)
+    others = _cutoff_variants(training, chosen) if sensitivity else []
+    # Each full-rate column is built once and low-passed by the chosen filter and the sensitivity check's
+    # cutoff refits' alike, so no full-rate regressor is held.
+    filtered = filtered_regressors(training, model, (chosen, *(other for _, _, other in others)))
+    result, exclusions = _fit(training, heldout, model, constrained, chosen, filtered[0], exclusion)
     with np.errstate(over="ignore", invalid="ignore"):  # checked here, with the file named
         scores = ((training, result.training_rmse), (heldout, result.heldout_rmse))
     for log, rmse in scores:
@@ -145,8 +147,8 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
             raise LogError(
                 log.path, "its predicted torques overflow double precision; rescale its columns (other units)"
             )
-    check = _sensitivity(training, model, constrained, chosen, result, regressor, exclusion, exclusions) \
-        if sensitivity else None
+    check = _sensitivity(training, model, constrained, chosen, result, zip(others, filtered[1:]), exclusion,
+                         exclusions) if sensitivity else None
     return LoadedLogs(training, heldout, result, chosen, filtering, check, exclusions, exclusion)
 
 
@@ -155,28 +157,30 @@ def low_pass_for(log: JointLog, request: FilterRequest) -> ParallelFilter:
     timing = log.timing
     step = None if timing is None else timing.step
     uniform = timing is not None and timing.uniform
+    estimate = log.derivatives
+    # The derivative window followed the automatic cutoff: the same q up to the angle convention's rotation of
+    # (cos q, sin q), which leaves its power spectrum as it was.
+    known = None if estimate is None or estimate.choice is None else estimate.choice.automatic
     try:
-        return choose_filter(request, step, uniform, log.data.q, log.data.count)
+        return choose_filter(request, step, uniform, log.data.q, log.data.count, known)
     except FilterRequestError as error:
         raise LogError(log.path, f"cannot be low-passed: the cutoff {error}") from None
 
 
 def _fit(training: JointLog, heldout: JointLog | None, model: JointModel, constrained: bool,
-         chosen: ParallelFilter, regressor: np.ndarray | None = None,
+         chosen: ParallelFilter, low_passed: tuple[np.ndarray, np.ndarray] | None = None,
          exclusion: ExclusionRequest = ExclusionRequest(), found: tuple[tuple[float, float], ...] | None = None,
          start: np.ndarray | None = None) -> tuple[FitResult, Exclusions | None]:
     """The fit of the training log's regressor and torque after the parallel low-pass and decimation, leaving out
     what `exclusion` asks, and those exclusions (None when the log has no times to place them on).
 
-    `regressor`: the training log's full-rate regressor when already built (the sensitivity check's cutoff
-    refits share one); only the kept rows are filtered. `found`: outside-torque intervals (s from the log's
+    `low_passed`: the training log's regressor and torque through `chosen`, when already computed (see
+    `filtered_regressors`). `found`: outside-torque intervals (s from the log's
     start) already found on this log, to leave out again instead of running the robust step.
     """
     data = training.data
-    X = smoothed_regressor(training, model) if regressor is None else regressor
+    filtered, tau = filtered_regressors(training, model, (chosen,))[0] if low_passed is None else low_passed
     rows = chosen.rows(data.count)
-    filtered = chosen.apply(X[:, :-1])
-    tau = chosen.apply_column(X[:, -1])
     t = None if data.t is None else data.t[rows]
     exclusions = None if t is None else _exclusions(training, model, chosen, filtered, tau, t, exclusion, found,
                                                     start)
@@ -206,6 +210,25 @@ def _without_polynomial_ends(log: JointLog) -> JointData:
     keep = slice(estimate.window // 2, data.count - estimate.window // 2)
     return JointData(t=None if data.t is None else data.t[keep], q=data.q[keep], qd=data.qd[keep],
                      qdd=data.qdd[keep], tau=data.tau[keep])
+
+
+def filtered_regressors(log: JointLog, model: JointModel, filters) -> list[tuple[np.ndarray, np.ndarray]]:
+    """(M, p) regressor and (M,) torque of the log through each of `filters`: as `smoothed_regressor` low-passed
+    and decimated, built one full-rate column at a time (each filtered by all) rather than as one (N, p + 1)
+    matrix."""
+    data, estimate = log.data, log.derivatives
+    outs = [np.empty((len(chosen.rows(data.count)), model.size)) for chosen in filters]
+    torques = [np.empty(0)] * len(filters)
+    for j, term in enumerate((*model.terms, None)):
+        column = data.tau if term is None else np.asarray(term.column(data.q, data.qd, data.qdd), dtype=float)
+        if estimate is not None and (term is None or not term.from_derivatives):
+            column = smooth(column, estimate.window, estimate.order)
+        for k, chosen in enumerate(filters):
+            if term is None:
+                torques[k] = chosen.apply_column(column)
+            else:
+                outs[k][:, j] = chosen.apply_column(column)
+    return list(zip(outs, torques))
 
 
 def smoothed_regressor(log: JointLog, model: JointModel) -> np.ndarray:
@@ -269,12 +292,27 @@ def _speed_resolution(log: JointLog, chosen: ParallelFilter) -> float:
     return float(np.percentile(steps, 1)) * 2 * chosen.cutoff
 
 
+def _cutoff_variants(training: JointLog, chosen: ParallelFilter) -> list[tuple[float, float, ParallelFilter]]:
+    """(factor, cutoff, low-pass) of each cutoff refit of the sensitivity check that the log allows."""
+    variants = []
+    if chosen.active:
+        for factor in FACTORS:
+            # The same decimation, so the refits keep the same grid of samples (a few more or fewer at the
+            # ends, where the filter windows differ in length) and differ only by the cutoff.
+            request = FilterRequest(chosen.cutoff * factor, chosen.decimation)
+            try:
+                variants.append((factor, request.cutoff, low_pass_for(training, request)))
+            except LogError:  # a doubled cutoff beyond the Nyquist frequency: skipped
+                continue
+    return variants
+
+
 def _sensitivity(training: JointLog, model: JointModel, constrained: bool, chosen: ParallelFilter,
-                 result: FitResult, regressor: np.ndarray | None, exclusion: ExclusionRequest,
+                 result: FitResult, cutoffs, exclusion: ExclusionRequest,
                  exclusions: Exclusions | None) -> SensitivityCheck | None:
     """Refits with the derivative window, then the cutoff, halved and doubled; None without a unique fit.
 
-    `regressor`: the training log's full-rate regressor, which the cutoff refits filter again.
+    `cutoffs`: ((factor, cutoff, low-pass), (regressor, torque) through it) for each cutoff refit.
     """
     if result.estimate is None or result.uncertainty is None or result.uncertainty.residual_std_error is None:
         return None
@@ -297,18 +335,13 @@ def _sensitivity(training: JointLog, model: JointModel, constrained: bool, chose
             except LogError:  # too short for the wider window: that variant is skipped
                 continue
             variants.append(Variant("window", factor, other, chosen.cutoff, fit.estimate))
-    if chosen.active:
-        for factor in FACTORS:
-            # The same decimation, so the refits keep the same grid of samples (a few more or fewer at the
-            # ends, where the filter windows differ in length) and differ only by the cutoff.
-            request = FilterRequest(chosen.cutoff * factor, chosen.decimation)
-            try:
-                found = None if exclusions is None else exclusions.excluded
-                fit, _ = _fit(training, None, model, constrained, low_pass_for(training, request), regressor,
-                              exclusion, found)
-            except LogError:  # a doubled cutoff beyond the Nyquist frequency: skipped
-                continue
-            variants.append(Variant("cutoff", factor, window, request.cutoff, fit.estimate))
+    for (factor, cutoff, other), low_passed in cutoffs:
+        try:
+            found = None if exclusions is None else exclusions.excluded
+            fit, _ = _fit(training, None, model, constrained, other, low_passed, exclusion, found)
+        except LogError:  # nothing left to fit, say: that variant is skipped
+            continue
+        variants.append(Variant("cutoff", factor, window, cutoff, fit.estimate))
     return sensitivity_check(model.names, base, result.uncertainty.residual_std_error, variants,
                              rmse=result.training_rmse, torque_rms=rms(result.training.tau))
 

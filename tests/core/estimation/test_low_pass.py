@@ -17,6 +17,7 @@ from scipy.signal import firwin, kaiserord
 from support.import_check import packages_loaded
 
 from jointid.cli import main
+from jointid.estimation import low_pass
 from jointid.estimation.low_pass import (
     FilterRequest,
     LowPassDesign,
@@ -128,8 +129,11 @@ def test_the_taps_are_the_stated_low_pass(rate):
         assert gain(taps, [cutoff], rate)[0] == pytest.approx(0.5, abs=2e-3)
 
 
-def test_only_the_kept_samples_are_computed_and_they_are_the_full_rate_filter_s():
-    """Polyphase at the kept rows against np.convolve at full rate, over random lengths, rates and decimations."""
+@pytest.mark.parametrize("fft_cost", [0.0, 3.6, np.inf], ids=["fft", "cheaper", "polyphase"])
+def test_only_the_kept_samples_are_computed_and_they_are_the_full_rate_filter_s(fft_cost, monkeypatch):
+    """Polyphase or FFT blocks at the kept rows against np.convolve at full rate, over random lengths, rates and
+    decimations."""
+    monkeypatch.setattr(low_pass, "FFT_COST", fft_cost)
     rng = np.random.default_rng(11)
     for _ in range(60):
         rate = float(rng.choice([50, 300, 1000]))

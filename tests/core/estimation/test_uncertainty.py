@@ -152,3 +152,32 @@ def test_modest_condition_number_comes_with_its_caveat_when_a_parameter_is_undet
 
 def test_condition_number_is_infinite_for_holds():
     assert run_experiment(Settings(motion="holds")).condition_number == float("inf")
+
+
+def _newey_west_by_pairs(X, residuals, positions, lag):
+    """The Newey-West sum written out pair by pair on the evenly spaced grid: the definition, slowly."""
+    p = X.shape[1]
+    meat, autocorrelation = np.zeros((p, p)), 0.0
+    c0 = float(residuals @ residuals)
+    for a, (i, u) in enumerate(zip(positions, X * residuals[:, None])):
+        for b, (j, v) in enumerate(zip(positions, X * residuals[:, None])):
+            k = abs(int(i) - int(j))
+            if k <= lag:
+                weight = 1 - k / (lag + 1)
+                meat += weight * np.outer(u, v)
+                autocorrelation += weight * residuals[a] * residuals[b] / c0
+    return meat, max(autocorrelation, 1.0)
+
+
+@pytest.mark.parametrize("lag", [0, 1, 3, 7, 500])
+def test_newey_west_sum_matches_its_definition_on_a_grid_with_gaps(lag):
+    from jointid.estimation.uncertainty import newey_west_sum
+
+    rng = np.random.default_rng(5)
+    positions = np.sort(rng.choice(60, 45, replace=False))
+    X = rng.standard_normal((45, 3))
+    residuals = np.convolve(rng.standard_normal(49), np.ones(5) / 5, mode="valid")  # correlated, as filtered ones
+    meat, autocorrelation = newey_west_sum(X, residuals, positions, lag)
+    expected_meat, expected_autocorrelation = _newey_west_by_pairs(X, residuals, positions, lag)
+    assert np.allclose(meat, expected_meat, rtol=1e-12, atol=1e-12)
+    assert autocorrelation == pytest.approx(expected_autocorrelation, rel=1e-12)
