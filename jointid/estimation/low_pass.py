@@ -165,7 +165,11 @@ class LowPassDesign:
 
 
 class FilterRequestError(ValueError):
-    """A cutoff or decimation a log cannot use; str() says why (the CLI prefixes the flag)."""
+    """A cutoff or decimation a log cannot use; str() says why, `setting` which ('cutoff' or 'decimation')."""
+
+    def __init__(self, message: str, setting: str = "cutoff"):
+        super().__init__(message)
+        self.setting = setting
 
 
 @dataclass(frozen=True)
@@ -463,7 +467,14 @@ def _decimation(request: FilterRequest, cutoff: float | None, rate: float, count
     least MIN_DECIMATED of the `count` samples."""
     if request.decimate is not None:
         if request.decimate < 1:
-            raise FilterRequestError(f"must be a whole number of samples, at least 1; got {request.decimate}")
+            raise FilterRequestError(f"must be a whole number of samples, at least 1; got {request.decimate}",
+                                     "decimation")
+        # A decimation that keeps too few samples would be reported as data that show no motion.
+        kept = -(-count // request.decimate)
+        if request.decimate > 1 and kept < MIN_DECIMATED:
+            most = max(1, count // MIN_DECIMATED)
+            raise FilterRequestError(f"it keeps {kept:,} of its {count:,} samples, and a fit needs at least "
+                                     f"{MIN_DECIMATED}: decimate by at most {most:,}", "decimation")
         return request.decimate
     if cutoff is None:
         return 1

@@ -164,6 +164,8 @@ def low_pass_for(log: JointLog, request: FilterRequest) -> ParallelFilter:
     try:
         return choose_filter(request, step, uniform, log.data.q, log.data.count, known)
     except FilterRequestError as error:
+        if error.setting == "decimation":
+            raise LogError(log.path, f"cannot be decimated by {request.decimate:,}: {error}") from None
         raise LogError(log.path, f"cannot be low-passed: the cutoff {error}") from None
 
 

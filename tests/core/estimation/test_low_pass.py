@@ -249,6 +249,14 @@ def test_off_and_given_settings(capsys, tmp_path):
     (["--cutoff", "-1"], "argument --cutoff: must be a number of hertz, 0 (off) or more"),
     (["--decimate", "0"], "argument --decimate"),
     (["--cutoff", "0.1"], "cannot be low-passed: the cutoff 0.1 Hz needs more than"),
+    # Decimations that keep fewer samples than a fit needs were fitted and blamed on the data (or, from 2^63 on,
+    # a traceback): 401 samples keep 50 at most every 8th.
+    (["--decimate", "9"], "cannot be decimated by 9: it keeps 45 of its 401 samples, and a fit needs at least 50: "
+                          "decimate by at most 8"),
+    (["--decimate", "1000000"], "cannot be decimated by 1,000,000: it keeps 1 of its 401 samples"),
+    (["--decimate", str(2**63)], f"cannot be decimated by {2**63:,}: it keeps 1"),
+    (["--decimate", "1" + "0" * 40], "it keeps 1 of its 401 samples"),
+    (["--cutoff", "0", "--decimate", "400"], "cannot be decimated by 400"),
 ])
 def test_filter_mistakes_are_one_line_and_exit_2(capsys, tmp_path, options, words):
     data = full_log(rate=200.0, duration=2.0)
