@@ -265,8 +265,14 @@ def parameter_uncertainty(
         diagonal, scales = np.diag(unscaled).copy(), np.ones_like(scales)
     jacobian = None if model is None else model.report_jacobian(estimate)
     if jacobian is not None:
-        estimate, unscaled = model.report(estimate), jacobian @ unscaled @ jacobian.T
-        diagonal, scales = np.diag(unscaled).copy(), np.ones_like(scales)
+        # Each row divided by a power of two near its size, which becomes that parameter's scale: q0's row is
+        # 1/h, and its square (1e-600 for h near 1e300) would underflow to a standard error of 0.
+        rows = power_of_two_scale(np.max(np.abs(jacobian), axis=1))
+        normalised = jacobian / rows[:, None]
+        estimate, reduced = model.report(estimate), normalised @ unscaled @ normalised.T
+        diagonal, scales = np.diag(reduced).copy(), 1.0 / rows
+        with np.errstate(over="ignore", under="ignore"):
+            unscaled = reduced * np.outer(rows, rows)
     return ParameterUncertainty(
         estimate=estimate,
         covariance_factor=unscaled,

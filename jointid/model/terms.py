@@ -19,6 +19,7 @@ and it reports h and q0 (with standard errors by the delta method).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -124,11 +125,10 @@ class AngleOffset:
         """(p, p) d(reported)/d(columns) at theta (p,), for delta-method standard errors."""
         jacobian = np.eye(len(theta))
         h_c, h_s = float(theta[self.cosine]), float(theta[self.sine])
-        squared = h_c**2 + h_s**2
-        h = np.sqrt(squared)
+        h = math.hypot(h_c, h_s)  # h_c**2 would overflow beyond 1e154 (and underflow below 1e-162)
         c, s = self.cosine, self.sine
         jacobian[c, c], jacobian[c, s] = h_c / h, h_s / h
-        jacobian[s, c], jacobian[s, s] = h_s / squared, -h_c / squared
+        jacobian[s, c], jacobian[s, s] = h_s / h / h, -h_c / h / h
         return jacobian
 
 

@@ -69,9 +69,10 @@ class LadderRow:
         without a unique fit. Counting correlated samples as independent would let every term pay for itself."""
         if self.solution.estimate is None:
             return None
-        count, rss = self.solution.row_count, float(self.solution.residual_norm) ** 2
+        count, norm = self.solution.row_count, float(self.solution.residual_norm)
         independent = count if self.independent is None else self.independent
-        fit_term = -math.inf if rss == 0 else independent * math.log(rss / count)
+        # ln(RSS/N) from the norm: its square overflows for torques beyond 1e154 that a fit handles.
+        fit_term = -math.inf if norm == 0 else independent * (2 * math.log(norm) - math.log(count))
         return fit_term + self.model.size * math.log(independent)
 
     @cached_property

@@ -325,3 +325,34 @@ def test_a_real_process_prints_strict_json():
     status, out, err = run_process("fit", "--model", "coulomb+bias", "--motion", "slow", "--noise", "0.2", "--json")
     assert (status, err) == (0, "")
     assert strict_json(out)["model"] == "coulomb+bias"
+
+
+def test_compare_takes_torques_near_1e300_as_fit_does(capsys, in_tmp):
+    """compare squared the residual norm (BIC) and h (the angle offset's standard errors), which overflow beyond
+    1e154, so it refused a log that fit takes; both must give the plain model numpy's least squares, scaled."""
+    rng = np.random.default_rng(3)
+    t = np.linspace(0.0, 8.0, 400)
+    states = ALL_MOTIONS["rich"].states(t)
+    tau = 0.8 * states.qdd + 0.4 * G * np.cos(states.q) + 0.15 * states.qd + rng.uniform(-0.2, 0.2, t.size)
+    reference = np.linalg.lstsq(np.column_stack([states.qdd, G * np.cos(states.q), states.qd]), tau, rcond=None)[0]
+    documents = {}
+    for scale in (1.0, 1e300):
+        rows = "".join(f"{a!r},{b!r},{c!r},{d!r},{e!r}\n" for a, b, c, d, e in
+                       zip(*(map(float, column) for column in (t, states.q, states.qd, states.qdd, tau * scale))))
+        (in_tmp / "scaled.csv").write_text("t,q,qd,qdd,tau\n" + rows)
+        options = ["--csv", "scaled.csv", "--cutoff", "0", "--no-robust", "--json"]
+        status, out, err = run(capsys, ["fit", *options, "--model", "plain"])
+        assert (status, err) == (0, "")
+        np.testing.assert_allclose(list(strict_json(out)["estimate"].values()), reference * scale, rtol=1e-9)
+        status, out, err = run(capsys, ["compare", *options])
+        assert (status, err) == (0, ""), err
+        documents[scale] = {row["model"]: row for row in strict_json(out)["models"]}
+        np.testing.assert_allclose(list(documents[scale]["plain"]["estimate"].values()), reference * scale, rtol=1e-9)
+    small, large = documents[1.0], documents[1e300]
+    assert min(small, key=lambda name: small[name]["bic"]) == min(large, key=lambda name: large[name]["bic"])
+    # Every model's BIC moves by the same 2 n ln(1e300), so their differences stay.
+    differences = [large[name]["bic"] - small[name]["bic"] for name in small]
+    np.testing.assert_allclose(differences, differences[0], rtol=1e-9)
+    assert large["angle-offset"]["estimate"]["h"] == pytest.approx(small["angle-offset"]["estimate"]["h"] * 1e300)
+    assert large["angle-offset"]["std_error"]["q0"] == pytest.approx(small["angle-offset"]["std_error"]["q0"],
+                                                                     rel=1e-6)
