@@ -49,6 +49,11 @@ def attach_negative_values(argv: list[str]) -> list[str]:
     return joined
 
 
+MAX_ARGUMENTS = 4096
+"""Most command-line words a command takes: argparse before Python 3.13 scans every option's position for each
+option it reads (quadratic: 20,000 repeats of a flag took 17 s), and a real command line needs far fewer."""
+
+
 class OneLineParser(argparse.ArgumentParser):
     """An ArgumentParser whose errors are one line on stderr and exit status 2 (no usage dump).
 
@@ -61,9 +66,12 @@ class OneLineParser(argparse.ArgumentParser):
         super().__init__(*args, allow_abbrev=allow_abbrev, **kwargs)
 
     def parse_known_args(self, args=None, namespace=None):
-        """argparse's parse_known_args after `attach_negative_values`."""
-        args = sys.argv[1:] if args is None else args
-        return super().parse_known_args(attach_negative_values(list(args)), namespace)
+        """argparse's parse_known_args after `attach_negative_values`; at most MAX_ARGUMENTS words."""
+        args = sys.argv[1:] if args is None else list(args)
+        if len(args) > MAX_ARGUMENTS:
+            self.error(f"{len(args):,} command-line arguments; at most {MAX_ARGUMENTS:,} (repeat a flag fewer "
+                       "times)")
+        return super().parse_known_args(attach_negative_values(args), namespace)
 
     def error(self, message: str):
         """Print `<prog>: <message>` and exit with status 2 (ExitStatus.USER_ERROR)."""

@@ -97,8 +97,10 @@ class _LogRuns(argparse.Action):
     """--csv, repeatable: `csv` is the first log (the training log of a single fit), `runs` every one given."""
 
     def __call__(self, parser, namespace, values, option_string=None):
-        runs = [*(getattr(namespace, "runs", None) or ()), values]
-        namespace.runs = runs
+        runs = getattr(namespace, "runs", None)
+        if runs is None:
+            runs = namespace.runs = []
+        runs.append(values)  # in place: a copy per --csv would make many runs quadratic
         namespace.csv = runs[0]
 
 

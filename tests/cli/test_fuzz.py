@@ -356,3 +356,19 @@ def test_compare_takes_torques_near_1e300_as_fit_does(capsys, in_tmp):
     assert large["angle-offset"]["estimate"]["h"] == pytest.approx(small["angle-offset"]["estimate"]["h"] * 1e300)
     assert large["angle-offset"]["std_error"]["q0"] == pytest.approx(small["angle-offset"]["std_error"]["q0"],
                                                                      rel=1e-6)
+
+
+def test_a_flag_repeated_ten_thousand_times_is_one_line_and_two_thousand_runs_parse_in_order(capsys):
+    """argparse before Python 3.13 reads a command line in time quadratic in its options (20,000 repeats took
+    17 s): a command line beyond MAX_ARGUMENTS words is refused at once; below it every repeat counts."""
+    from jointid.cli import parse
+    from jointid.cli.arguments import MAX_ARGUMENTS
+
+    status, out, err = run(capsys, ["fit", *["--noise", "0.1"] * 10_000])
+    assert (status, out) == (2, "") and len(err.splitlines()) == 1
+    assert f"20,001 command-line arguments; at most {MAX_ARGUMENTS:,}" in err
+    names = [f"run{i}.csv" for i in range(2000)]
+    args = parse(["fit", *(word for name in names for word in ("--csv", name))])
+    assert args.runs == names and args.csv == "run0.csv"
+    args = parse(["fit", "--csv", "x.csv", *["--exclude", "1:2"] * 1000])
+    assert len(args.exclude) == 1000
