@@ -1,4 +1,14 @@
-"""Write files atomically, alone or as a group, and never over an existing file unless asked.
+"""Every file the program reads is opened here, and every file it writes is written here.
+
+Reading (`open_for_reading`, `check_readable`): only regular files are read. A
+FIFO would block the open (or the read) forever and a device can act on being
+opened or fill memory (/dev/zero), so both are refused, in one line, before
+anything is read; the check is made on what was actually opened, so a FIFO
+swapped in after a first look cannot hang the program either. Third-party
+readers that open a path themselves (rosbags, sqlite) are handed it only after
+`check_readable`.
+
+Writing: atomically, alone or as a group, and never over an existing file unless asked.
 
 A reader (or a crash) never sees a half-written file: each file's content goes
 to a temporary file in its destination's folder, is flushed to disk, and only
@@ -14,9 +24,19 @@ turned into one `ExportError` whose text is one line, after whatever was
 written has been removed. New files get the mode the umask gives (as `open`
 would), not the 0600 of `tempfile`.
 
-A process killed outright (`kill -9`) cannot remove its temporary file. The
-temporaries are named `.NAME.PID-TOKEN.jointid-part`; the next write into the
-same folder removes those whose process no longer runs.
+Even with `overwrite`, only a regular file is ever replaced: a destination that
+is a symlink, a directory, a FIFO, a device or a socket is refused (replacing
+/dev/null with a regular file would break the system for everyone).
+
+A process killed outright (`kill -9`) cannot remove its temporary files. The
+temporaries are named `.NAME.PID-TOKEN.jointid-part`, one TOKEN per group; the
+next write into the same folder removes those whose process no longer runs,
+and, for a group that was killed between the links of its members (the
+explorer's JSON and SVG pair), also the members already linked into place
+(recognised as the same file as their temporary), so a group never stays half there.
+
+Paths in messages go through `shown_path`, so that a name holding a newline
+or another control character still makes a one-line message.
 """
 
 from __future__ import annotations
@@ -25,15 +45,100 @@ import json
 import os
 import re
 import secrets
+import stat
+from collections import defaultdict
 from contextlib import contextmanager
-from typing import Iterator, Sequence, TextIO
+from typing import BinaryIO, Iterator, Sequence, TextIO
 
 TEMPORARY_SUFFIX = ".jointid-part"
 """Ending of every temporary file this module creates (and the only ones it ever removes)."""
-TEMPORARY_PATTERN = re.compile(r"^\..+\.(\d+)-[0-9a-f]{8}" + re.escape(TEMPORARY_SUFFIX) + "$")
-"""A temporary of this module's naming; group 1 is the process id that created it."""
+TEMPORARY_PATTERN = re.compile(r"^\.(?P<name>.+)\.(?P<pid>\d+)-(?P<token>[0-9a-f]{8})" + re.escape(TEMPORARY_SUFFIX) + "$")
+"""A temporary of this module's naming: the final name, the id of the process that created it, its group's token."""
 NEW_FILE_MODE = 0o666
 """Mode asked for when creating a file; the umask takes away from it, as for `open(..., "w")`."""
+
+
+# Paths in messages --------------------------------------------------------------------------------
+
+
+def shown_path(path) -> str:
+    """A path as messages show it: as given, or quoted with Python's escapes when it holds a character that is
+    not printable (a newline would break a one-line message in two).
+
+    >>> shown_path("logs/run 1.csv"), shown_path("a\\nb.csv")
+    ('logs/run 1.csv', "'a\\\\nb.csv'")
+    """
+    text = os.fsdecode(path) if isinstance(path, bytes) else str(os.fspath(path))
+    return text if text.isprintable() else repr(text)
+
+
+def file_kind(mode: int) -> str | None:
+    """None for a regular file, else what a `stat` mode is: 'a directory', 'a named pipe (FIFO)', ..."""
+    if stat.S_ISREG(mode):
+        return None
+    kinds = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a named pipe (FIFO)"), (stat.S_ISLNK, "a symbolic link"),
+             (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"))
+    return next((name for test, name in kinds if test(mode)), "a special file")
+
+
+# Reading ----------------------------------------------------------------------------------------------
+
+
+class FileRefused(ValueError):
+    """A path that cannot be read, or is not a regular file; str() is one line naming it.
+
+    Attributes:
+        path: The path as given.
+        reason: Why, e.g. 'No such file or directory' or 'a named pipe (FIFO), not a regular file'.
+        problem: The message after the path: 'cannot open: <reason>' or 'cannot read: <reason>'.
+    """
+
+    def __init__(self, path, verb: str, reason: str):
+        self.path, self.reason = os.fspath(path), reason
+        self.problem = f"{verb}: {reason}"
+        super().__init__(f"{shown_path(self.path)}: {self.problem}")
+
+
+def open_for_reading(path) -> BinaryIO:
+    """The regular file at `path`, opened for binary reading; FileRefused for anything else or any error.
+
+    Raises:
+        FileRefused: "cannot open: <reason>" when the path cannot be opened, or "cannot read: a named pipe
+            (FIFO), not a regular file" (a directory, a device, a socket...) without opening it.
+    """
+    try:
+        # Looked at before opening: opening a FIFO waits for a writer, and opening a device can act on it.
+        kind = file_kind(os.stat(path).st_mode)
+        if kind is None:
+            # Non-blocking, so that a FIFO swapped in since the stat cannot hang the open; fstat checks what was
+            # actually opened. (The flag changes nothing for regular files.)
+            descriptor = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0)
+                                 | getattr(os, "O_CLOEXEC", 0))
+            kind = file_kind(os.fstat(descriptor).st_mode)
+            if kind is None:
+                return os.fdopen(descriptor, "rb")
+            os.close(descriptor)
+    except (OSError, ValueError) as error:  # ValueError: a NUL byte in the path
+        raise FileRefused(path, "cannot open", _reason(error)) from None
+    raise FileRefused(path, "cannot read", f"{kind}, not a regular file")
+
+
+def check_readable(path) -> None:
+    """FileRefused unless `path` is a regular file that can be opened, for readers that open the path themselves."""
+    open_for_reading(path).close()
+
+
+def read_bytes(path, limit: int) -> bytes:
+    """Up to `limit` + 1 bytes of the regular file at `path` (one more than `limit` says it is larger); FileRefused
+    as `open_for_reading`, or "cannot read: <reason>"."""
+    with open_for_reading(path) as handle:
+        try:
+            return handle.read(limit + 1)
+        except OSError as error:
+            raise FileRefused(path, "cannot read", _reason(error)) from None
+
+
+# Writing ----------------------------------------------------------------------------------------------
 
 
 class ExportError(OSError):
@@ -44,10 +149,16 @@ class AlreadyExists(ExportError):
     """The destination name is taken, and `overwrite` was not given."""
 
 
-def temporary_path(path: str) -> str:
-    """A fresh temporary name beside `path`, carrying this process's id so a later run can tell it is stale."""
+class NotRegularFile(ExportError):
+    """The destination is a symlink, a directory, a FIFO, a device or a socket, which are never replaced."""
+
+
+def temporary_path(path: str, token: str | None = None) -> str:
+    """A temporary name beside `path`, carrying this process's id (so a later run can tell it is stale) and the
+    group's `token` (fresh when None)."""
     folder, name = os.path.split(path)
-    return os.path.join(folder, f".{name}.{os.getpid()}-{secrets.token_hex(4)}{TEMPORARY_SUFFIX}")
+    token = secrets.token_hex(4) if token is None else token
+    return os.path.join(folder, f".{name}.{os.getpid()}-{token}{TEMPORARY_SUFFIX}")
 
 
 def _process_exists(pid: int) -> bool:
@@ -62,33 +173,64 @@ def _process_exists(pid: int) -> bool:
     return True
 
 
+def _same_file(one: str, other: str) -> bool:
+    try:
+        return os.path.samefile(one, other)
+    except OSError:
+        return False
+
+
 def remove_stale_temporaries(folder: str) -> list[str]:
-    """Remove temporaries of this module's naming in `folder` whose writing process is gone; their paths."""
+    """Remove temporaries of this module's naming in `folder` whose writing process is gone; their paths.
+
+    A group killed between the links of its members (some final name still free) is finished the only safe way,
+    by removing the members already linked into place, recognised as still the same file as their temporary;
+    a group whose every final name is taken is left as it is. The removed finals are among the paths returned.
+    """
     removed = []
     try:
         entries = list(os.scandir(folder))
     except OSError:
         return removed  # cannot list the folder: the write itself will say why
+    groups = defaultdict(list)  # (pid, token) -> [(temporary, final)]
     for entry in entries:
         match = TEMPORARY_PATTERN.match(entry.name)
-        if match is None or _process_exists(int(match.group(1))):
+        if match is None or _process_exists(int(match["pid"])):
             continue
-        try:
-            os.unlink(entry.path)
-            removed.append(entry.path)
-        except OSError:
-            pass  # another run removed it first, or we may not: it is only litter
+        groups[match["pid"], match["token"]].append((entry.path, os.path.join(folder, match["name"])))
+    for members in groups.values():
+        unwanted = [temporary for temporary, _ in members]
+        if not all(os.path.lexists(final) for _, final in members):  # killed before linking them all
+            unwanted += [final for temporary, final in members if _same_file(temporary, final)]
+        for path in unwanted:
+            try:
+                os.unlink(path)
+                removed.append(path)
+            except OSError:
+                pass  # another run removed it first, or we may not: it is only litter
     return removed
+
+
+def refuse_special_destination(path: str) -> None:
+    """NotRegularFile when `path` names anything but a regular file or nothing (a symlink is not followed)."""
+    try:
+        kind = file_kind(os.lstat(path).st_mode)
+    except FileNotFoundError:
+        return
+    except (OSError, ValueError) as error:  # e.g. a name too long, a folder we may not look into, a NUL byte
+        raise ExportError(f"{shown_path(path)}: cannot write: {_reason(error)}") from None
+    if kind is not None:
+        raise NotRegularFile(f"{shown_path(path)}: {kind}, not a regular file; not replacing it")
 
 
 def _reason(error: OSError) -> str:
     """An OSError's reason without the file name or errno number, e.g. 'No space left on device'."""
-    return error.strerror or str(error) or type(error).__name__
+    return getattr(error, "strerror", None) or str(error) or type(error).__name__
 
 
-def _open_temporary(path: str) -> tuple[str, TextIO]:
-    """Create a new temporary file for `path` (mode from the umask) and open it as UTF-8 text."""
-    temporary = temporary_path(path)
+def _open_temporary(path: str, token: str) -> tuple[str, TextIO]:
+    """Create a new temporary file for `path` in the group `token` (mode from the umask) and open it as UTF-8 text."""
+    temporary = temporary_path(path, token)
     descriptor = os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0),
                          NEW_FILE_MODE)
     try:
@@ -102,16 +244,21 @@ def _open_temporary(path: str) -> tuple[str, TextIO]:
 def _link_into_place(temporary: str, path: str, overwrite: bool) -> None:
     """Give the finished temporary file its final name (refusing a taken one unless `overwrite`)."""
     if overwrite:
+        refuse_special_destination(path)  # looked at again just before: one may have appeared while writing
         os.replace(temporary, path)
         return
     try:
         os.link(temporary, path)  # atomic and fails with FileExistsError if the name is taken
     except FileExistsError:
-        raise AlreadyExists(f"{path}: already exists; not overwriting it") from None
+        raise _already_exists(path) from None
     except OSError:  # no hard links here (some file systems): check, then rename
         if os.path.lexists(path):
-            raise AlreadyExists(f"{path}: already exists; not overwriting it") from None
+            raise _already_exists(path) from None
         os.replace(temporary, path)
+
+
+def _already_exists(path: str) -> AlreadyExists:
+    return AlreadyExists(f"{shown_path(path)}: already exists; not overwriting it")
 
 
 @contextmanager
@@ -119,14 +266,17 @@ def atomic_outputs(paths: Sequence, *, overwrite: bool = False) -> Iterator[list
     """Yield one text file per path; they appear at their paths together when the block finishes, or none does.
 
     Raises:
+        NotRegularFile: A path names a symlink, a directory, a FIFO, a device or a socket (nothing written),
+            `overwrite` or not.
         AlreadyExists: A path is taken and `overwrite` is false (nothing written).
         ExportError: Any operating-system error while creating, writing or renaming (nothing left behind).
     """
     paths = [os.fspath(path) for path in paths]
-    if not overwrite:
-        for path in paths:
-            if os.path.lexists(path):
-                raise AlreadyExists(f"{path}: already exists; not overwriting it")
+    for path in paths:
+        refuse_special_destination(path)
+        if not overwrite and os.path.lexists(path):
+            raise _already_exists(path)
+    token = secrets.token_hex(4)  # one for the group, so a later run can tell its members belong together
     for folder in dict.fromkeys(os.path.dirname(os.path.abspath(path)) for path in paths):
         remove_stale_temporaries(folder)
     temporaries: list[str] = []
@@ -135,7 +285,7 @@ def atomic_outputs(paths: Sequence, *, overwrite: bool = False) -> Iterator[list
     done = False
     try:
         for path in paths:
-            temporary, handle = _open_temporary(path)
+            temporary, handle = _open_temporary(path, token)
             temporaries.append(temporary)
             handles.append(handle)
         yield handles
@@ -150,7 +300,7 @@ def atomic_outputs(paths: Sequence, *, overwrite: bool = False) -> Iterator[list
     except ExportError:
         raise
     except OSError as error:
-        raise ExportError(f"{', '.join(paths)}: cannot write: {_reason(error)}") from None
+        raise ExportError(f"{', '.join(map(shown_path, paths))}: cannot write: {_reason(error)}") from None
     finally:
         for handle in handles:
             try:

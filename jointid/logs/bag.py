@@ -192,6 +192,7 @@ def open_bag(path):
         raise LogError(path, "cannot open: No such file or directory")
     if os.path.isdir(path) and not os.path.exists(os.path.join(path, "metadata.yaml")):
         raise LogError(path, "is a folder without metadata.yaml: not a ROS 2 bag folder")
+    _check_bag_files(path)
     from pathlib import Path
 
     try:
@@ -200,6 +201,30 @@ def open_bag(path):
     except Exception as error:  # rosbags raises many kinds for a damaged file; all mean the same here
         raise LogError(path, f"cannot be read as a ROS bag: {_one_line(error)}") from None
     return reader
+
+
+def _check_bag_files(path: str) -> None:
+    """LogError unless every file rosbags may open for this bag is a regular file (jointid.files.check_readable).
+
+    rosbags and sqlite open the paths themselves, and a FIFO among them would block that open for ever. A ROS 2
+    folder's metadata.yaml names its storage files; rather than read it before rosbags does, every entry of the
+    folder that is not a folder is checked: a bag folder holds nothing else.
+    """
+    from ..files import FileRefused, check_readable, shown_path
+
+    if os.path.isdir(path):
+        try:
+            files = sorted(entry.path for entry in os.scandir(path) if not entry.is_dir())
+        except OSError as error:
+            raise LogError(path, f"cannot open: {error.strerror or error}") from None
+    else:
+        files = [path]
+    for name in files:
+        try:
+            check_readable(name)
+        except FileRefused as error:
+            place = None if name == path else f"file {shown_path(os.path.basename(name))}"
+            raise LogError(path, error.problem, place=place) from None
 
 
 def _one_line(error: BaseException) -> str:

@@ -12,8 +12,8 @@ as the header. Cells are not quoted.
 Rows in messages are 1-based line numbers in the file, so an editor's "go to
 line" finds them; columns are 1-based positions with their header name.
 
-Only regular files are read: a FIFO would block the open forever and
-/dev/zero would fill memory, so both are refused before anything is read. A
+Only regular files are read (jointid.files.open_for_reading): a FIFO would block
+the open forever and /dev/zero would fill memory, so both are refused before anything is read. A
 line running on past MAX_LINE_BYTES is refused as soon as reading has to hold
 it whole (the header, or a data line that does not fit in one chunk), so no
 single line costs more memory than a chunk plus MAX_LINE_BYTES.
@@ -50,12 +50,12 @@ import csv
 import io
 import os
 import re
-import stat
 import threading
 import warnings
 
 import numpy as np
 
+from ..files import FileRefused, open_for_reading
 from ..norms import all_finite
 from ..options import DEFAULT_ORDER, DEFAULT_WINDOW
 from .derivatives import check_filter
@@ -119,32 +119,14 @@ def read_table(
 
 
 def _open_regular_file(path: str):
-    """The file opened for binary reading; LogError if it cannot be, or if it is not a regular file."""
+    """The file opened for binary reading (jointid.files.open_for_reading); LogError if it cannot be, or if it is not
+    a regular file."""
     if not str(path).strip():
         raise LogError("(no file)", "cannot open: the path is empty; give a CSV file's path")
     try:
-        # Looked at before opening: opening a FIFO waits for a writer, and opening a device can act on it.
-        kind = _file_kind(os.stat(path).st_mode)
-        if kind is None:
-            # Non-blocking, so that a FIFO swapped in since the stat cannot hang the open; fstat checks
-            # what was actually opened. (The flag changes nothing for regular files.)
-            descriptor = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0))
-            kind = _file_kind(os.fstat(descriptor).st_mode)
-            if kind is None:
-                return os.fdopen(descriptor, "rb")
-            os.close(descriptor)
-    except OSError as error:
-        raise LogError(path, f"cannot open: {error.strerror or error}") from None
-    raise LogError(path, f"cannot read: {kind}, not a regular file")
-
-
-def _file_kind(mode: int) -> str | None:
-    """None for a regular file, else what it is ('a directory', 'a named pipe (FIFO)', ...)."""
-    if stat.S_ISREG(mode):
-        return None
-    kinds = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a named pipe (FIFO)"),
-             (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"))
-    return next((name for test, name in kinds if test(mode)), "a special file")
+        return open_for_reading(path)
+    except FileRefused as error:
+        raise LogError(path, error.problem) from None
 
 
 class _ChunkReader:

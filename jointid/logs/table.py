@@ -7,7 +7,9 @@ import dataclasses
 import os
 from bisect import bisect_right
 from dataclasses import dataclass
-from typing import Callable
+from typing import BinaryIO, Callable
+
+from ..files import FileRefused, open_for_reading, shown_path
 
 COLUMNS = ("t", "q", "qd", "qdd", "tau")
 """Recognised column names, in the order the loader stores them."""
@@ -35,7 +37,7 @@ class LogError(ValueError):
         self.problem = problem
         self.row = row
         self.column = column
-        where = [self.path]
+        where = [shown_path(self.path)]  # quoted if it holds a newline: the message stays one line
         if row is not None:
             where.append(f"row {row}")
         if place is not None:  # where a row number does not apply, e.g. "message 12 on /joint_states"
@@ -136,10 +138,18 @@ class LogTable:
 
 
 
+def _reopen(path: str) -> BinaryIO:
+    """A log read before, opened again to find a line number for a message; LogError if it is no longer readable."""
+    try:
+        return open_for_reading(path)
+    except FileRefused as error:
+        raise LogError(path, error.problem) from None
+
+
 def count_newlines(path: str, end: int) -> int:
     """Newlines in the file's first `end` bytes."""
     count = 0
-    with open(path, "rb") as handle:
+    with _reopen(path) as handle:
         while end > 0:
             data = handle.read(min(end, CHUNK_BYTES))
             if not data:
@@ -152,7 +162,7 @@ def count_newlines(path: str, end: int) -> int:
 def _line_of_data_row(path: str, offset: int, index: int) -> int:
     """1-based line number of the `index`-th data line (0-based) at or after byte `offset`."""
     line = count_newlines(path, offset)
-    with open(path, "rb") as handle:
+    with _reopen(path) as handle:
         handle.seek(offset)
         for text in handle:
             line += 1

@@ -125,11 +125,14 @@ def save_motion(motion: FourierMotion, path, *, overwrite: bool = False) -> None
 
 def load_motion(path) -> FourierMotion:
     """Read and check a motion file; MotionFileError (one line naming the file and the problem) if it is bad."""
+    # Imported only when a motion file is read.
+    from ..files import FileRefused, read_bytes, shown_path
+
     try:
-        with open(path, "rb") as handle:
-            raw = handle.read(FILE_SIZE_LIMIT + 1)
-    except OSError as error:
-        raise MotionFileError(f"{path}: cannot read the motion file ({error.strerror or error})") from None
+        raw = read_bytes(path, FILE_SIZE_LIMIT)  # a FIFO or a device is refused before it is opened
+    except FileRefused as error:
+        raise MotionFileError(f"{shown_path(path)}: cannot read the motion file ({error.reason})") from None
+    path = shown_path(path)  # quoted in the messages below if it holds a newline: each stays one line
     if len(raw) > FILE_SIZE_LIMIT:
         raise MotionFileError(f"{path}: larger than {FILE_SIZE_LIMIT:,} bytes; not a motion file")
     try:
