@@ -10,7 +10,13 @@ from __future__ import annotations
 import sys
 from importlib import import_module
 
-from .arguments import OneLineParser, UserError, add_model_argument, add_settings_arguments
+from .arguments import (
+    OneLineParser,
+    UserError,
+    add_model_argument,
+    add_settings_arguments,
+    print_error_line,
+)
 from .exit_status import ExitStatus
 from .floating_point import strict_arithmetic
 from .log_arguments import add_log_arguments
@@ -81,7 +87,7 @@ def main(argv: list[str] | None = None, *, end_after_subcommand: bool = False, e
         with strict_arithmetic():
             status = subcommand(args.command).run(args)
     except UserError as error:
-        print(f"jointid: {error}", file=sys.stderr)
+        print_error_line(f"jointid: {error}")
         return ExitStatus.USER_ERROR
     except BrokenPipeError:  # e.g. `jointid fit | head -1`
         sys.stderr.close()

@@ -29,6 +29,17 @@ class UserError(Exception):
     """A mistake in the user's input; main prints its message as one line and exits 2."""
 
 
+def print_error_line(message: str) -> None:
+    """Print an error message on stderr as exactly one line, whatever a path or value quoted in it holds.
+
+    Every character that is not printable (a newline in a file name, a tab, a terminal escape) is written as its
+    backslash escape, so a script reading stderr line by line, or a person, sees one message.
+    """
+    if not message.isprintable():
+        message = "".join(c if c.isprintable() else repr(c)[1:-1] for c in message)
+    print(message, file=sys.stderr)
+
+
 _NEGATIVE_VALUE = re.compile(r"-(\d|\.\d|inf|nan)", re.IGNORECASE)
 """A token argparse would take for an option although it is a number: '-inf', '-nan', '-1e5' (and '-2')."""
 
@@ -75,8 +86,23 @@ class OneLineParser(argparse.ArgumentParser):
 
     def error(self, message: str):
         """Print `<prog>: <message>` and exit with status 2 (ExitStatus.USER_ERROR)."""
-        print(f"{self.prog}: {message}", file=sys.stderr)
+        print_error_line(f"{self.prog}: {message}")
         raise SystemExit(ExitStatus.USER_ERROR)
+
+    def print_help(self, file=None):
+        """argparse's help, whose write errors are not swallowed (argparse ignores them: `--help > /dev/full` would
+        exit 0 having printed nothing); main turns them into one line and status 2."""
+        self._write_out(self.format_help(), file)
+
+    def print_usage(self, file=None):
+        """argparse's usage line, with write errors raised as for `print_help`."""
+        self._write_out(self.format_usage(), file)
+
+    @staticmethod
+    def _write_out(text: str, file) -> None:
+        file = sys.stdout if file is None else file
+        file.write(text)
+        file.flush()  # a full disk only shows when the buffer is written out
 
 
 def setting_type(field: str):
