@@ -205,13 +205,17 @@ def test_a_sweep_result_arriving_while_its_view_is_taken_down_is_dropped():
 
             app.call_from_thread = take_down_first
             await pilot.press("s")
-            await app.workers.wait_for_complete()
-            await pilot.pause()
+            # Until the sweep's worker has reached its final state on the app's loop, Escape means "cancel"
+            # rather than "back": wait for that state, not for the thread (the test failed on a loaded machine).
+            for worker in [worker for worker in app.workers if worker.group == "sweep"]:
+                await worker.wait()
+            view = app.screen
+            assert type(view).__name__ == "SweepScreen" and not view.running
             await pilot.press("escape")
-            for _ in range(100):  # a loaded machine may take more than one turn to pop the view
-                await pilot.pause()
-                if type(app.screen).__name__ != "SweepScreen":
+            for _ in range(10_000):  # the pop is scheduled by the key's handler: wait for it (the cap only ends a bug)
+                if app.screen is not view:
                     break
+                await pilot.pause()
             return type(app.screen).__name__, app.is_running, len(taken_down)
 
     assert asyncio.run(main()) == ("MainScreen", True, 1)
