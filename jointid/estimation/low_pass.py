@@ -416,12 +416,12 @@ def automatic_cutoff(q: np.ndarray, step: float) -> tuple[float, str] | None:
     if count < 8 or not np.ptp(q) > 0:
         return None
     rate, size = 1.0 / step, 1 << int(np.ceil(np.log2(count)))
-    window = np.hanning(count)
+    window = hann(count)
     power = np.zeros(size // 2 + 1)
     for part in (np.cos(q), np.sin(q)):
         part -= part.mean()
-        spectrum = np.abs(np.fft.rfft(part * window, size))
-        power += spectrum * spectrum
+        part *= window
+        power += _power(np.fft.rfft(part, size))
     total = np.cumsum(power)
     if not total[-1] > 0:
         return None
@@ -440,6 +440,25 @@ def automatic_cutoff(q: np.ndarray, step: float) -> tuple[float, str] | None:
     return cutoff, why
 
 
+def hann(count: int) -> np.ndarray:
+    """np.hanning(count), its cosines computed for the first half only (the window is symmetric)."""
+    if count < 3:
+        return np.hanning(count)
+    half = (count + 1) // 2
+    window = np.empty(count)
+    window[:half] = 0.5 + 0.5 * np.cos(
+        np.pi * np.arange(1 - count, 2 * half - count, 2) / (count - 1))
+    window[count - half:] = window[:half][::-1]
+    return window
+
+
+def _power(spectrum: np.ndarray) -> np.ndarray:
+    """|spectrum|^2 as real^2 + imag^2 (np.abs takes a square root only to have it squared)."""
+    power = spectrum.real ** 2
+    power += spectrum.imag ** 2
+    return power
+
+
 def noise_cap(q: np.ndarray, step: float, cutoff: float, frequencies: np.ndarray, window: np.ndarray,
               size: int) -> float:
     """The cutoff at which the angle's white noise floor, twice differentiated, reaches NOISE_SHARE of qdd's
@@ -447,9 +466,11 @@ def noise_cap(q: np.ndarray, step: float, cutoff: float, frequencies: np.ndarray
     # The least-squares line in closed form (np.polyfit took most of this function's time on a million samples).
     offsets = np.arange(len(q), dtype=float)
     offsets -= (len(q) - 1) / 2.0
-    slope = float(np.dot(offsets, q)) / float(np.dot(offsets, offsets))
+    # numpy's own loop, not BLAS's dot, which wakes OpenBLAS's threads for a million samples.
+    slope = float(np.einsum("i,i->", offsets, q)) / float(np.einsum("i,i->", offsets, offsets))
     detrended = q - q.mean() - slope * offsets
-    spectrum = np.abs(np.fft.rfft(detrended * window, size)) ** 2
+    detrended *= window
+    spectrum = _power(np.fft.rfft(detrended, size))
     rate = 1.0 / step
     band = (frequencies > NOISE_BAND[0] * rate) & (frequencies < NOISE_BAND[1] * rate)
     floor = float(np.median(spectrum[band])) if band.any() else 0.0
