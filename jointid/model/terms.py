@@ -102,6 +102,8 @@ GRAVITY_COSINE = Term("h_c", "gravity cosine coefficient", "kg m", None, "no gra
 GRAVITY_SINE = Term("h_s", "gravity sine coefficient", "kg m", None, "no angle away from horizontal",
                     lambda q, qd, qdd: G * np.sin(q))
 ANGLE_OFFSET = Parameter("q0", "angle offset", "rad", None, "no angle away from horizontal")
+QUADRATIC_DRAG = Term("Bq", "quadratic drag", "N m s²/rad²", None, "no velocity", lambda q, qd, qdd: qd * np.abs(qd))
+"""Not in any model: a candidate the omitted-terms test tries on a log fit's residuals (drag growing with speed)."""
 
 
 @dataclass(frozen=True)
@@ -217,6 +219,9 @@ PLAIN = JointModel("plain", (INERTIA, MASS_MOMENT, DAMPING))
 
 EXTRA_TERMS = dict(zip(EXTRA_TERM_NAMES, (COULOMB, BIAS, GRAVITY_SINE)))
 """Terms that can be added to `plain`, by the name used in model names, in column order."""
+
+CANDIDATE_TERMS = (COULOMB, BIAS, GRAVITY_SINE, QUADRATIC_DRAG)
+"""Terms a log fit's residuals are tested against when its model lacks them (the ladder's, and quadratic drag)."""
 
 TRUE_PARAMETERS = np.array([TRUE_VALUES[name] for name in PLAIN.names])
 """The lesson's joint's parameters [I, h, B] in the plain model's order."""

@@ -280,10 +280,10 @@ def comparison_document(comparison, *, settings: Settings | None = None, source=
 
 def logs_document(logs) -> dict:
     """The JSON document of `jointid fit --csv ... --json` for a studies.log_fit.LoadedLogs."""
-    from .notes import log_notes
-
-    from .notes import exclusion_object
+    from .notes import exclusion_object, log_notes, omitted_object
 
     return {**log_fit_document(logs.result, logs.training, logs.heldout, logs.filter, logs.sensitivity,
                                log_notes(logs)), **exclusion_object(logs),
-            "moved_by_derivative_settings": list(logs.unsettled)}
+            "moved_by_derivative_settings": list(logs.moved_by_settings),
+            "omitted_terms": omitted_object(logs),
+            "moved_by_omitted_terms": list(logs.decided_by_omitted)}

@@ -102,3 +102,47 @@ def left_out_brief(logs: LoadedLogs) -> str | None:
     pushed = f"{' and '.join(parts)} ({left.excluded_share:.1%})" if parts else None
     still = f"standstill ({left.standstill_share:.0%})" if left.standstill.any() else None
     return "Left out: " + ", ".join(part for part in (pushed, still) if part) + "."
+
+
+OMITTED_WORDS = {"Fc": "Coulomb friction (sign qd)", "tau0": "a torque bias", "h_s": "an angle offset (g sin q)",
+                 "Bq": "quadratic drag (qd |qd|)"}
+"""How the text names each candidate term of the omitted-terms test."""
+OMITTED_MODELS = {"Fc": "coulomb", "tau0": "bias", "h_s": "angle-offset"}
+"""The model term that adds each candidate, where a model has one (no model has quadratic drag)."""
+
+
+def omitted_sentence(logs: LoadedLogs, compact: bool = False) -> str | None:
+    """What the residuals follow that the model lacks and which estimates it decides, or None when they follow
+    none of the candidates (or nothing was tested)."""
+    test = logs.omitted
+    if test is None or not test.found:
+        return None
+    words = " and ".join(OMITTED_WORDS[name] for name in test.followed)
+    decided = logs.decided_by_omitted
+    if compact:
+        moved = f": {', '.join(decided)} weak" if decided else ""
+        return f"The residuals follow {words}, which the model lacks{moved}."
+    model = logs.result.model
+    terms = [OMITTED_MODELS[name] for name in test.followed if name in OMITTED_MODELS]
+    extras = [part for part in model.name.split("+") if part != "plain"]
+    suggestion = (f" (--model {'+'.join(dict.fromkeys([*extras, *terms]))}, or compare the ladder with jointid "
+                  "compare)") if terms else ""
+    if decided:
+        moves = ", ".join(f"{name} {move:.1f}" for name, column, move in
+                          zip(model.names, model.column_names, test.moves) if column in test.decided)
+        effect = (f"; adding it moves {moves} standard errors, so {'they are' if len(decided) > 1 else 'it is'} "
+                  "not well determined")
+    else:
+        effect = "; adding it moves no estimate by more than 2 standard errors"
+    return f"The residuals follow {words}, which the model lacks (p {test.p_value:.2g}){effect}{suggestion}."
+
+
+def omitted_object(logs: LoadedLogs) -> dict | None:
+    """The JSON of the omitted-terms test: the candidates, the p-values, each fitted column's move."""
+    test = logs.omitted
+    if test is None:
+        return None
+    return {"candidates": list(test.candidates), "statistic": test.statistic, "p_value": test.p_value,
+            "each_p_value": dict(zip(test.candidates, test.each_p_value)), "found": test.found,
+            "followed": list(test.followed) if test.found else [],
+            "moves_std_errors": dict(zip(test.columns, test.moves))}

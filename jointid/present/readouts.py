@@ -157,11 +157,11 @@ def precision(result: FitResult, unsettled: tuple[str, ...] = ()) -> Precision:
     return Precision(parameter_notes(result, unsettled), closing_lines(result), compact_closing_line(result))
 
 
-def uncertainty_text(result: FitResult, unsettled: tuple[str, ...] = ()) -> str:
+def uncertainty_text(result: FitResult, unsettled: dict[str, str] | tuple[str, ...] = ()) -> str:
     """Lines of 'value ± standard error, verdict' per parameter, then the condition number.
 
-    `unsettled`: parameters another check moved (a log's sensitivity check), which cannot be called well
-    determined however small their standard error.
+    `unsettled`: parameters another check moved (a log's sensitivity check, a term its model lacks), each with
+    why, which cannot be called well determined however small their standard error.
     """
     uncertainty = result.uncertainty
     model = result.model
@@ -183,7 +183,8 @@ def uncertainty_text(result: FitResult, unsettled: tuple[str, ...] = ()) -> str:
                 continue
             relative = uncertainty.relative_std_pct[i]
             verdict = judged_verdicts(result, unsettled)[i]
-            why = ", moved by the derivative settings" if verdict != uncertainty.verdicts[i] else ""
+            reason = unsettled.get(parameter.name, "") if isinstance(unsettled, dict) else "moved by another check"
+            why = f", {reason}" if verdict != uncertainty.verdicts[i] else ""
             lines.append(
                 # At least one space before the verdict, however wide the error is.
                 f"{label:<17}{format_number(uncertainty.estimate[i]):>11} ± {format_number(errors[i]):<9} "

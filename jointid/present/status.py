@@ -183,15 +183,17 @@ def log_status(logs, compact: bool = False) -> str:
     Compact (80x24): `compact_log_status`, which names parameters and leaves their errors to the readouts.
     """
     # Only log fits carry a sensitivity check: a synthetic fit need not import it.
-    from .notes import left_out_brief
+    from .notes import left_out_brief, omitted_sentence
     from .sensitivity import sensitivity_warning
 
     if compact:
         return compact_log_status(logs)
     check = logs.sensitivity
     warning = () if check is None or not check.flagged else (sensitivity_warning(check, compact=compact),)
+    omitted = omitted_sentence(logs)
     left = left_out_brief(logs)
-    return " ".join((status_message(logs.result), *warning, *(() if left is None else (left,)), NOTES_POINTER))
+    return " ".join((status_message(logs.result), *warning, *(() if omitted is None else (omitted,)),
+                     *(() if left is None else (left,)), NOTES_POINTER))
 
 
 NOTES_POINTER = "n: the notes (how the log was read, filtered and checked)."
@@ -202,7 +204,7 @@ def compact_log_status(logs) -> str:
     """A log fit's status in about four lines of 78 columns, so 80x24 keeps every readout on screen: the rank,
     the parameters not or weakly determined and those the derivative settings move, by name (the readouts beside
     give their values and errors), what was left out, and where the notes are."""
-    from .notes import left_out_brief
+    from .notes import left_out_brief, omitted_sentence
 
     result = logs.result
     if result.estimate is None:
@@ -224,8 +226,10 @@ def compact_log_status(logs) -> str:
         moved = [name for name, flagged in zip(check.names, check.flags) if flagged]
         largest = max(check.worst(j)[1] for j, flagged in enumerate(check.flags) if flagged)
         parts.append(f"The derivative settings move {', '.join(moved)} (up to {largest:.1f} standard errors).")
+    omitted = omitted_sentence(logs, compact=True)
     left = left_out_brief(logs)
-    return " ".join((*parts, *(() if left is None else (left,)), "n: notes."))
+    return " ".join((*parts, *(() if omitted is None else (omitted,)), *(() if left is None else (left,)),
+                     "n: notes."))
 
 
 def simulation_text(check, label_width: int = 28) -> str:

@@ -33,8 +33,11 @@ def log_notes_text(logs: LoadedLogs) -> str:
     parts = [*logs.source_lines()]
     if logs.sensitivity is not None:
         parts.append(sensitivity_text(logs.sensitivity))
-    from .notes import exclusion_text
+    from .notes import exclusion_text, omitted_sentence
 
+    omitted = omitted_sentence(logs)
+    if omitted is not None:
+        parts.append(omitted)
     left = exclusion_text(logs)
     if left is not None:
         parts.append(left)
@@ -43,14 +46,18 @@ def log_notes_text(logs: LoadedLogs) -> str:
 
 
 def log_fit_summary(logs: LoadedLogs) -> str:
-    """What was read, the readouts, the uncertainty, the sensitivity check and every note."""
+    """What was read, the readouts, the uncertainty, the sensitivity check, terms the residuals follow that the
+    model lacks, and every note."""
     parts = [*logs.source_lines(), readouts_text(logs.result), "", uncertainty_text(logs.result, logs.unsettled)]
     if logs.sensitivity is not None:
         from .sensitivity import sensitivity_text  # only log fits carry a sensitivity check
 
         parts.append(sensitivity_text(logs.sensitivity))
-    from .notes import exclusion_text
+    from .notes import exclusion_text, omitted_sentence
 
+    omitted = omitted_sentence(logs)
+    if omitted is not None:
+        parts.append(omitted)
     left = exclusion_text(logs)
     if left is not None:
         parts += ["", left]

@@ -17,15 +17,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..estimation.fit import FitResult, fit_joint
 from ..estimation.exclusion import ExclusionRequest, Exclusions, outside_torques, standstill
+from ..estimation.fit import FitResult, fit_joint
 from ..estimation.low_pass import FilterRequest, FilterRequestError, ParallelFilter, choose_filter
+from ..estimation.omitted import OmittedTerms, omitted_terms_test
 from ..estimation.solver import NonFiniteError
 from ..logs.derivatives import MAX_WINDOW, smooth
 from ..logs.pipeline import JointLog
 from ..logs.request import HELDOUT, TRAINING, LoadRequest, load_joint_log
 from ..logs.table import LogError
-from ..model.terms import PLAIN, JointModel
+from ..model.terms import CANDIDATE_TERMS, PLAIN, JointModel
 from ..norms import rms
 from ..options import DEFAULT_ORDER, LOG_MODEL
 from ..samples import JointData
@@ -49,6 +50,8 @@ class LoadedLogs:
     """What the fit left out of the training log (standstill, outside torques), or None without times."""
     exclusion: ExclusionRequest = ExclusionRequest()
     """The request the exclusions were made from, kept for refits (another model)."""
+    omitted: OmittedTerms | None = None
+    """The test of terms the model lacks (friction, bias, angle offset, drag) against the residuals, or None."""
 
     def __repr__(self) -> str:
         return f"<LoadedLogs {self.name!r} {self.result!r}>"
@@ -80,12 +83,29 @@ class LoadedLogs:
         return log_fit_summary(self)
 
     @property
-    def unsettled(self) -> tuple[str, ...]:
-        """Parameters the sensitivity check moved beyond its threshold: not well determined, whatever their error."""
+    def moved_by_settings(self) -> tuple[str, ...]:
+        """Parameters the sensitivity check moved beyond its threshold."""
         check = self.sensitivity
         if check is None:
             return ()
         return tuple(name for name, flagged in zip(check.names, check.flags) if flagged)
+
+    @property
+    def decided_by_omitted(self) -> tuple[str, ...]:
+        """Parameters a term the model lacks would move beyond MOVE standard errors (the residuals follow it)."""
+        if self.omitted is None:
+            return ()
+        model = self.result.model
+        decided = set(self.omitted.decided)
+        return tuple(name for name, column in zip(model.names, model.column_names) if column in decided)
+
+    @property
+    def unsettled(self) -> dict[str, str]:
+        """Parameters another check moved, each with why: not well determined, whatever their error."""
+        reasons = {name: "moved by the derivative settings" for name in self.moved_by_settings}
+        for name in self.decided_by_omitted:
+            reasons.setdefault(name, "moved by a term the model lacks")
+        return reasons
 
     @property
     def name(self) -> str:
@@ -149,7 +169,32 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
             )
     check = _sensitivity(training, model, constrained, chosen, result, zip(others, filtered[1:]), exclusion,
                          exclusions) if sensitivity else None
-    return LoadedLogs(training, heldout, result, chosen, filtering, check, exclusions, exclusion)
+    omitted = _omitted_terms(training, model, chosen, result, exclusions)
+    return LoadedLogs(training, heldout, result, chosen, filtering, check, exclusions, exclusion, omitted)
+
+
+def _omitted_terms(training: JointLog, model: JointModel, chosen: ParallelFilter, result: FitResult,
+                   exclusions: Exclusions | None) -> OmittedTerms | None:
+    """The test of the candidate terms the model lacks against the fit's filtered, kept samples; None without a
+    unique low-passed fit on times, or when the model has every candidate."""
+    candidates = tuple(term for term in CANDIDATE_TERMS if term.name not in model.column_names)
+    if (exclusions is None or exclusions.regressor is None or result.estimate is None
+            or result.correlation is None or not candidates):
+        return None
+    # A column beyond double precision (qd |qd| of a log in huge units) is not a candidate: the fit stands alone.
+    with np.errstate(all="ignore"):
+        (Z, _), = filtered_regressors(training, JointModel("candidates", candidates), (chosen,))
+    usable = [j for j in range(Z.shape[1]) if np.all(np.isfinite(Z[:, j]))]
+    if not usable:
+        return None
+    kept = exclusions.kept
+    positions, lag = result.correlation
+    try:
+        with np.errstate(all="ignore"):
+            return omitted_terms_test(exclusions.regressor[kept], Z[kept][:, usable], exclusions.torque[kept],
+                                      positions, lag, model.column_names, tuple(candidates[j].name for j in usable))
+    except (NonFiniteError, np.linalg.LinAlgError):  # a test that leaves double precision says nothing
+        return None
 
 
 def low_pass_for(log: JointLog, request: FilterRequest) -> ParallelFilter:

@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from support.coulomb_joint import coulomb_joint_log
 from support.real_logs import REAL_LOGS, needs_real_logs
 
 from jointid.cli import main
@@ -127,24 +128,6 @@ def test_the_verdicts_on_real_logs_are_not_all_well_determined(documents):
         documents["energy_shaping"]["verdicts"]["tau0"] != "well determined"
 
 
-def coulomb_joint_log(seed: int, pushes=()):
-    """The lesson's rich motion on a joint with Coulomb friction 0.2 N m, 20 s at 500 Hz, 12-bit angles, torque
-    noise 5 % of its RMS; each push a smooth bump of 1 N m (raised cosine) from an outside hand, which the log's
-    torque does not see (the motor needs that much less)."""
-    rng = np.random.default_rng(seed)
-    t = np.arange(0, 20, 1 / 500)
-    q = 0.7 * np.sin(1.3 * t) + 0.25 * np.sin(2.7 * t)
-    qd = 0.7 * 1.3 * np.cos(1.3 * t) + 0.25 * 2.7 * np.cos(2.7 * t)
-    qdd = -0.7 * 1.69 * np.sin(1.3 * t) - 0.25 * 7.29 * np.sin(2.7 * t)
-    tau = 0.8 * qdd + 0.4 * G * np.cos(q) + 0.15 * qd + 0.2 * np.sign(qd)
-    tau = tau + 0.05 * np.sqrt(np.mean(tau**2)) * rng.standard_normal(len(t))
-    for start, length, size in pushes:
-        inside = (t >= start) & (t <= start + length)
-        tau[inside] -= size * 0.5 * (1 - np.cos(2 * np.pi * (t[inside] - start) / length))
-    step = 2 * np.pi / 4096
-    return {"t": t, "q": np.round(q / step) * step, "tau": tau}
-
-
 PUSHES = ((4.0, 0.5, 1.0), (9.0, 1.2, -1.0), (14.5, 2.0, 1.0))
 TRUTH = {"I": 0.8, "h": 0.4, "B": 0.15, "Fc": 0.2}
 
@@ -248,3 +231,14 @@ def test_the_training_chart_shades_each_push_and_shows_its_torque_off_the_fitted
     kept = ~chart.left_out
     assert np.sqrt(np.mean(departure[kept] ** 2)) == pytest.approx(logs.result.training_rmse, rel=1e-9)
     assert np.sqrt(np.mean(departure[kept] ** 2)) < 0.1
+
+
+def test_the_plain_fit_of_ddp_is_told_its_residuals_follow_the_friction_it_lacks(capsys):
+    """The gear's Coulomb friction (about 0.15-0.20 N m, ../shared/real-logs/README.md) is in ddp's torque: the
+    reference's own fit finds it, and jointid's plain fit is told its residuals follow sign(qd)."""
+    document = fitted(capsys, "ddp", "--model", "plain")
+    assert document["omitted_terms"]["found"] and document["omitted_terms"]["followed"] == ["Fc"]
+    assert document["omitted_terms"]["each_p_value"]["Fc"] < 1e-6
+    reference = reference_pipeline()
+    own = reference.identify(reference.load_log(str(LOGS / "pendulum_ddp.csv")), cutoff=3.0)["theta"]
+    assert 0.1 < own[3] < 0.25  # [I, h, B, Fc, tau0]
