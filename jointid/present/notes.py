@@ -117,11 +117,17 @@ def omitted_sentence(logs: LoadedLogs, compact: bool = False) -> str | None:
     test = logs.omitted
     if test is None or not test.found:
         return None
-    words = " and ".join(OMITTED_WORDS[name] for name in test.followed)
+    alone = test.followed != test.candidates or len(test.candidates) == 1
     decided = logs.decided_by_omitted
     if compact:
         moved = f": {', '.join(decided)} weak" if decided else ""
-        return f"The residuals follow {words}, which the model lacks{moved}."
+        if not alone:
+            return f"The residuals hold structure the model lacks{moved}."
+        named = " and ".join(OMITTED_WORDS[name] for name in test.followed)
+        return f"The residuals follow {named}, which the model lacks{moved}."
+    words = (" and ".join(OMITTED_WORDS[name] for name in test.followed) + ", which the model lacks" if alone
+             else "the terms the model lacks together (" + ", ".join(OMITTED_WORDS[name] for name in test.candidates)
+             + ") though none alone, so something else it lacks")
     model = logs.result.model
     terms = [OMITTED_MODELS[name] for name in test.followed if name in OMITTED_MODELS]
     extras = [part for part in model.name.split("+") if part != "plain"]
@@ -134,7 +140,7 @@ def omitted_sentence(logs: LoadedLogs, compact: bool = False) -> str | None:
                   "not well determined")
     else:
         effect = "; adding it moves no estimate by more than 2 standard errors"
-    return f"The residuals follow {words}, which the model lacks (p {test.p_value:.2g}){effect}{suggestion}."
+    return f"The residuals follow {words} (p {test.p_value:.2g}){effect}{suggestion if alone else ''}."
 
 
 def omitted_object(logs: LoadedLogs) -> dict | None:
