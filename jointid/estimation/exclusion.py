@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..norms import rms
-from .low_pass import PRODUCT_PIECE
+from .solver import PRODUCT_PIECE
 from .uncertainty import newey_west_sum
 
 COVERAGE = 0.5

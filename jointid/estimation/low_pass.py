@@ -61,6 +61,8 @@ from functools import cached_property
 
 import numpy as np
 
+from .solver import PRODUCT_PIECE
+
 FILTER_NAME = "Kaiser-windowed sinc"
 """What the low-pass is, for notes and JSON."""
 
@@ -99,8 +101,6 @@ SAMPLES_PER_CUTOFF = 20.0
 MIN_DECIMATED = 50
 """Decimation never leaves fewer samples than this (a short log keeps more, correlated, samples)."""
 
-PRODUCT_PIECE = 1 << 17
-"""Multiply-adds per matrix product of the polyphase filter (OpenBLAS runs products below 2^18 on one thread)."""
 
 FFT_COST = 3.6
 """Polyphase multiply-adds that cost as much as one FFT sample-octave (size log2 size per block): measured on a

@@ -71,6 +71,10 @@ BLOCK_VALUES = 8192
 GROUP_VALUES = 2**16
 """Values of [X | y] in one group of blocks, factored by one call of numpy's (batched) QR: 512 kB."""
 
+PRODUCT_PIECE = 1 << 17
+"""Multiply-adds per piece of a long matrix product: OpenBLAS runs products below 2^18 on one thread, which on a
+busy 2-core machine is faster than waking its threads (the filter's, the robust step's and Newey-West's)."""
+
 
 class NonFiniteError(ValueError):
     """X or y holds infinity or NaN, or the estimate overflows double precision; one line for a user."""

@@ -29,8 +29,7 @@ from functools import cached_property
 import numpy as np
 
 from ..norms import power_of_two_scale
-from .low_pass import PRODUCT_PIECE
-from .solver import LeastSquaresSolution, back_substitute
+from .solver import PRODUCT_PIECE, LeastSquaresSolution, back_substitute
 from .student_t import student_t_quantile
 
 WELL_DETERMINED = "well determined"
