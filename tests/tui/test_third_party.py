@@ -53,17 +53,18 @@ def pretend_installed(monkeypatch, **versions: str | None) -> None:
 def test_importing_the_app_patches_nothing():
     code = (
         "import json, plotext._utility as u, plotext._matrix as m\n"
-        "before = [u.hd_group, u.join, m.matrix_class.set_matrices]\n"
+        "from textual.screen import ModalScreen as S\n"
+        "before = [u.hd_group, u.join, m.matrix_class.set_matrices, S._on_message, S.dismiss]\n"
         "import tui.widgets.torque_plot, tui.widgets.charts, tui.widgets.stepper, tui.app\n"
         "from tui.third_party import adapter as third_party\n"
-        "after = [u.hd_group, u.join, m.matrix_class.set_matrices]\n"
+        "after = [u.hd_group, u.join, m.matrix_class.set_matrices, S._on_message, S.dismiss]\n"
         "print(json.dumps([all(a is b for a, b in zip(before, after)),\n"
         "                  [third_party.active(a.key) for a in third_party.ADAPTERS]]))\n"
     )
     done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=ROOT)
     unchanged, active = json.loads(done.stdout)
     assert unchanged
-    assert active == [False, False, False]
+    assert active == [False] * len(third_party.ADAPTERS)
 
 
 def test_activation_installs_the_fast_helpers_once_and_uninstall_restores_plotexts_own():
@@ -80,6 +81,37 @@ def test_activation_installs_the_fast_helpers_once_and_uninstall_restores_plotex
     assert plotext_functions() == plotext_speedups.ORIGINALS
 
 
+def modal_methods() -> tuple:
+    """ModalScreen's message dispatch and dismiss, as Textual looks them up now."""
+    from textual.screen import ModalScreen
+
+    return ModalScreen._on_message, ModalScreen.dismiss
+
+
+def test_activation_installs_the_burst_guard_on_modal_screens_and_uninstall_takes_it_off():
+    from textual.message_pump import MessagePump
+    from textual.screen import Screen
+
+    stock = (MessagePump._on_message, Screen.dismiss)
+    assert modal_methods() == stock
+    third_party.activate()
+    assert third_party.active(third_party.MODAL_BURSTS) and modal_methods() != stock
+    third_party.uninstall()
+    assert modal_methods() == stock
+
+
+def test_another_textual_keeps_the_stock_modal_screens_and_says_so(monkeypatch):
+    from textual.message_pump import MessagePump
+    from textual.screen import Screen
+
+    pretend_installed(monkeypatch, textual="9.0.0")
+    lines = third_party.activate()
+    assert not third_party.active(third_party.MODAL_BURSTS)
+    assert modal_methods() == (MessagePump._on_message, Screen.dismiss)
+    assert lines[3] == "textual 9.0.0 (expected 8.2.8): stock modal screens (Enter Enter can close one twice " \
+                       "and end the app)"
+
+
 def test_status_lines_name_the_installed_versions():
     lines = third_party.activate()
     assert lines == third_party.status()
@@ -87,6 +119,7 @@ def test_status_lines_name_the_installed_versions():
         "plotext 5.3.2: fast chart helpers active",
         "plotext 5.3.2, textual-plotext 1.0.1: direct chart strips active",
         "textual 8.2.8: repaint-only number fields active",
+        "textual 8.2.8: modal screens safe from key bursts",
     ]
     for name, version in third_party.PINNED.items():
         assert metadata.version(name) == version  # the pins match pyproject.toml's

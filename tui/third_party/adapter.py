@@ -17,7 +17,7 @@ import os
 from dataclasses import dataclass
 from functools import lru_cache
 from pathlib import Path
-from typing import TYPE_CHECKING, Callable
+from typing import TYPE_CHECKING, Callable, ClassVar
 
 if TYPE_CHECKING:
     from rich.style import Style
@@ -34,6 +34,8 @@ CHART_MATRIX = "chart-matrix"
 """Adapter: torque charts become strips straight from plotext's cell matrix, not via ANSI text."""
 NUMBER_FIELDS = "number-fields"
 """Adapter: a number field's new value repaints the field instead of relayouting the screen."""
+MODAL_BURSTS = "modal-bursts"
+"""Adapter: a modal screen ignores what its widgets report after it closed or was covered (see `BurstGuard`)."""
 
 
 @dataclass(frozen=True)
@@ -59,6 +61,8 @@ ADAPTERS = (
             "stock chart rendering (PlotextPlot.render, slower)"),
     Adapter(NUMBER_FIELDS, ("textual",), "repaint-only number fields active",
             "stock number fields (a new value relayouts the screen)"),
+    Adapter(MODAL_BURSTS, ("textual",), "modal screens safe from key bursts",
+            "stock modal screens (Enter Enter can close one twice and end the app)"),
 )
 """Every adapter, in status order."""
 
@@ -135,6 +139,8 @@ def activate() -> list[str]:
         usable, lines = check()
         if usable[PLOTEXT_HELPERS]:
             _put_plotext_helpers(fast=True)
+        if usable[MODAL_BURSTS]:
+            BurstGuard.install()
         _in_use, _status = usable, lines
     return list(_status)
 
@@ -144,11 +150,13 @@ def uninstall() -> None:
     global _in_use, _status
     if _in_use is not None and _in_use[PLOTEXT_HELPERS]:
         _put_plotext_helpers(fast=False)
+    if _in_use is not None and _in_use[MODAL_BURSTS]:
+        BurstGuard.uninstall()
     _in_use, _status = None, []
 
 
 def active(key: str) -> bool:
-    """Whether an adapter (`PLOTEXT_HELPERS`, `CHART_MATRIX`, `NUMBER_FIELDS`) is in use."""
+    """Whether an adapter (`PLOTEXT_HELPERS`, `CHART_MATRIX`, `NUMBER_FIELDS`, `MODAL_BURSTS`) is in use."""
     return _in_use is not None and _in_use[key]
 
 
@@ -267,6 +275,77 @@ class RepaintOnValue:
         self.set_reactive(Input.virtual_size, Size(self.content_width, 1))
         self._suggestion = ""
         self.refresh()
+
+
+class BurstGuard:
+    """The one guard for key bursts on modal screens (every dialog, the joint picker, Textual's command palette).
+
+    Key repeat and SSH batching deliver Enter Enter as one batch. Both presses reach the dialog's field or list
+    before the first one's result closes it, so the field reports two submissions (the list two selections)
+    and Textual's stock dialogs close twice: the second `dismiss` pops the screen beneath, and then the last
+    screen (ScreenStackError, the app ends). Two rules, installed on `ModalScreen` once at start-up, stop that:
+
+    - A message from one of a modal screen's widgets (one with a `control`: Input.Submitted,
+      OptionList.OptionSelected, Button.Pressed...) that reaches the screen after it stopped being the active
+      screen is dropped: it was meant for a dialog that has closed, or that another dialog now covers.
+    - `dismiss` on a screen that has already left the screen stack does nothing (a worker's result arriving
+      after Escape closed its dialog, say), instead of closing whichever screen is on top; on a screen that
+      another covers (the command palette opened over a dialog whose worker then finishes) it first closes
+      the screens above. Stock Textual closed the top screen and called the covered one's result callback
+      then, and again when it was closed later (InvalidStateError, the app ends).
+
+    The rules wrap `MessagePump._on_message`, which dispatches a message to its handlers, and `Screen.dismiss`
+    of the pinned Textual; with another release they are not installed.
+    """
+
+    _stock: ClassVar[dict[str, Callable]] = {}
+    """The methods replaced, by name, while installed."""
+
+    @classmethod
+    def install(cls) -> None:
+        """Put the two rules on ModalScreen (and so on every dialog, Textual's own included)."""
+        from textual.screen import ModalScreen
+
+        if cls._stock:
+            return
+        cls._stock = {"_on_message": ModalScreen._on_message, "dismiss": ModalScreen.dismiss}
+        ModalScreen._on_message = cls._on_message
+        ModalScreen.dismiss = cls._dismiss
+
+    @classmethod
+    def uninstall(cls) -> None:
+        """Give ModalScreen its inherited methods back."""
+        from textual.screen import ModalScreen
+
+        for name in cls._stock:
+            delattr(ModalScreen, name)  # the stock methods are inherited: removing the rule uncovers them
+        cls._stock = {}
+
+    @staticmethod
+    def stale(screen: Screen, message) -> bool:
+        """Whether `message` is a widget's report that arrived after `screen` stopped being the active screen."""
+        from textual.events import Event
+
+        return message.control is not None and not isinstance(message, Event) and not screen.is_active
+
+    @staticmethod
+    async def _on_message(screen: Screen, message) -> None:
+        if BurstGuard.stale(screen, message):
+            return
+        await BurstGuard._stock["_on_message"](screen, message)
+
+    @staticmethod
+    def _dismiss(screen: Screen, result=None):
+        from textual.await_complete import AwaitComplete
+
+        stack = screen.app.screen_stack
+        if screen not in stack:  # dismissed already: closing again would close another screen
+            return AwaitComplete.nothing()
+        if stack[-1] is not screen:  # covered: close what is above it, then dismiss it as the top screen
+            screen.pop_until_active()
+            screen.app.call_later(BurstGuard._dismiss, screen, result)
+            return AwaitComplete.nothing()
+        return BurstGuard._stock["dismiss"](screen, result)
 
 
 def _require_pinned_textual(what: str) -> None:

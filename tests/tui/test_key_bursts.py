@@ -1,0 +1,173 @@
+"""Every modal screen under key bursts: Enter Enter delivered as one batch closes a dialog once, never the app.
+
+Key repeat and SSH batching hand the app several keys before it handles the
+first. Each test queues its burst at once (support.bursts.send_burst) and waits
+for the dialog's own message pump to stop, which it does only after handling
+everything queued for it; a crash ends the wait with the app's exception.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import functools
+import inspect
+import threading
+
+import numpy as np
+import pytest
+from support.bursts import MessageWatch, send_burst
+from support.tui_support import make_app
+from textual.command import CommandInput, CommandList, CommandPalette
+from textual.widgets import Input, OptionList
+
+from jointid.cli import main
+from tui.palette import TOUR
+from tui.screens.export import ExportScreen
+from tui.screens.main import MainScreen
+from tui.screens.open_log import OpenLogScreen
+
+SIZE = (120, 40)
+
+
+def with_app(test):
+    """Run an async test body on a fresh explorer, as test(pilot, app, watch, *fixtures), with asyncio.run."""
+
+    @functools.wraps(test)
+    def run(**fixtures):
+        async def body():
+            watch = MessageWatch()
+            app = make_app()
+            async with app.run_test(size=SIZE, message_hook=watch) as pilot:
+                await test(pilot, app, watch, **fixtures)
+
+        asyncio.run(body())
+
+    signature = inspect.signature(test)
+    run.__signature__ = signature.replace(parameters=list(signature.parameters.values())[3:])  # pytest's fixtures
+    return run
+
+
+async def closed(app, watch: MessageWatch, screen) -> None:
+    """Wait until a dialog has closed and handled everything queued for it (its message pump stopped)."""
+    await watch.until(app, lambda: not screen.is_running and screen not in app.screen_stack,
+                      f"{type(screen).__name__} to close")
+
+
+def main_screen(app) -> MainScreen:
+    return next(s for s in app.screen_stack if isinstance(s, MainScreen))
+
+
+@pytest.mark.parametrize("keys", [("enter", "enter"), ("enter", "enter", "enter", "enter")])
+@with_app
+async def test_enter_enter_in_the_command_palette_runs_the_command_once_and_closes_it(pilot, app, watch, keys):
+    await pilot.press("ctrl+p")
+    palette = app.screen
+    assert isinstance(palette, CommandPalette)
+    palette.query_one(CommandInput).value = "Tour 2:"
+    commands = palette.query_one(CommandList)
+    await watch.until(app, lambda: commands.option_count == 1, "the palette to find the tour stop")
+    send_burst(app, *keys)
+    await closed(app, watch, palette)
+    assert app.screen is main_screen(app) and len(app.screen_stack) == 1
+    await watch.until(app, lambda: main_screen(app).settings == TOUR[1], "the tour stop to apply")
+
+
+@with_app
+async def test_enter_enter_in_the_export_dialog_writes_one_pair(pilot, app, watch, tmp_path):
+    await pilot.press("ctrl+s")
+    dialog = app.screen
+    assert isinstance(dialog, ExportScreen)
+    dialog.query_one(Input).value = str(tmp_path)
+    send_burst(app, "enter", "enter")
+    await closed(app, watch, dialog)
+    await watch.until(app, lambda: any(n.title == "Exported" for n in app._notifications), "the export")
+    assert app.screen is main_screen(app)
+    assert sorted(path.suffix for path in tmp_path.iterdir()) == [".json", ".svg"]
+
+
+@pytest.fixture
+def log_file(tmp_path, capsys):
+    path = tmp_path / "rich.csv"
+    assert main(["simulate", "--out", str(path), "--noise", "0.05"]) == 0
+    capsys.readouterr()
+    return path
+
+
+@with_app
+async def test_enter_enter_in_the_open_dialog_loads_the_log_once(pilot, app, watch, log_file):
+    await pilot.press("ctrl+o")
+    dialog = app.screen
+    assert isinstance(dialog, OpenLogScreen)
+    dialog.query_one("#open-path", Input).value = str(log_file)
+    send_burst(app, "enter", "enter")
+    await closed(app, watch, dialog)
+    await watch.until(app, lambda: main_screen(app).logs is not None and app.screen is main_screen(app),
+                      "the log to load")
+    assert len(app.screen_stack) == 1
+
+
+# The bag joint picker ---------------------------------------------------------------------------------------
+
+
+@pytest.fixture
+def bag(tmp_path):
+    pytest.importorskip("rosbags")
+    from support.bag_support import bag_path, two_joints, write_joint_bag
+
+    t = np.arange(400) / 100.0
+    return write_joint_bag(bag_path(tmp_path, "arm", "mcap"), "mcap", t, two_joints(t))
+
+
+async def open_picker(pilot, app, watch, path):
+    """Ctrl+O on a bag: the joint picker (its list filled once the bag is surveyed)."""
+    await pilot.press("ctrl+o")
+    app.screen.query_one("#open-path", Input).value = str(path)
+    await pilot.press("enter")
+    picker = app.screen
+    assert type(picker).__name__ == "BagJointScreen"
+    return picker
+
+
+@with_app
+async def test_enter_enter_in_the_joint_picker_loads_the_joint_once(pilot, app, watch, bag):
+    picker = await open_picker(pilot, app, watch, bag)
+    await watch.until(app, lambda: picker.query_one(OptionList).option_count == 2, "the joints to be listed")
+    opener = app.screen_stack[-2]
+    send_burst(app, "enter", "enter")
+    await closed(app, watch, picker)
+    await closed(app, watch, opener)
+    await watch.until(app, lambda: main_screen(app).logs is not None and app.screen is main_screen(app),
+                      "the joint to load")
+    assert main_screen(app).logs.training.read_brief.startswith("'shoulder'")
+
+
+@with_app
+async def test_a_survey_failing_under_the_command_palette_closes_the_picker_once(pilot, app, watch, tmp_path,
+                                                                               monkeypatch):
+    """The survey's failure dismissed the covered picker: stock Textual closed the palette instead, then the picker
+    again on Escape, calling its result callback twice (InvalidStateError)."""
+    pytest.importorskip("rosbags")
+    from jointid.logs import bag as bag_module
+
+    corrupt = tmp_path / "corrupt.bag"
+    corrupt.write_bytes(b"#ROSBAG V2.0\n" + bytes(range(256)) * 4)
+    release = threading.Event()
+    real_bag_info = bag_module.bag_info
+
+    def held_bag_info(*args, **kwargs):
+        release.wait(60)  # the survey ends only once the palette is open over the picker
+        return real_bag_info(*args, **kwargs)
+
+    monkeypatch.setattr(bag_module, "bag_info", held_bag_info)
+    picker = await open_picker(pilot, app, watch, corrupt)
+    opener = app.screen_stack[-2]
+    await pilot.press("ctrl+p")
+    palette = app.screen
+    assert isinstance(palette, CommandPalette)
+    release.set()
+    await closed(app, watch, picker)
+    assert app.screen is opener and not palette.is_running
+    assert [n.title for n in app._notifications] == ["Log not loaded"]
+    send_burst(app, "escape", "escape")
+    await closed(app, watch, opener)
+    assert app.screen_stack == [main_screen(app)]
