@@ -10,14 +10,19 @@ event itself, however loaded the machine.
 from __future__ import annotations
 
 import asyncio
+import functools
+import inspect
 from collections.abc import Callable
 
+from support.tui_support import make_app
 from textual import events
 from textual._context import active_message_pump
 from textual.keys import key_to_character
 
 WAIT_LIMIT = 60.0
 """Seconds a wait may take before the test fails (a wait normally ends within a frame or two)."""
+SIZE = (120, 40)
+"""Terminal size of the apps `with_app` starts."""
 
 
 def send_burst(app, *keys: str) -> None:
@@ -81,3 +86,27 @@ class MessageWatch:
     def count(self, pump, message_type) -> int:
         """How many messages of `message_type` `pump` has handled since `record()`."""
         return sum(1 for where, message in self.handled if where is pump and isinstance(message, message_type))
+
+
+def with_app(test):
+    """Run an async test body as test(pilot, app, watch, **fixtures) on a fresh explorer (watch: its MessageWatch)."""
+
+    @functools.wraps(test)
+    def run(**fixtures):
+        async def body():
+            watch = MessageWatch()
+            app = make_app()
+            async with app.run_test(size=SIZE, message_hook=watch) as pilot:
+                await test(pilot, app, watch, **fixtures)
+
+        asyncio.run(body())
+
+    signature = inspect.signature(test)
+    run.__signature__ = signature.replace(parameters=list(signature.parameters.values())[3:])  # pytest's fixtures
+    return run
+
+
+async def closed(app, watch: MessageWatch, screen) -> None:
+    """Wait until a dialog has closed and handled everything queued for it (its message pump stopped)."""
+    await watch.until(app, lambda: not screen.is_running and screen not in app.screen_stack,
+                      f"{type(screen).__name__} to close")

@@ -8,15 +8,11 @@ everything queued for it; a crash ends the wait with the app's exception.
 
 from __future__ import annotations
 
-import asyncio
-import functools
-import inspect
 import threading
 
 import numpy as np
 import pytest
-from support.bursts import MessageWatch, send_burst
-from support.tui_support import make_app
+from support.bursts import closed, send_burst, with_app
 from textual.command import CommandInput, CommandList, CommandPalette
 from textual.widgets import Input, OptionList
 
@@ -26,34 +22,9 @@ from tui.screens.export import ExportScreen
 from tui.screens.main import MainScreen
 from tui.screens.open_log import OpenLogScreen
 
-SIZE = (120, 40)
-
-
-def with_app(test):
-    """Run an async test body on a fresh explorer, as test(pilot, app, watch, *fixtures), with asyncio.run."""
-
-    @functools.wraps(test)
-    def run(**fixtures):
-        async def body():
-            watch = MessageWatch()
-            app = make_app()
-            async with app.run_test(size=SIZE, message_hook=watch) as pilot:
-                await test(pilot, app, watch, **fixtures)
-
-        asyncio.run(body())
-
-    signature = inspect.signature(test)
-    run.__signature__ = signature.replace(parameters=list(signature.parameters.values())[3:])  # pytest's fixtures
-    return run
-
-
-async def closed(app, watch: MessageWatch, screen) -> None:
-    """Wait until a dialog has closed and handled everything queued for it (its message pump stopped)."""
-    await watch.until(app, lambda: not screen.is_running and screen not in app.screen_stack,
-                      f"{type(screen).__name__} to close")
-
 
 def main_screen(app) -> MainScreen:
+    """The explorer's main screen, under any dialog."""
     return next(s for s in app.screen_stack if isinstance(s, MainScreen))
 
 
