@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import os
+import stat
 from itertools import count
 from pathlib import Path
 
@@ -12,7 +13,7 @@ from textual.containers import Vertical
 from textual.screen import ModalScreen
 from textual.widgets import Input, Label, Static
 
-from jointid.files import AlreadyExists, ExportError, json_text, write_texts
+from jointid.files import AlreadyExists, ExportError, json_text, shown_path, write_texts
 
 from ..widgets.footer import KeyFooter
 
@@ -35,18 +36,31 @@ def free_stem(folder: Path, stem: str) -> Path:
     raise AssertionError("unreachable")
 
 
-def check_folder(folder: Path) -> None:
-    """ExportError with one line when `folder` is missing or is not a folder."""
-    if not folder.exists():
-        raise ExportError(f"{folder}: no such folder")
-    if not folder.is_dir():
-        raise ExportError(f"{folder}: not a folder")
+def export_folder(typed: str | os.PathLike) -> Path:
+    """The folder a typed path names, `~` expanded; ExportError with one line when it is not an existing folder.
+
+    Every way a typed path can fail (`~nosuchuser`, a name longer than the system allows, a NUL byte, a folder
+    we may not look into) is an ExportError, the one error the explorer turns into a notification.
+    """
+    try:
+        folder = Path(typed).expanduser()
+    except RuntimeError:  # Path.expanduser's way of saying there is no such user
+        raise ExportError(f"{shown_path(typed)}: no such user, so no home folder to expand ~ to") from None
+    try:
+        is_folder = stat.S_ISDIR(os.stat(folder).st_mode)
+    except FileNotFoundError:
+        raise ExportError(f"{shown_path(folder)}: no such folder") from None
+    except (OSError, ValueError) as error:  # e.g. a name too long; ValueError: a NUL byte
+        raise ExportError(f"{shown_path(folder)}: cannot use this folder: {getattr(error, 'strerror', None) or error}") \
+            from None
+    if not is_folder:
+        raise ExportError(f"{shown_path(folder)}: not a folder")
+    return folder
 
 
 def write_export(folder: str | os.PathLike, stem: str, document: dict, svg: str) -> tuple[Path, Path]:
     """Write stem.json and stem.svg (numbered when taken) as a pair: both or neither; ExportError, never an overwrite."""
-    folder = Path(folder).expanduser()
-    check_folder(folder)
+    folder = export_folder(folder)
     texts = (json_text(document), svg)
     for _ in range(NAME_ATTEMPTS):
         base = free_stem(folder, stem)
@@ -56,7 +70,7 @@ def write_export(folder: str | os.PathLike, stem: str, document: dict, svg: str)
         except AlreadyExists:
             continue  # a file appeared under this name meanwhile: take the next free one
         return json_path, svg_path
-    raise ExportError(f"{folder}: no free name for {stem}.json and {stem}.svg")
+    raise ExportError(f"{shown_path(folder)}: no free name for {stem}.json and {stem}.svg")
 
 
 class ExportScreen(ModalScreen[str | None]):
