@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import gc
+import os
+import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Iterable
 
@@ -22,6 +24,26 @@ if TYPE_CHECKING:  # the log reader and its low-pass are imported only when a lo
     from jointid.estimation.low_pass import FilterRequest
     from jointid.logs.conventions import LogConventions
     from jointid.studies.log_fit import LoadedLogs
+
+
+class NoTerminal(Exception):
+    """The explorer was started where it can neither read keys nor draw (str() is the one line why)."""
+
+
+def terminal_problem() -> str | None:
+    """Why Textual's terminal driver cannot run here, or None: it reads keys from stdin and draws on stderr.
+
+    Without a terminal on both, Textual starts anyway and waits for keys that never come (`jointid < /dev/null`
+    ran for ever). A driver chosen through TEXTUAL_DRIVER (textual-serve's web driver) brings its own input and
+    output and is not checked.
+    """
+    if os.environ.get("TEXTUAL_DRIVER"):
+        return None
+    for stream, name in ((sys.__stdin__, "standard input"), (sys.__stderr__, "standard error (where it draws)")):
+        if stream is None or not stream.isatty():
+            return (f"the explorer needs a terminal, and its {name} is not one; run `jointid` in a terminal, "
+                    "or use a subcommand such as `jointid fit`")
+    return None
 
 
 def action_works(screen: Screen, action: str) -> bool:
@@ -59,6 +81,14 @@ class JointIdApp(App):
         self.derivatives = derivatives
         self.filtering = filtering
         self.conventions = conventions
+
+    def run(self, *, headless: bool = False, **kwargs):
+        """Textual's `App.run`; in a terminal's place, refused with NoTerminal before anything is drawn."""
+        if not headless:
+            problem = terminal_problem()
+            if problem is not None:
+                raise NoTerminal(problem)
+        return super().run(headless=headless, **kwargs)
 
     def get_default_screen(self) -> Screen:
         """The main screen at the initial settings."""
