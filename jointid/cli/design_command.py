@@ -74,7 +74,7 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--seed", type=whole_number(0, 2**32 - 1), default=DEFAULT_SEED, metavar="SEED",
                         help=f"seed of the random starts (the same seed gives the same design); default {DEFAULT_SEED}")
     parser.add_argument("--out", metavar="FILE", help="write the designed motion to this JSON motion file")
-    parser.add_argument("--force", action="store_true", help="replace FILE if it exists")
+    parser.add_argument("--force", action="store_true", help="replace FILE if it exists (only a regular file: never a symlink, a FIFO, a device or a folder)")
     parser.add_argument("--json", action="store_true", help="print one JSON object instead of text")
 
 

@@ -110,7 +110,7 @@ def add_parser(subparsers) -> None:
         parser.add_argument(f"--{field.replace('_', '-')}", dest=field, type=setting_type(field), default=0.0,
                             metavar={"true_coulomb": "FC", "true_bias": "TAU0"}.get(field, "Q0"), help=help_text)
     parser.add_argument("--out", required=True, metavar="FILE", help="the CSV file to write")
-    parser.add_argument("--force", action="store_true", help="replace FILE if it exists")
+    parser.add_argument("--force", action="store_true", help="replace FILE if it exists (only a regular file: never a symlink, a FIFO, a device or a folder)")
 
 
 def timing(samples: int | None, rate: float | None, duration: float | None) -> tuple[int, float]:
