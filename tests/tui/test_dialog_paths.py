@@ -89,3 +89,23 @@ async def test_ctrl_o_on_a_bag_folder_holding_a_named_pipe_is_a_notification(pil
     await open_log(pilot, app, folder)
     note = await notified(app, watch, "Log not loaded")
     assert note.message == f"{folder}, file arm_0.db3: cannot read: a named pipe (FIFO), not a regular file"
+
+
+def test_an_export_killed_between_its_two_files_leaves_its_name_to_the_next_one(tmp_path):
+    """kill -9 after the JSON's link left stem.json without stem.svg; the next export removes it and takes the name."""
+    import subprocess
+    import sys
+
+    from jointid.files import TEMPORARY_SUFFIX
+    from tui.screens.export import write_export
+
+    done = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True,
+                          check=True)
+    dead = done.stdout.strip()  # a process id that no longer runs, as the killed writer's
+    for name, text in (("stem.json", "{}"), ("stem.svg", "<svg/>")):
+        (tmp_path / f".{name}.{dead}-0123abcd{TEMPORARY_SUFFIX}").write_text(text)
+    os.link(tmp_path / f".stem.json.{dead}-0123abcd{TEMPORARY_SUFFIX}", tmp_path / "stem.json")  # its one link
+    paths = write_export(tmp_path, "stem", {"fit": 1}, "<svg>new</svg>")
+    assert [path.name for path in paths] == ["stem.json", "stem.svg"]
+    assert sorted(os.listdir(tmp_path)) == ["stem.json", "stem.svg"]
+    assert (tmp_path / "stem.svg").read_text() == "<svg>new</svg>"

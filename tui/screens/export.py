@@ -13,7 +13,14 @@ from textual.containers import Vertical
 from textual.screen import ModalScreen
 from textual.widgets import Input, Label, Static
 
-from jointid.files import AlreadyExists, ExportError, json_text, shown_path, write_texts
+from jointid.files import (
+    AlreadyExists,
+    ExportError,
+    json_text,
+    remove_stale_temporaries,
+    shown_path,
+    write_texts,
+)
 
 from ..widgets.footer import KeyFooter
 
@@ -61,6 +68,7 @@ def export_folder(typed: str | os.PathLike) -> Path:
 def write_export(folder: str | os.PathLike, stem: str, document: dict, svg: str) -> tuple[Path, Path]:
     """Write stem.json and stem.svg (numbered when taken) as a pair: both or neither; ExportError, never an overwrite."""
     folder = export_folder(folder)
+    remove_stale_temporaries(str(folder))  # first, so the name of a killed export's orphan is free again
     texts = (json_text(document), svg)
     for _ in range(NAME_ATTEMPTS):
         base = free_stem(folder, stem)
