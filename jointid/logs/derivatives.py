@@ -178,8 +178,20 @@ def smooth(values: np.ndarray, window: int, order: int) -> np.ndarray:
     return out
 
 
+ROUNDING_FLOOR = 64 * np.finfo(float).eps
+"""An estimated derivative whose largest value is below this times max|q| / dt (per derivative) is rounding: a
+constant angle gives 1 to 5 times eps max|q| / dt^k, and any motion double precision resolves gives more."""
+
+
 def differentiate(q: np.ndarray, step: float, window: int, order: int) -> tuple[np.ndarray, np.ndarray]:
     """Velocity and acceleration, each (N,): q smoothed (see `smooth`), then central differences (one-sided at
-    the two ends)."""
+    the two ends); a derivative at the level of q's rounding is exactly zero (the joint did not move)."""
     velocity = np.gradient(smooth(q, window, order), step)
-    return velocity, np.gradient(velocity, step)
+    acceleration = np.gradient(velocity, step)
+    # Rounding noise scaled by 1/dt would otherwise be a column the fit scales up into a 'determined' parameter.
+    floor = ROUNDING_FLOOR * float(np.max(np.abs(q))) if len(q) else 0.0
+    if not np.max(np.abs(velocity), initial=0.0) > floor / step:
+        velocity = np.zeros_like(velocity)
+    if not np.max(np.abs(acceleration), initial=0.0) > floor / step / step:
+        acceleration = np.zeros_like(acceleration)
+    return velocity, acceleration

@@ -92,15 +92,32 @@ class Term(Parameter):
     """True when the column is qd or qdd itself, so it already carries the smoothing they were estimated with."""
 
 
+def rounded_cos(q: np.ndarray) -> np.ndarray:
+    """cos q, and exactly 0 where it is within the rounding of q itself: cos(fl(pi/2)) = 6e-17 is no gravity
+    torque, and a column of such values would otherwise be column-scaled into a parameter the data 'determine'."""
+    values = np.cos(q)
+    return np.where(np.abs(values) <= ROUNDING * np.maximum(1.0, np.abs(q)), 0.0, values)
+
+
+def rounded_sin(q: np.ndarray) -> np.ndarray:
+    """sin q, and exactly 0 where it is within the rounding of q itself (sin(fl(pi)) = 1.2e-16), as rounded_cos."""
+    values = np.sin(q)
+    return np.where(np.abs(values) <= ROUNDING * np.maximum(1.0, np.abs(q)), 0.0, values)
+
+
+ROUNDING = 4 * np.finfo(float).eps
+"""A trigonometric value this small times max(1, |q|) is rounding: q itself is only known to eps/2 of it."""
+
 INERTIA = Term("I", "inertia", "kg m²", POSITIVE, "no acceleration", lambda q, qd, qdd: qdd, True)
-MASS_MOMENT = Term("h", "mass moment", "kg m", NONNEGATIVE, "no gravity torque", lambda q, qd, qdd: G * np.cos(q))
+MASS_MOMENT = Term("h", "mass moment", "kg m", NONNEGATIVE, "no gravity torque",
+                   lambda q, qd, qdd: G * rounded_cos(q))
 DAMPING = Term("B", "damping", "N m s/rad", NONNEGATIVE, "no velocity", lambda q, qd, qdd: qd, True)
 COULOMB = Term("Fc", "Coulomb friction", "N m", NONNEGATIVE, "no velocity", lambda q, qd, qdd: np.sign(qd))
 BIAS = Term("tau0", "torque bias", "N m", None, "no samples", lambda q, qd, qdd: np.ones_like(q))
 GRAVITY_COSINE = Term("h_c", "gravity cosine coefficient", "kg m", None, "no gravity torque",
-                      lambda q, qd, qdd: G * np.cos(q))
+                      lambda q, qd, qdd: G * rounded_cos(q))
 GRAVITY_SINE = Term("h_s", "gravity sine coefficient", "kg m", None, "no angle away from horizontal",
-                    lambda q, qd, qdd: G * np.sin(q))
+                    lambda q, qd, qdd: G * rounded_sin(q))
 ANGLE_OFFSET = Parameter("q0", "angle offset", "rad", None, "no angle away from horizontal")
 QUADRATIC_DRAG = Term("Bq", "quadratic drag", "N m s²/rad²", None, "no velocity", lambda q, qd, qdd: qd * np.abs(qd))
 """Not in any model: a candidate the omitted-terms test tries on a log fit's residuals (drag growing with speed)."""

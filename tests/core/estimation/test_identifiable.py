@@ -103,3 +103,36 @@ def test_duplicated_and_zero_columns_give_the_right_subset(problem):
         for j, value in zip(keep, reduced):
             if expected[j]:
                 assert subset.values[names[j]] == pytest.approx(value, rel=1e-7, abs=1e-9 / np.linalg.norm(X[:, j]))
+
+
+@pytest.mark.parametrize("angle", [np.pi / 2, -np.pi / 2, 3 * np.pi / 2, 2001 * np.pi / 2])
+def test_a_joint_held_where_gravity_has_no_arm_determines_the_bias_not_h(angle):
+    """Held at q = pi/2, cos(fl(q)) is rounding (6e-17), which column scaling made a full column: the data were
+    said to determine h = 8e13 kg m on its own. The reference is numpy: the bias is the mean torque, and the
+    held joint shows no gravity torque, so h cannot be determined."""
+    from jointid.estimation.fit import fit_joint
+    from jointid.model.terms import model_named
+    from jointid.samples import JointData
+
+    tau = 0.3 + np.random.default_rng(1).uniform(-0.05, 0.05, 200)
+    zeros = np.zeros_like(tau)
+    result = fit_joint(JointData(t=None, q=np.full_like(tau, angle), qd=zeros, qdd=zeros, tau=tau),
+                       model=model_named("bias"))
+    assert result.rank == 1
+    assert list(result.identifiable.values) == ["tau0"]
+    assert result.identifiable.values["tau0"] == pytest.approx(float(np.mean(tau)), rel=1e-12)
+    assert "h" in result.identifiable.undetermined
+
+
+def test_a_held_log_with_derivatives_from_its_angle_determines_only_the_bias(tmp_path):
+    """The same hold logged as t, q, tau: qd and qdd estimated from a constant angle are rounding scaled by 1/dt
+    and 1/dt^2, which were fitted into I = -1.6e9 and B = 1.4e11 'determined alone'."""
+    from jointid.studies.log_fit import fit_log
+
+    t = np.arange(400) / 100.0
+    tau = 0.3 + np.random.default_rng(1).uniform(-0.05, 0.05, t.size)
+    logs = fit_log({"t": t, "q": np.full_like(t, np.pi / 2), "tau": tau}, model="bias", sensitivity=False)
+    assert logs.result.rank == 1
+    assert list(logs.result.identifiable.values) == ["tau0"]
+    # The torque is smoothed like the angle its derivatives came from, which moves its mean a little at the ends.
+    assert logs.result.identifiable.values["tau0"] == pytest.approx(float(np.mean(tau)), rel=1e-3)

@@ -92,3 +92,23 @@ def worst_relative_error(estimate: np.ndarray) -> float:
 def test_defaults_recover_the_parameters_from_encoder_angles(motion, counts, noise, tolerance):
     """The automatic window and order: within 2 % without torque noise, 3 % with the lesson's 0.2 N m."""
     assert worst_relative_error(encoder_fit(motion, counts, noise, None)) <= tolerance
+
+
+@pytest.mark.parametrize("angle", [np.pi / 2, 1.0, 123.456, 6283.0])
+@pytest.mark.parametrize("step, window", [(0.01, 7), (1e-3, 329), (1e-4, 4001)])
+def test_a_constant_angle_has_exactly_zero_derivatives(angle, step, window):
+    """Smoothing and differencing a constant leaves rounding of eps |q| / dt^k, which a fit would scale up into a
+    parameter; the joint did not move, so both are zero."""
+    qd, qdd = differentiate(np.full(5000, angle), step, window, 3)
+    assert not qd.any() and not qdd.any()
+
+
+def test_a_motion_double_precision_resolves_keeps_its_derivatives():
+    """A swing of 1e-7 rad about pi/2 at 1 kHz is far above rounding (eps pi/2 is 3.5e-16): kept, and the
+    analytic derivatives come back."""
+    t = np.arange(20000) * 1e-3
+    q = np.pi / 2 + 1e-7 * np.sin(1.3 * t)
+    qd, qdd = differentiate(q, 1e-3, 101, 3)
+    inner = slice(200, -200)
+    np.testing.assert_allclose(qd[inner], 1.3e-7 * np.cos(1.3 * t[inner]), rtol=0, atol=2e-10)
+    np.testing.assert_allclose(qdd[inner], -1.69e-7 * np.sin(1.3 * t[inner]), rtol=0, atol=2e-8)
