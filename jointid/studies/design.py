@@ -128,6 +128,19 @@ def check_spec(spec: DesignSpec) -> None:
     low, high = STARTS_LIMITS
     if not isinstance(spec.starts, int) or not low <= spec.starts <= high:
         raise DesignError(f"starts must be a whole number from {low} to {high}; got {spec.starts!r}")
+    model, samples = spec.experiment.joint_model, spec.experiment.samples
+    if samples < 64:  # too few distinct states and no motion can help, yet the optimiser would blame the limits
+        from ..synthetic.motions import sample_times
+
+        def phases(count: int) -> int:
+            # A periodic motion repeats its states: samples a whole number of periods apart are one state.
+            return len(np.unique(np.round(np.mod(sample_times(count) / spec.period, 1.0) * 1e9) % 1e9))
+
+        if phases(samples) < model.size:
+            enough = next(count for count in range(samples + 1, 4 * model.size + 8) if phases(count) >= model.size)
+            raise DesignError(f"samples: the {model.name} model's {model.size} parameters need samples at "
+                              f"{model.size} different phases of the motion; {samples} samples over 0..8 s give "
+                              f"{phases(samples)} (use --samples {enough} or more)")
     tau_max = spec.limits.tau_max
     if tau_max is not None:
         # Over a period qd and qdd average to zero, so the torque averages h*g*mean(cos q): at least

@@ -300,3 +300,17 @@ def test_the_design_spec_refuses_what_the_cli_would():
         DesignSpec(criterion="e-optimal")
     with pytest.raises(DesignError, match="q-max"):
         DesignSpec(limits=Limits(q_max=float("nan")))
+
+
+@pytest.mark.parametrize("samples, period, model, words", [
+    (2, 8.0, "plain", "3 parameters need samples at 3 different phases of the motion; 2 samples over 0..8 s give 1 "
+                      "(use --samples 4 or more)"),
+    (3, 8.0, "plain", "3 samples over 0..8 s give 2"),  # t = 0 and 8 s are one phase of a period of 8 s
+    (4, 8.0 / 3.0, "plain", "4 samples over 0..8 s give 1 (use --samples 5 or more)"),
+    (5, 8.0, "coulomb+bias", "5 parameters need samples at 5 different phases"),
+])
+def test_too_few_distinct_states_are_refused_naming_samples_not_the_limits(samples, period, model, words):
+    """The optimiser could only fail, and then blamed the limits ('widen the limits or add harmonics')."""
+    with pytest.raises(DesignError, match="^samples: ") as raised:
+        DesignSpec(period=period, experiment=Settings(samples=samples, model=model))
+    assert words in str(raised.value)
