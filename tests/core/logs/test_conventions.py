@@ -297,6 +297,29 @@ def test_wrapped_arrays_are_unwrapped():
     assert any("logged q is wrapped to (-pi, pi]" in note for note in fit.notes())
 
 
+@pytest.mark.parametrize("kind", ["dict", "DataFrame"])
+def test_every_array_reader_unwraps_and_removes_far_off_turns(kind):
+    """The library's arrays, as a dict or a pandas DataFrame, go through the same angle reading as a CSV or a bag:
+    a wrapped angle is unwrapped and fits the joint; one 1e14 turns from zero loses its turns, keeping cos q
+    (references: numpy's own; the far-off angle's lost digits stay lost, so its fit is not compared)."""
+    pandas = pytest.importorskip("pandas")
+
+    def read(columns):
+        return fit_log(columns if kind == "dict" else pandas.DataFrame(columns), cutoff=0, model="plain",
+                       sensitivity=False)
+
+    t = np.arange(3000) * 0.004
+    q, qd, qdd, tau = joint(t, spin=2.0)
+    fit = read({"t": t, "q": wrap(q), "qd": qd, "qdd": qdd, "tau": tau})
+    np.testing.assert_allclose(fit.training.data.q, q, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(params(fit), TRUE, rtol=1e-8)
+    assert any("logged q is wrapped to (-pi, pi]" in note for note in fit.notes())
+    stored, expected, qd, qdd, tau = far_off(t)
+    fit = read({"t": t, "q": stored, "qd": qd, "qdd": qdd, "tau": tau})
+    np.testing.assert_allclose(fit.training.data.q, expected, rtol=0, atol=1e-9)
+    assert any("100000000000000 whole turns from zero" in note for note in fit.notes())
+
+
 def test_a_swing_inside_the_range_or_a_real_jump_is_left_alone():
     t = np.arange(400) * 0.01
     q, qd, qdd, tau = joint(t)
