@@ -33,6 +33,14 @@ from ..samples import JointData
 from .sensitivity import FACTORS, SensitivityCheck, Variant, sensitivity_check
 
 
+FIT_BUDGET = 400_000_000
+"""Most work a log fit takes on, in samples fitted x (their correlation lag + ROBUST_COST): about ten seconds with
+its refits, e.g. a million samples unfiltered or 200,000 at full rate under a long low-pass."""
+
+ROBUST_COST = 250
+"""The robust step's and the solver's work per fitted sample, in lags of the standard errors' correlation sum."""
+
+
 @dataclass(frozen=True, eq=False)
 class LoadedLogs:
     """The training log, the optional held-out log, and the fit of one to the other."""
@@ -155,6 +163,7 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
     otherwise be shown as if it were a result) or the filter cannot apply.
     """
     chosen = low_pass_for(training, filtering)
+    check_work(training, chosen)
     others = _cutoff_variants(training, chosen) if sensitivity else []
     # Each full-rate column is built once and low-passed by the chosen filter and the sensitivity check's
     # cutoff refits' alike, so no full-rate regressor is held.
@@ -214,6 +223,41 @@ def low_pass_for(log: JointLog, request: FilterRequest) -> ParallelFilter:
         raise LogError(log.path, f"cannot be low-passed: the cutoff {error}") from None
 
 
+def correlation_lag(count: int, chosen: ParallelFilter, decimation: int | None = None) -> int:
+    """Samples over which the residuals of `count` fitted samples are correlated: the filter's support on both
+    sides (at `decimation`, by default the filter's own), at least the Newey-West rule of thumb."""
+    decimation = chosen.decimation if decimation is None else decimation
+    support = 0 if not chosen.active else max(1, math.ceil(chosen.support * chosen.rate / decimation))
+    return max(int(4 * (count / 100) ** (2 / 9)), 2 * support)
+
+
+def check_work(log: JointLog, chosen: ParallelFilter) -> None:
+    """LogError, saying how to fit less, when fitting the log as `chosen` asks is beyond FIT_BUDGET (a fit of ten
+    million samples took minutes and gigabytes)."""
+    count = log.data.count
+
+    def work(decimation: int) -> int:
+        kept = -(-count // decimation)
+        return kept * (correlation_lag(kept, chosen, decimation) + ROBUST_COST)
+
+    if work(chosen.decimation) <= FIT_BUDGET:
+        return
+    kept = -(-count // chosen.decimation)
+    every = "" if chosen.decimation == 1 else f", every {chosen.decimation:,}th of {count:,}"
+    stretch = "fit a stretch of it (--train-window START:END)"
+    advice = stretch
+    if chosen.rate is not None:  # evenly sampled: it can be decimated
+        low, high = chosen.decimation, chosen.decimation
+        while work(high) > FIT_BUDGET:
+            low, high = high, 2 * high
+        while high - low > 1:
+            middle = (low + high) // 2
+            low, high = (low, middle) if work(middle) <= FIT_BUDGET else (middle, high)
+        advice = f"decimate by {high:,} or more (--decimate {high}), or {stretch}"
+    raise LogError(log.path, f"{kept:,} samples to fit{every} are about {work(chosen.decimation) / FIT_BUDGET:.0f} "
+                   f"times the work a fit takes on (ten seconds or so); {advice}")
+
+
 def _fit(training: JointLog, heldout: JointLog | None, model: JointModel, constrained: bool,
          chosen: ParallelFilter, low_passed: tuple[np.ndarray, np.ndarray] | None = None,
          exclusion: ExclusionRequest = ExclusionRequest(), found: tuple[tuple[float, float], ...] | None = None,
@@ -236,9 +280,7 @@ def _fit(training: JointLog, heldout: JointLog | None, model: JointModel, constr
                        qdd=data.qdd[rows][kept], tau=tau[kept])
     correlation = None
     if chosen.active:
-        support = max(1, math.ceil(chosen.support * chosen.rate / chosen.decimation))
-        count = int(kept.sum())
-        correlation = (np.flatnonzero(kept), max(int(4 * (count / 100) ** (2 / 9)), 2 * support))
+        correlation = (np.flatnonzero(kept), correlation_lag(int(kept.sum()), chosen))
     try:
         result = fit_joint(fitted, None if heldout is None else _without_polynomial_ends(heldout), model=model,
                            constrained=constrained, heldout_is_noiseless=False, regressor=filtered[kept],
@@ -320,7 +362,7 @@ def _exclusions(training: JointLog, model: JointModel, chosen: ParallelFilter, X
         for start, end in found:
             pushes |= (since >= start) & (since <= end)
     elif request.robust and (~still).sum() > 4 * X.shape[1]:
-        lag = max(int(4 * (len(t) / 100) ** (2 / 9)), 2 * support)
+        lag = correlation_lag(len(t), chosen)
         flagged, level, estimate = outside_torques(X, tau, ~still & ~pushes, rest, coulomb, support, lag, start)
         pushes |= flagged
     if not (~(pushes | still)).any():
