@@ -9,6 +9,7 @@ exists once.
 from __future__ import annotations
 
 import math
+import numbers
 import re
 
 # --- Motions, models and the synthetic experiment's settings ---
@@ -213,6 +214,22 @@ def describe_range(field: str, *, finite: bool = False) -> str:
     return f"a whole number from {low} to {high}"
 
 
+def _is_bool(value) -> bool:
+    """True for Python's and numpy's booleans (numpy's is no subclass of bool)."""
+    return isinstance(value, bool) or (type(value).__module__ == "numpy" and type(value).__name__ in ("bool", "bool_"))
+
+
+def normalised_setting(field: str, value):
+    """A checked setting's value as a plain Python number (numpy's scalars become int, float or bool)."""
+    if field in REAL_SETTINGS:
+        return float(value)
+    if field in ("samples", "seed"):
+        return int(value)
+    if field == "constrained":
+        return bool(value)
+    return value
+
+
 def check_setting(field: str, value) -> None:
     """Raise SettingsError unless value is allowed for the named setting."""
     if field == "motion":  # a name here; Settings also takes a designed motion object
@@ -225,13 +242,14 @@ def check_setting(field: str, value) -> None:
         ok = True
     elif field in REAL_SETTINGS:
         (low, high), _ = REAL_SETTINGS[field]
-        ok = isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
+        # numbers.Real and Integral take numpy's scalars too (np.float32(0.2), np.int64(24)); bool is no number.
+        ok = isinstance(value, numbers.Real) and not _is_bool(value) and math.isfinite(value)
         ok = ok and low <= value <= high
     elif field == "constrained":
-        ok = isinstance(value, bool)
+        ok = _is_bool(value)
     elif field in ("samples", "seed"):
         low, high = SAMPLES_LIMITS if field == "samples" else SEED_LIMITS
-        ok = isinstance(value, int) and not isinstance(value, bool) and low <= value <= high
+        ok = isinstance(value, numbers.Integral) and not _is_bool(value) and low <= value <= high
     else:
         raise SettingsError(field, f"unknown setting {field!r}")
     if not ok:

@@ -41,6 +41,9 @@ class JointData:
             if values.ndim != 1 or values.dtype.kind not in "biuf":
                 raise ValueError(f"JointData's {name} must be a 1-D array of real numbers; got "
                                  f"{values.dtype} values of shape {values.shape}")
+            if values.size and not np.isfinite(values).all():  # a NaN would reach the fit as a silent NaN estimate
+                index = int(np.flatnonzero(~np.isfinite(values))[0])
+                raise ValueError(f"JointData's {name} must be finite numbers; got {values[index]} at index {index}")
             if length is not None and len(values) != length:
                 raise ValueError(f"JointData's {name} has {len(values)} values where q has {length}")
             length = len(values)

@@ -11,7 +11,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..model.terms import PLAIN, JointModel
+from ..checks import checked, flag, instance_of, optional, real, real_array
+from ..model.terms import PLAIN, JointModel, model_argument
 from ..norms import rms
 from ..samples import JointData
 from .solver import LeastSquaresSolution, solve_least_squares
@@ -266,6 +267,9 @@ def fitted_torque(X: np.ndarray, theta: np.ndarray) -> np.ndarray:
     return total
 
 
+@checked(training=instance_of(JointData, "a JointData"), heldout=optional(instance_of(JointData, "a JointData")),
+         model=model_argument, constrained=flag, heldout_is_noiseless=flag, noise_bound=optional(real(0.0)),
+         regressor=optional(real_array(2, finite=False)))
 def fit_joint(
     training: JointData,
     heldout: JointData | None = None,

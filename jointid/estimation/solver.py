@@ -55,6 +55,7 @@ from functools import cached_property
 
 import numpy as np
 
+from ..checks import checked, optional, real, real_array, whole
 from ..norms import column_norms, row_norms
 
 try:  # the gufunc numpy.linalg.qr(mode="raw") calls on a copy of its argument
@@ -157,6 +158,7 @@ def back_substitute(upper: np.ndarray, rhs: np.ndarray) -> np.ndarray:
     return x
 
 
+@checked(X=real_array(finite=False), y=real_array(finite=False), tolerance=real(0.0), block_rows=optional(whole(1)))
 def solve_least_squares(
     X, y, tolerance: float = RANK_TOLERANCE, *, block_rows: int | None = None
 ) -> LeastSquaresSolution:

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..checks import checked, real_array
 from .terms import TRUE_PARAMETERS, G
 
 
@@ -35,6 +36,15 @@ class TorqueBreakdown:
         return self.inertia + self.gravity + self.damping
 
 
+def _three(value, where: str):
+    """The checks' rule for theta: [I, h, B], three finite numbers."""
+    values = real_array(1)(value, where)
+    if len(values) != 3:
+        raise ValueError(f"{where} must be [I, h, B], three numbers; got {len(values)}")
+    return values
+
+
+@checked(q=real_array(), qd=real_array(), qdd=real_array(), theta=_three)
 def torque_breakdown(q, qd, qdd, theta=TRUE_PARAMETERS) -> TorqueBreakdown:
     """The plain model's torque split into its contributions (what `jointid torque` prints).
 

@@ -26,6 +26,7 @@ from functools import cached_property
 
 import numpy as np
 
+from ..checks import checked, real_array, text
 from ..options import (
     EXTRA_TERM_NAMES,
     TRUE_VALUES,
@@ -247,6 +248,7 @@ TRUE_PARAMETERS = np.array([TRUE_VALUES[name] for name in PLAIN.names])
 PARAMETER_NAMES = PLAIN.names
 
 
+@checked(name=text)
 def model_named(name: str) -> JointModel:
     """The model a name like 'plain', 'bias' or 'coulomb+angle-offset' stands for.
 
@@ -279,6 +281,19 @@ def model_named(name: str) -> JointModel:
     return JointModel(str(name), terms, AngleOffset(cosine=cosine, sine=len(terms) - 1))
 
 
+def model_argument(value, where: str) -> JointModel:
+    """The checks' rule for a model argument: a JointModel, or a model's name (as Settings and fit_log take)."""
+    if isinstance(value, JointModel):
+        return value
+    if isinstance(value, str):
+        try:
+            return model_named(value)
+        except ValueError as error:
+            raise ValueError(f"{where}: {error}") from None
+    raise TypeError(f"{where} must be a model name or a JointModel; got {type(value).__name__}")
+
+
+@checked(q=real_array(), qd=real_array(), qdd=real_array(), model=model_argument)
 def regressor(q, qd, qdd, model: JointModel = PLAIN) -> np.ndarray:
     """Regressor rows of `model` at the states (default the lesson's [qdd, g*cos(q), qd]).
 
@@ -302,6 +317,7 @@ def regressor(q, qd, qdd, model: JointModel = PLAIN) -> np.ndarray:
     return model.regressor(q, qd, qdd)
 
 
+@checked(q=real_array(), qd=real_array(), qdd=real_array(), theta=real_array(1), model=model_argument)
 def predict_torque(q, qd, qdd, theta=TRUE_PARAMETERS, model: JointModel = PLAIN) -> np.ndarray:
     """Actuator torque (N m) at the states: inverse dynamics.
 

@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+from ..checks import checked, instance_of
 from ..estimation.fit import FitResult, fit_joint
 from ..synthetic.samples import training_data, validation_data
 from ..synthetic.settings import Settings
 
 
+@checked(settings=instance_of(Settings, "a Settings, e.g. jointid.Settings(motion='slow')"))
 def run_experiment(settings: Settings = Settings()) -> FitResult:
     """Generate training data for `settings`, fit its model and predict the validation motion.
 

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..checks import checked, flag, optional, pairs, real, text, whole
 from ..estimation.exclusion import ExclusionRequest, Exclusions, outside_torques, standstill
 from ..estimation.fit import FitResult, fit_joint
 from ..estimation.low_pass import FilterRequest, FilterRequestError, ParallelFilter, choose_filter
@@ -26,7 +27,7 @@ from ..logs.derivatives import MAX_WINDOW, smooth
 from ..logs.pipeline import JointLog
 from ..logs.request import HELDOUT, TRAINING, LoadRequest, load_joint_log
 from ..logs.table import LogError
-from ..model.terms import CANDIDATE_TERMS, PLAIN, JointModel
+from ..model.terms import CANDIDATE_TERMS, PLAIN, JointModel, model_argument
 from ..norms import rms
 from ..options import DEFAULT_ORDER, LOG_MODEL
 from ..samples import JointData
@@ -468,6 +469,9 @@ def load_request(
                     exclusion=exclusion)
 
 
+@checked(model=model_argument, degrees=flag, window=optional(whole(3)), order=whole(2), cutoff=optional(real(0.0)),
+         decimate=optional(whole(1)), constrained=flag, joint=optional(text), zero=text, clockwise=flag,
+         sensitivity=flag, robust=flag, exclude=pairs)
 def fit_log(
     source,
     heldout=None,

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from functools import lru_cache
 
+from ..checks import checked, instance_of
 from ..model.truth import LESSON_JOINT, TrueJoint
 from ..options import VALIDATION_SAMPLES
 from ..samples import JointData
@@ -19,6 +20,7 @@ def measured_states(motion: Motion, count: int, joint: TrueJoint) -> JointData:
                      tau=joint.measured_torque(states.q, states.qd, states.qdd))
 
 
+@checked(settings=instance_of(Settings, "a Settings, e.g. jointid.Settings(motion='slow')"))
 def training_data(settings: Settings) -> JointData:
     """Training states of the chosen motion with the true joint's measured torque plus seeded bounded noise.
 
@@ -37,6 +39,7 @@ def training_data(settings: Settings) -> JointData:
     return JointData(t=exact.t, q=exact.q, qd=exact.qd, qdd=exact.qdd, tau=noisy)
 
 
+@checked(joint=instance_of(TrueJoint, "a TrueJoint (Settings.true_joint)"))
 @lru_cache(maxsize=8)
 def validation_data(joint: TrueJoint = LESSON_JOINT) -> JointData:
     """The 16 held-out states of the validation motion with the joint's noiseless measured torque.

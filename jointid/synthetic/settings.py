@@ -16,6 +16,7 @@ from ..options import (
     FIELDS,
     SETTING_DEFAULTS,
     check_setting,
+    normalised_setting,
 )
 
 if TYPE_CHECKING:
@@ -49,6 +50,8 @@ class Settings:
             if field == "motion" and not isinstance(self.motion, str) and self._is_designed(self.motion):
                 continue
             check_setting(field, getattr(self, field))
+            # Stored as plain Python numbers: a numpy scalar would leak into JSON and into equality.
+            object.__setattr__(self, field, normalised_setting(field, getattr(self, field)))
 
     @staticmethod
     def _is_designed(motion) -> bool:
