@@ -123,3 +123,17 @@ async def test_the_open_dialog_offers_another_run_only_beside_a_log(runs):
         await pilot.pause()
         assert not app.screen.query_one(f"#role-{RUN}").disabled
         assert app.screen.query_one(f"#role-{HELDOUT}").disabled  # each run is predicted by the others instead
+
+
+@synchronous
+async def test_at_80_columns_the_runs_table_scrolls_sideways_from_the_keyboard(runs):
+    pooled = fit_runs([load_joint_log(LoadRequest(path)) for path in runs], model_named(LOG_MODEL))
+    app = make_app(logs=pooled)
+    async with app.run_test(size=(80, 24)) as pilot:
+        await pilot.press("u")
+        await pilot.pause()
+        table = app.screen.query_one("#runs-table")
+        assert table.max_scroll_x > 0  # the table is wider than the view: its columns are not wrapped
+        await pilot.press("tab", "right", "right")
+        await pilot.pause()
+        assert app.screen.focused is table and table.scroll_x > 0

@@ -49,6 +49,7 @@ class RunsScreen(Screen):
         keys = "; ".join(f"{k + 1}: {name}" for k, name in enumerate(self.runs.names[:MAX_KEYED_RUNS]))
         with VerticalScroll() as scroll:
             scroll.border_title = f"{len(self.runs.runs)} runs of one joint"
+            scroll.border_subtitle = "Tab: the table, ←/→ its columns"
             yield Static(heading, markup=False)
             with HorizontalScroll(id="runs-table"):  # the table keeps its columns; a narrow screen scrolls it
                 yield Static(table, markup=False)
