@@ -117,38 +117,40 @@ def omitted_sentence(logs: LoadedLogs, compact: bool = False) -> str | None:
     test = logs.omitted
     if test is None or not test.found:
         return None
-    alone = test.followed != test.candidates or len(test.candidates) == 1
+    named = " and ".join(OMITTED_WORDS[name] for name in test.followed)
     decided = logs.decided_by_omitted
     if compact:
         moved = f": {', '.join(decided)} weak" if decided else ""
-        if not alone:
-            return f"The residuals hold structure the model lacks{moved}."
-        named = " and ".join(OMITTED_WORDS[name] for name in test.followed)
         return f"The residuals follow {named}, which the model lacks{moved}."
-    words = (" and ".join(OMITTED_WORDS[name] for name in test.followed) + ", which the model lacks" if alone
-             else "the terms the model lacks together (" + ", ".join(OMITTED_WORDS[name] for name in test.candidates)
-             + ") though none alone, so something else it lacks")
     model = logs.result.model
+    strength = ", ".join(f"|t| {abs(candidate.t):.1f}" for candidate in test.candidates
+                         if candidate.name in test.followed)
     terms = [OMITTED_MODELS[name] for name in test.followed if name in OMITTED_MODELS]
     extras = [part for part in model.name.split("+") if part != "plain"]
     suggestion = (f" (--model {'+'.join(dict.fromkeys([*extras, *terms]))}, or compare the ladder with jointid "
                   "compare)") if terms else ""
     if decided:
-        moves = ", ".join(f"{name} {move:.1f}" for name, column, move in
-                          zip(model.names, model.column_names, test.moves) if column in test.decided)
-        effect = (f"; adding it moves {moves} standard errors, so {'they are' if len(decided) > 1 else 'it is'} "
-                  "not well determined")
+        moves = {}
+        for candidate in test.candidates:
+            if candidate.name in test.followed:
+                for name, column, move in zip(model.names, model.column_names, candidate.moves):
+                    if column in test.decided:
+                        moves[name] = max(moves.get(name, 0.0), move)
+        effect = (f"; adding it moves {', '.join(f'{name} {move:.1f}' for name, move in moves.items())} standard "
+                  f"errors, so {'they are' if len(moves) > 1 else 'it is'} not well determined")
     else:
-        effect = "; adding it moves no estimate by more than 2 standard errors"
-    return f"The residuals follow {words} (p {test.p_value:.2g}){effect}{suggestion if alone else ''}."
+        effect = "; adding it moves no estimate beyond its errors"
+    return (f"The residuals follow {named}, which the model lacks ({strength} against {test.threshold:.1f} for "
+            f"{test.effective_count:.0f} independent samples){effect}{suggestion}.")
 
 
 def omitted_object(logs: LoadedLogs) -> dict | None:
-    """The JSON of the omitted-terms test: the candidates, the p-values, each fitted column's move."""
+    """The JSON of the omitted-terms test: each candidate's t and moves, the threshold, what the residuals follow."""
     test = logs.omitted
     if test is None:
         return None
-    return {"candidates": list(test.candidates), "statistic": test.statistic, "p_value": test.p_value,
-            "each_p_value": dict(zip(test.candidates, test.each_p_value)), "found": test.found,
-            "followed": list(test.followed) if test.found else [],
-            "moves_std_errors": dict(zip(test.columns, test.moves))}
+    return {"candidates": {candidate.name: {"t": candidate.t,
+                                            "moves_std_errors": dict(zip(test.columns, candidate.moves))}
+                           for candidate in test.candidates},
+            "threshold": test.threshold, "effective_count": test.effective_count,
+            "found": test.found, "followed": list(test.followed), "decides": list(test.decided)}
