@@ -484,3 +484,21 @@ def test_the_command_line_hands_the_conventions_to_the_explorer(logs, monkeypatc
     assert main(["--csv", str(train), "--zero", "up", "--clockwise", "--columns", "t=t"]) == 0
     assert opened["conventions"].angle.zero == "up" and opened["conventions"].angle.clockwise
     assert opened["conventions"].columns.pairs == (("t", "t"),)
+
+
+@synchronous
+async def test_a_term_the_model_lacks_is_named_in_the_status_and_its_parameters_are_not_well_determined():
+    from support.coulomb_joint import coulomb_joint_log
+
+    from jointid import fit_log
+
+    logs = fit_log(coulomb_joint_log(1), model="plain", sensitivity=False)
+    app = make_app(logs=logs)
+    async with app.run_test(size=(80, 24)) as pilot:
+        await pilot.pause()
+        status = str(app.screen.query_one("#status").render())
+        assert "The residuals follow Coulomb friction (sign qd)" in status and "which the model lacks" in status
+        panel = app.screen.query_one(ReadoutPanel)
+        for name in logs.decided_by_omitted:
+            assert name in status.split("which the model lacks")[1]
+        assert panel.region.bottom <= app.screen.query_one("#side").region.bottom  # every readout on screen
