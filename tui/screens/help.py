@@ -10,12 +10,16 @@ from textual.containers import VerticalScroll
 from textual.screen import Screen
 from textual.widgets import Markdown
 
+from jointid.options import DEFAULT_ORDER
+
+from ..palette import PHYSICS_STOPS, TOUR
 from ..ranges import NOISE_RANGE, SAMPLES_RANGE, SEED_RANGE
 from ..widgets.footer import KeyFooter
 from ..widgets.stepper import Stepper
 
 HELP_FILE = Path(__file__).parent.parent / "help.md"
-"""Markdown source of the help text; `{keys}` and the ranges are filled in from the code."""
+"""Markdown source of the help text; `{keys}`, the ranges, the tour's length and the smoothing order are filled
+in from the code."""
 
 
 def keys_table(bindings: list[Binding]) -> str:
@@ -31,13 +35,21 @@ def keys_table(bindings: list[Binding]) -> str:
     return "\n".join(f"- `{key}`: {does}" for key, does in rows)
 
 
+def sentence_start(phrase: str) -> str:
+    """The phrase with its first letter capitalised and the rest as it is (str.capitalize writes 'N m' as 'n m')."""
+    return phrase[:1].upper() + phrase[1:]
+
+
 def help_markdown(bindings: list[Binding]) -> str:
-    """The help text with the main screen's keys (`bindings`) and the ranges taken from the code."""
+    """The help text with the main screen's keys (`bindings`), the ranges and the defaults taken from the code."""
     return HELP_FILE.read_text(encoding="utf-8").format(
         keys=keys_table(bindings),
-        noise_range=NOISE_RANGE.describe().capitalize(),
-        samples_range=SAMPLES_RANGE.describe().capitalize(),
-        seed_range=SEED_RANGE.describe().capitalize(),
+        noise_range=sentence_start(NOISE_RANGE.describe()),
+        samples_range=sentence_start(SAMPLES_RANGE.describe()),
+        seed_range=sentence_start(SEED_RANGE.describe()),
+        tour_stops=len(TOUR) + len(PHYSICS_STOPS),
+        lesson_stops=len(TOUR),
+        order=DEFAULT_ORDER,
     )
 
 

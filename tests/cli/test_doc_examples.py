@@ -1,0 +1,262 @@
+"""Every shell example in README.md and docs/*.md, run and compared with the output the docs show.
+
+An example is a line `$ COMMAND` inside an indented or fenced code block, followed by the lines it prints; a line
+`...` stands for any number of lines left out on purpose. `jointid` commands run in this process through
+`jointid.cli.main` (a subprocess costs half a second of start-up each); commands with shell syntax (a pipe, a
+redirection) and the few other programs allowed below run in a shell. Each doc's examples share one temporary
+folder, where examples that write files (`--out`) are run before the examples after them; examples reading the real
+pendulum runs run in ../shared/real-logs. Python examples are not here: tests/core/test_library.py runs library.md's.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import difflib
+import io
+import os
+import re
+import shlex
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from jointid.cli import main
+from support.real_logs import REAL_LOGS
+
+ROOT = Path(__file__).resolve().parents[2]
+DOCS = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+
+SHELL_PROGRAMS = {"head": "shows a file an earlier example wrote; its output is documented"}
+"""Programs other than jointid whose examples are run (in a shell), with why."""
+
+SKIPPED_PROGRAMS = {
+    "pip": "installs packages: changes the environment and needs the network",
+    "python3": "only `python3 -m venv` appears in the docs: it makes an environment, which the test runs in already",
+}
+"""Programs other than jointid whose examples are not run, with why."""
+
+SLOW: set[str] = set()
+"""Commands of examples that take over about 5 s, run only with `pytest -m slow`: none today (in this process the
+slowest, the three pendulum runs pooled, takes about 1 s)."""
+
+REAL_LOG_NAMES = re.compile(r"\bpendulum_\w+\.csv\b")
+"""A command naming one of the real pendulum runs runs in ../shared/real-logs."""
+
+SHELL_SYNTAX = re.compile(r"[|<>;&`$]")
+
+
+@dataclass(frozen=True)
+class Example:
+    """One `$ command` of a doc, the lines shown after it, and where it stands."""
+
+    doc: Path
+    line: int  # 1-based line of the `$ ` in the doc
+    command: str
+    expected: tuple[str, ...]
+
+    @property
+    def name(self) -> str:
+        return f"{self.doc.relative_to(ROOT)}:{self.line}"
+
+    @property
+    def program(self) -> str:
+        return shlex.split(self.command)[0]
+
+    @property
+    def writes_files(self) -> bool:
+        return "--out" in shlex.split(self.command)
+
+
+def code_blocks(lines: list[str]):
+    """(first line index, the block's lines with its indentation removed) of each fenced or indented code block."""
+    i = 0
+    while i < len(lines):
+        line = lines[i]
+        if line.lstrip().startswith("```"):
+            start = i + 1
+            i = start
+            while i < len(lines) and not lines[i].lstrip().startswith("```"):
+                i += 1
+            indent = len(line) - len(line.lstrip())
+            yield start, [text[indent:] for text in lines[start:i]]
+            i += 1
+        elif line.startswith("    ") and (i == 0 or not lines[i - 1].strip()):
+            start = i
+            # Blank lines inside an indented block belong to it when an indented line follows.
+            while i < len(lines) and (lines[i].startswith("    ") or not lines[i].strip()):
+                i += 1
+            yield start, [text[4:] for text in lines[start:i]]
+        else:
+            i += 1
+
+
+def examples_of(doc: Path) -> list[Example]:
+    """The doc's shell examples in order."""
+    found = []
+    lines = doc.read_text(encoding="utf-8").splitlines()
+    for start, block in code_blocks(lines):
+        commands = [k for k, text in enumerate(block) if text.startswith("$ ")]
+        for n, k in enumerate(commands):
+            end = commands[n + 1] if n + 1 < len(commands) else len(block)
+            shown = [text.rstrip() for text in block[k + 1:end]]
+            while shown and not shown[-1]:
+                shown.pop()
+            found.append(Example(doc, start + k + 1, block[k][2:].strip(), tuple(shown)))
+    return found
+
+
+EXAMPLES = [example for doc in DOCS for example in examples_of(doc)]
+
+
+def matches(expected: tuple[str, ...], actual: list[str]) -> bool:
+    """Whether the actual lines are the expected ones, each `...` line standing for any number of lines."""
+    if not expected:
+        return not actual
+    head, rest = expected[0], expected[1:]
+    if head.strip() == "...":
+        return any(matches(rest, actual[k:]) for k in range(len(actual) + 1))
+    return bool(actual) and actual[0].rstrip() == head and matches(rest, actual[1:])
+
+
+@dataclass(frozen=True)
+class Run:
+    status: int
+    stdout: str
+    stderr: str
+
+
+def run_in_process(argv: list[str], folder: Path) -> Run:
+    """`jointid ARGV` through jointid.cli.main in `folder`, its output captured."""
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.chdir(folder), contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            status = main(argv)
+        except SystemExit as stop:  # argparse's own refusals
+            status = stop.code
+    return Run(int(status), out.getvalue(), err.getvalue())
+
+
+def run_in_shell(command: str, folder: Path) -> Run:
+    """The command line in a shell in `folder`, with this environment's `jointid` and `python` first on PATH."""
+    env = dict(os.environ, PATH=f"{Path(sys.executable).parent}{os.pathsep}{os.environ.get('PATH', '')}",
+               COLUMNS="80", NO_COLOR="1")
+    done = subprocess.run(command, shell=True, cwd=folder, env=env, capture_output=True, text=True, timeout=120)
+    return Run(done.returncode, done.stdout, done.stderr)
+
+
+# ----------------------------------------------------------------------------- files the examples read
+
+
+def write_bags(folder: Path) -> None:
+    """arm_run (logs.md: 20 s at 500 Hz, +-5 % jitter, two joints) and arm_bad (a NaN position in message 701)."""
+    pytest.importorskip("rosbags")
+    from support.bag_support import jittered_times, two_joints, write_joint_bag
+
+    t = jittered_times(20.0, 500.0, 0.05)
+    write_joint_bag(folder / "arm_run", "sqlite3", t, two_joints(t))
+    t = np.arange(2000) / 500.0
+    joints = two_joints(t)
+    joints["shoulder"][0][700] = np.nan
+    write_joint_bag(folder / "arm_bad", "sqlite3", t, joints)
+
+
+FIXTURES = {
+    "bad.csv": lambda folder: (folder / "bad.csv").write_text("t,q,qd,qdd,tau\n0,0,NaN,0,1\n0.1,0,0,0,1\n"),
+    "units.csv": lambda folder: (folder / "units.csv").write_text(
+        "time_s,position_deg,velocity_deg_s,torque_nm,tau_cmd\n0,0,0,1,1\n"),
+    "arm_": write_bags,
+}
+"""Files the docs' examples read without an example writing them first, by the text in a command that names them."""
+
+
+class DocFolders:
+    """One temporary folder per doc, its examples' results kept so each runs once, in order of need."""
+
+    def __init__(self, factory):
+        self.factory = factory
+        self.folders: dict[Path, Path] = {}
+        self.written: set[tuple[Path, str]] = set()
+        self.results: dict[Example, Run] = {}
+
+    def folder(self, example: Example) -> Path:
+        if REAL_LOG_NAMES.search(example.command):
+            if not REAL_LOGS.is_dir():
+                pytest.skip("../shared/real-logs is not beside the checkout")
+            return REAL_LOGS
+        if example.doc not in self.folders:
+            self.folders[example.doc] = self.factory.mktemp(example.doc.stem)
+        folder = self.folders[example.doc]
+        for name, write in FIXTURES.items():
+            if name in example.command and (folder, name) not in self.written:
+                write(folder)
+                self.written.add((folder, name))
+        return folder
+
+    def run(self, example: Example) -> Run:
+        """The example's result, after the doc's earlier examples that write files (run once each)."""
+        if example not in self.results:
+            for earlier in EXAMPLES:
+                if earlier.doc == example.doc and earlier.line < example.line and earlier.writes_files:
+                    self.run(earlier)
+            folder = self.folder(example)
+            if example.program == "jointid" and not SHELL_SYNTAX.search(example.command):
+                self.results[example] = run_in_process(shlex.split(example.command)[1:], folder)
+            else:
+                self.results[example] = run_in_shell(example.command, folder)
+        return self.results[example]
+
+
+@pytest.fixture(scope="session")
+def doc_folders(tmp_path_factory):
+    return DocFolders(tmp_path_factory)
+
+
+def is_error(expected: tuple[str, ...]) -> bool:
+    """Whether the doc shows a refusal: one line `jointid: ...` or `jointid COMMAND: ...` (on stderr, status 2)."""
+    return len(expected) == 1 and re.match(r"jointid( [a-z-]+)?: ", expected[0]) is not None
+
+
+def params():
+    for example in EXAMPLES:
+        marks = [pytest.mark.slow] if example.command in SLOW else []
+        yield pytest.param(example, id=example.name, marks=marks)
+
+
+@pytest.mark.parametrize("example", params())
+def test_doc_example_prints_what_the_doc_shows(example, doc_folders):
+    program = example.program
+    if program in SKIPPED_PROGRAMS:
+        pytest.skip(f"{program}: {SKIPPED_PROGRAMS[program]}")
+    assert program == "jointid" or program in SHELL_PROGRAMS, (
+        f"{example.name}: `{program}` is neither run nor skipped: add it to SHELL_PROGRAMS or SKIPPED_PROGRAMS")
+    result = doc_folders.run(example)
+    if is_error(example.expected):
+        shown, status = result.stderr, 2
+        assert result.stdout == "", f"{example.name}: a refusal printed on stdout:\n{result.stdout}"
+    else:
+        shown, status = result.stdout, 0
+        assert result.stderr == "", f"{example.name}: stderr:\n{result.stderr}"
+    actual = shown.splitlines()
+    diff = "\n".join(difflib.unified_diff(list(example.expected), actual, "doc", "program", lineterm=""))
+    assert matches(example.expected, actual), f"{example.name}: `{example.command}` differs:\n{diff}"
+    assert result.status == status, f"{example.name}: exit status {result.status}, not {status}"
+
+
+def test_the_docs_have_examples_and_the_lists_name_only_real_ones():
+    # A parser that silently found nothing, or a SLOW entry left behind by an edited doc, would test nothing.
+    assert len(EXAMPLES) >= 30
+    commands = {example.command for example in EXAMPLES}
+    assert SLOW <= commands, SLOW - commands
+    assert {example.program for example in EXAMPLES} == {"jointid", *SHELL_PROGRAMS}
+
+
+def test_an_ellipsis_stands_for_any_lines_and_nothing_else():
+    assert matches(("a", "...", "d"), ["a", "b", "c", "d"])
+    assert matches(("a", "...", "b"), ["a", "b"])
+    assert not matches(("a", "d"), ["a", "b", "d"])
+    assert not matches(("a", "...", "d"), ["a", "b", "c", "e"])
+    assert not matches(("a",), ["a", "b"])
