@@ -1,8 +1,10 @@
-"""Should a push's stretch be widened by the filter's support? What widening costs and buys (not a timing).
+"""How far should a push's stretch be widened by the filter's support? What widening costs and buys (not a
+timing).
 
-The robust step ends a stretch where its residuals fall below 2 robust scales.
-This widens every stretch it finds by FACTOR x the filter's support (0, 0.5, 1)
-and prints, on the tests' synthetic Coulomb joint (three 1 N m pushes; SEEDS
+The robust step ends a stretch where its residuals fall below 2 robust scales,
+then widens each stretch inside the log by WIDENING x the filter's support
+(jointid.estimation.exclusion). This sets WIDENING to 0, 0.25 (the default),
+0.5 and 1 and prints, on the tests' synthetic Coulomb joint (three 1 N m pushes; SEEDS
 seeds): the share of the log left out beyond the pushes (issue 23's goal: at
 most 10 %), the share a clean log loses (at most 3 %), whether I, h, B, Fc stay
 within 3 % or 3 standard errors; and on ../shared/real-logs: the ddp fit's
@@ -27,22 +29,15 @@ sys.path.insert(0, str(ROOT / "tests"))
 from support.coulomb_joint import coulomb_joint_log  # noqa: E402  (the tests' own generator)
 
 import jointid.estimation.exclusion as exclusion  # noqa: E402
-import jointid.studies.log_fit as log_fit  # noqa: E402
 from jointid import fit_log  # noqa: E402
 
+DEFAULT = exclusion.WIDENING
 PUSHES = ((4.0, 0.5, 1.0), (9.0, 1.2, -1.0), (14.5, 2.0, 1.0))
 TRUTH = {"I": 0.8, "h": 0.4, "B": 0.15, "Fc": 0.2}
 PUBLISHED = {"I": 0.06259, "h": 0.1022, "B": 0.04707, "Fc": 0.1839, "tau0": -0.07586}
 LOGS = ROOT.parent / "shared" / "real-logs"
-FOUND = exclusion.outside_torques
-
-
-def widening(factor: float):
-    """outside_torques with each stretch widened by `factor` x the support."""
-    def widened(X, y, usable, rest, coulomb, support, lag, start=None):
-        flagged, level, estimate = FOUND(X, y, usable, rest, coulomb, support, lag, start)
-        return exclusion.widened(flagged, int(round(factor * support))), level, estimate
-    return widened
+FACTORS = (0.0, 0.25, 0.5, 1.0)
+"""Widenings tried, in filter supports."""
 
 
 def reference():
@@ -64,8 +59,8 @@ def scored(pipeline, run, excluded, theta, friction="sign"):
 
 def main(seeds: int) -> None:
     pipeline = reference() if LOGS.is_dir() else None
-    for factor in (0.0, 0.5, 1.0):
-        log_fit.outside_torques = widening(factor)
+    for factor in FACTORS:
+        exclusion.WIDENING = factor
         beyond, clean, within = [], [], 0
         for seed in range(1, seeds + 1):
             logs = fit_log(coulomb_joint_log(seed, PUSHES), sensitivity=False)
@@ -93,7 +88,7 @@ def main(seeds: int) -> None:
                       for run in ("energy_shaping", "pd")}
             line += f"; ddp predicts energy shaping {ratios['energy_shaping']:.3f}, pd {ratios['pd']:.3f}"
         print(line)
-    log_fit.outside_torques = FOUND
+    exclusion.WIDENING = DEFAULT
 
 
 if __name__ == "__main__":

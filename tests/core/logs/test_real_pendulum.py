@@ -110,9 +110,9 @@ def test_a_fit_on_ddp_predicts_the_other_runs_better_than_the_published_paramete
     ratios = {run: prediction_rmse(reference, run, documents[run]["excluded"], ours)
               / prediction_rmse(reference, run, documents[run]["excluded"], theirs, "atan100")
               for run in ("pd", "energy_shaping")}
-    # The issue asks for 0.5 on both; measured 0.53 on energy shaping (the reference's wider stretches give 0.49)
-    # and 0.82 on pd, whose floor is below.
-    assert ratios["energy_shaping"] <= 0.55, ratios
+    # The issue asks for 0.5 on both: 0.49 on energy shaping (0.53 before the stretches inside a log were
+    # widened by a quarter of the filter's support) and 0.82 on pd, whose floor is below.
+    assert ratios["energy_shaping"] <= 0.5, ratios
     assert ratios["pd"] < 0.9, ratios
     # Half as badly is out of reach on pd: even pd's own fit at 3 Hz leaves more than half the published
     # parameters' error there (the floor the closing note reports).
