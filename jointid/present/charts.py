@@ -75,6 +75,26 @@ class ChartData:
         return (self.titles, self.x_label, self.t.tobytes(), self.dots.tobytes(), line, left_out, self.shaded)
 
 
+NICE_STEPS = (1.0, 2.0, 2.5, 5.0, 10.0)
+"""Tick steps per decade: evenly spaced ticks that read as round numbers."""
+
+
+def axis_ticks(low: float, high: float, target: int) -> tuple[tuple[float, ...], tuple[str, ...]]:
+    """About `target` evenly spaced round ticks within [low, high], and their labels with as few decimals as the
+    step needs and no negative zero ('-0.0' read as a value below zero)."""
+    span = high - low
+    if not (span > 0 and math.isfinite(span)) or target < 1:
+        return (), ()
+    raw = span / max(target, 1)
+    decade = 10.0 ** math.floor(math.log10(raw))
+    step = next(decade * m for m in NICE_STEPS if decade * m >= raw)
+    first = math.ceil(low / step - 1e-9)
+    ticks = tuple(k * step for k in range(first, math.floor(high / step + 1e-9) + 1))
+    decimals = max(0, -math.floor(math.log10(step) + 1e-9)) + (1 if step / decade % 1 else 0)
+    labels = tuple(format_number(0.0 if abs(tick) < step / 2 else tick, decimals) for tick in ticks)
+    return ticks, labels
+
+
 def thin_stride(count: int, columns: int) -> int:
     """k such that every k-th of `count` samples gives at most `columns` points (1: show all)."""
     return max(1, math.ceil(count / max(columns, 1)))

@@ -14,7 +14,7 @@ from textual.app import ComposeResult
 from textual.containers import Vertical
 from textual.content import Content
 
-from jointid.present.charts import ChartData
+from jointid.present.charts import ChartData, axis_ticks
 
 from .fitting import FittingLine
 from .theme import theme_rgb
@@ -112,13 +112,15 @@ class TorqueChart(Vertical):
     def _draw(self, plt) -> None:
         """Set up the plotext figure for the current data (the plot calls this when it builds)."""
         app = self.app
+        width, height = self.children[1].size  # the plot's own size: the tick count follows it
         draw_torque_chart(plt, self.data, line_rgb=theme_rgb(app, "accent"), dots_rgb=theme_rgb(app, "primary"),
-                          faint_rgb=theme_rgb(app, "primary", MUTED), shade_rgb=theme_rgb(app, "warning", MUTED))
+                          faint_rgb=theme_rgb(app, "primary", MUTED), shade_rgb=theme_rgb(app, "warning", MUTED),
+                          size=(width, height))
 
 
 def draw_torque_chart(plt, data: ChartData, line_rgb: tuple[int, int, int], dots_rgb: tuple[int, int, int],
                       faint_rgb: tuple[int, int, int] = (96, 96, 96),
-                      shade_rgb: tuple[int, int, int] = (128, 96, 32)) -> None:
+                      shade_rgb: tuple[int, int, int] = (128, 96, 32), size: tuple[int, int] | None = None) -> None:
     """Set up a plotext figure for a torque chart.
 
     Every setting the chart uses is set here each time, so the figure does not
@@ -140,6 +142,10 @@ def draw_torque_chart(plt, data: ChartData, line_rgb: tuple[int, int, int], dots
     # A flat series (holds) would give plotext a zero-height axis; pad it.
     pad = max(0.05 * (high - low), 0.1)
     plt.ylim(low - pad, high + pad)
+    if size is not None:  # round ticks at even steps (plotext's own split the range evenly: 5.02, 4.51, 3.48 ...)
+        width, height = size
+        plt.yticks(*axis_ticks(low - pad, high + pad, max(2, (height - 2) // 2)))
+        plt.xticks(*axis_ticks(float(data.t[0]), float(data.t[-1]), max(2, width // 8)))
     # Shading first, the line next, so the dots, the data the fit must explain, are drawn on top.
     for start, end in data.shaded:
         plt.rectangle([start, end], [low - pad, high + pad], marker=SHADE_MARKER, color=shade_rgb, fill=True)
