@@ -288,7 +288,7 @@ class MainScreen(Screen):
         """Show the synthetic experiment at `settings` (leaving a log)."""
         if settings == self.settings and self.logs is None and self.result is not None:
             return
-        self.settings, self.logs = settings, None
+        self.settings, self.logs, self.runs = settings, None, None
         self.show_source()
 
     def set_logs(self, logs: LoadedLogs | None) -> None:
