@@ -159,30 +159,49 @@ def _concentrated(X: np.ndarray, y: np.ndarray, thetas: np.ndarray, steps: int) 
     for _ in range(steps):
         if not len(active):
             break
-        squares = _squared_residuals(X, y, thetas[active])
-        chosen = np.argpartition(squares, keep - 1, axis=1)[:, :keep]
-        values = np.take_along_axis(squares, chosen, axis=1).sum(axis=1)
+        values, chosen = _smallest(_squared_residuals(X, y, thetas[active]), keep)
         going = values < objectives[active] * (1 - 1e-9)
         active, chosen = active[going], chosen[going]
         objectives[active] = values[going]
         if len(active):
-            thetas[active] = _refits(X, y, chosen)
-    squares = _squared_residuals(X, y, thetas)
-    return np.partition(squares, keep - 1, axis=1)[:, :keep].sum(axis=1), thetas
+            thetas[active] = _refits(X, y, chosen, thetas[active])
+    return _smallest(_squared_residuals(X, y, thetas), keep)[0], thetas
 
 
-def _refits(X: np.ndarray, y: np.ndarray, chosen: np.ndarray) -> np.ndarray:
-    """(K, p) least-squares estimates on each of the K row sets `chosen` (K, m).
+def _smallest(squares: np.ndarray, keep: int) -> tuple[np.ndarray, np.ndarray]:
+    """((K,) sums of each row's `keep` smallest squares, (K, keep) their positions in increasing order).
+
+    One partition of the values and a comparison with each row's keep-th smallest: np.argpartition moves
+    indices beside the values and took a third of the concentration steps' time. A row whose comparison does
+    not pick exactly `keep` (ties at the boundary, NaN) takes np.argpartition's choice.
+    """
+    K, n = squares.shape
+    smallest = np.partition(squares, keep - 1, axis=1)[:, :keep]
+    values = smallest.sum(axis=1)
+    below = squares <= smallest.max(axis=1)[:, None]
+    counts = below.sum(axis=1)
+    chosen = np.empty((K, keep), dtype=np.intp)
+    exact = counts == keep
+    chosen[exact] = np.nonzero(below[exact])[1].reshape(-1, keep)
+    for k in np.flatnonzero(~exact):
+        chosen[k] = np.sort(np.argpartition(squares[k], keep - 1)[:keep])
+    return values, chosen
+
+
+def _refits(X: np.ndarray, y: np.ndarray, chosen: np.ndarray, thetas: np.ndarray) -> np.ndarray:
+    """(K, p) least-squares estimates on each of the K row sets `chosen` (K, m), the previous estimates `thetas`
+    (K, p) their starting points.
 
     Small sets together, by their Gram matrices (a stack of small products, each on one OpenBLAS thread): one
     np.linalg.lstsq per set took most of the 200 starts' time. The columns are scaled to about 1 (see
     `outside_torques`), so squaring their condition costs nothing the concentration steps could notice; a set
-    whose Gram matrix is singular, and large sets, go through np.linalg.lstsq.
+    whose Gram matrix is singular goes through np.linalg.lstsq. Large sets one by one, as a correction to
+    their previous estimate (see `_corrected`).
     """
     K, m = chosen.shape
     p = X.shape[1]
     if K == 1 or (p + 1) ** 2 * m >= PRODUCT_PIECE:
-        return np.array([np.linalg.lstsq(X[rows], y[rows], rcond=None)[0] for rows in chosen])
+        return np.array([_corrected(X[rows], y[rows], theta) for rows, theta in zip(chosen, thetas)])
     augmented = np.column_stack([X, y])[chosen]  # (K, m, p + 1)
     gram = np.matmul(augmented.transpose(0, 2, 1), augmented)
     out = np.empty((K, p))
@@ -195,6 +214,37 @@ def _refits(X: np.ndarray, y: np.ndarray, chosen: np.ndarray) -> np.ndarray:
     for k in np.flatnonzero(singular):
         out[k] = np.linalg.lstsq(X[chosen[k]], y[chosen[k]], rcond=None)[0]
     return out
+
+
+GRAM_CONDITION = 1e10
+"""Above this condition of the Gram matrix a weighted least-squares step goes through np.linalg.lstsq."""
+
+
+def _corrected(X: np.ndarray, y: np.ndarray, theta: np.ndarray, weights: np.ndarray | None = None) -> np.ndarray:
+    """The (weighted) least-squares estimate of y on X, as the correction to `theta` that the normal equations
+    give for its residuals.
+
+    np.linalg.lstsq (an SVD) took 1-5 ms per call on tens of thousands of rows and most of the robust step's
+    time; the normal equations square the columns' condition, but they only solve for the correction, whose
+    own error (condition^2 eps times the correction) the next step corrects again: the iterations converge to
+    what lstsq gives. An ill-conditioned Gram matrix (GRAM_CONDITION) still goes through np.linalg.lstsq.
+    """
+    residuals = y - X @ theta
+    weighted = X if weights is None else X * weights[:, None]
+    gram = np.zeros((X.shape[1], X.shape[1]))
+    score = np.zeros(X.shape[1])
+    # In pieces below 2^18 multiply-adds, which OpenBLAS runs on one thread (see PRODUCT_PIECE).
+    piece = max(1, PRODUCT_PIECE // (X.shape[1] * (X.shape[1] + 1)))
+    for first in range(0, len(y), piece):
+        block = weighted[first:first + piece].T
+        gram += block @ X[first:first + piece]
+        score += block @ residuals[first:first + piece]
+    with np.errstate(all="ignore"):
+        condition = np.linalg.cond(gram) if np.all(np.isfinite(gram)) else math.inf
+    if not condition <= GRAM_CONDITION:
+        root = np.ones(len(y)) if weights is None else np.sqrt(weights)
+        return np.linalg.lstsq(X * root[:, None], y * root, rcond=None)[0]
+    return theta + np.linalg.solve(gram, score)
 
 
 def _squared_residuals(X: np.ndarray, y: np.ndarray, thetas: np.ndarray) -> np.ndarray:
@@ -213,8 +263,7 @@ def bisquare(X: np.ndarray, y: np.ndarray, theta: np.ndarray, scale: float) -> n
     """Tukey-bisquare M-estimate from `theta` with the scale fixed (iteratively reweighted least squares)."""
     for _ in range(50):
         u = (y - X @ theta) / (BISQUARE * scale)
-        weights = np.sqrt(np.where(np.abs(u) < 1, (1 - u * u) ** 2, 0.0))
-        new = np.linalg.lstsq(X * weights[:, None], y * weights, rcond=None)[0]
+        new = _corrected(X, y, theta, np.where(np.abs(u) < 1, (1 - u * u) ** 2, 0.0))
         if np.allclose(new, theta, rtol=1e-8, atol=1e-12):
             return new
         theta = new
