@@ -155,55 +155,85 @@ def _concentrated(X: np.ndarray, y: np.ndarray, thetas: np.ndarray, steps: int) 
     keep = max(p + 1, int(COVERAGE * n))
     thetas = np.array(thetas, dtype=float)
     objectives = np.full(len(thetas), math.inf)
+    thresholds = np.full(len(thetas), math.nan)
     active = np.arange(len(thetas))
+    # Small sets' Gram matrices as one product of the chosen-row masks with every row's outer product.
+    augmented = np.column_stack([X, y])
+    outer = (augmented[:, :, None] * augmented[:, None, :]).reshape(n, -1) \
+        if (p + 1) ** 2 * keep < PRODUCT_PIECE else None
     for _ in range(steps):
         if not len(active):
             break
-        values, chosen = _smallest(_squared_residuals(X, y, thetas[active]), keep)
+        values, chosen, found = _smallest(_squared_residuals(X, y, thetas[active]), keep, thresholds[active])
         going = values < objectives[active] * (1 - 1e-9)
         active, chosen = active[going], chosen[going]
-        objectives[active] = values[going]
+        objectives[active], thresholds[active] = values[going], found[going]
         if len(active):
-            thetas[active] = _refits(X, y, chosen, thetas[active])
-    return _smallest(_squared_residuals(X, y, thetas), keep)[0], thetas
+            thetas[active] = _refits(X, y, chosen, thetas[active], outer)
+    return _smallest(_squared_residuals(X, y, thetas), keep, thresholds)[0], thetas
 
 
-def _smallest(squares: np.ndarray, keep: int) -> tuple[np.ndarray, np.ndarray]:
-    """((K,) sums of each row's `keep` smallest squares, (K, keep) their positions in increasing order).
+BAND = 0.05
+"""A row's keep-th smallest square is first looked for within this share of the previous step's."""
 
-    One partition of the values and a comparison with each row's keep-th smallest: np.argpartition moves
-    indices beside the values and took a third of the concentration steps' time. A row whose comparison does
-    not pick exactly `keep` (ties at the boundary, NaN) takes np.argpartition's choice.
+
+def _smallest(squares: np.ndarray, keep: int, guesses: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """((K,) sums of each row's `keep` smallest squares, (K, n) True at them, (K,) the keep-th smallest).
+
+    A comparison with each row's keep-th smallest rather than np.argpartition, which moves indices beside the
+    values. A few long rows look for it first among the values near `guesses` (the previous step's, NaN for
+    none), since a concentration step moves it little: a partition of all of them each step took a third of
+    the steps' time on a 1e6-row log. A row whose comparison does not pick exactly `keep` (ties at the
+    boundary, NaN) takes np.argpartition's choice.
     """
     K, n = squares.shape
-    smallest = np.partition(squares, keep - 1, axis=1)[:, :keep]
-    values = smallest.sum(axis=1)
-    below = squares <= smallest.max(axis=1)[:, None]
-    counts = below.sum(axis=1)
-    chosen = np.empty((K, keep), dtype=np.intp)
-    exact = counts == keep
-    chosen[exact] = np.nonzero(below[exact])[1].reshape(-1, keep)
-    for k in np.flatnonzero(~exact):
-        chosen[k] = np.sort(np.argpartition(squares[k], keep - 1)[:keep])
-    return values, chosen
+    kth = np.full(K, math.nan)
+    if K <= 4:
+        for k, guess in enumerate(guesses):
+            if not guess > 0:
+                continue
+            row = squares[k]
+            below = int(np.count_nonzero(row < guess * (1 - BAND)))
+            near = row[(row >= guess * (1 - BAND)) & (row <= guess * (1 + BAND))]
+            if below < keep <= below + len(near):
+                kth[k] = np.partition(near, keep - 1 - below)[keep - 1 - below]
+    values = np.empty(K)
+    missing = np.isnan(kth)
+    if missing.any():
+        smallest = np.partition(squares[missing], keep - 1, axis=1)[:, :keep]
+        kth[missing], values[missing] = smallest[:, -1], smallest.sum(axis=1)
+    chosen = squares <= kth[:, None]
+    for k in np.flatnonzero(~missing):
+        values[k] = squares[k, chosen[k]].sum()
+    for k in np.flatnonzero(chosen.sum(axis=1) != keep):
+        chosen[k] = False
+        chosen[k, np.argpartition(squares[k], keep - 1)[:keep]] = True
+        values[k] = squares[k, chosen[k]].sum()
+    return values, chosen, kth
 
 
-def _refits(X: np.ndarray, y: np.ndarray, chosen: np.ndarray, thetas: np.ndarray) -> np.ndarray:
-    """(K, p) least-squares estimates on each of the K row sets `chosen` (K, m), the previous estimates `thetas`
-    (K, p) their starting points.
+def _refits(X: np.ndarray, y: np.ndarray, chosen: np.ndarray, thetas: np.ndarray, outer: np.ndarray | None
+            ) -> np.ndarray:
+    """(K, p) least-squares estimates on each of the K row sets `chosen` (K, n masks), the previous estimates
+    `thetas` (K, p) their starting points.
 
-    Small sets together, by their Gram matrices (a stack of small products, each on one OpenBLAS thread): one
-    np.linalg.lstsq per set took most of the 200 starts' time. The columns are scaled to about 1 (see
-    `outside_torques`), so squaring their condition costs nothing the concentration steps could notice; a set
-    whose Gram matrix is singular goes through np.linalg.lstsq. Large sets one by one, as a correction to
-    their previous estimate (see `_corrected`).
+    Small sets together, by their Gram matrices: the masks times `outer` (n, (p + 1)^2, each row's outer
+    product with the torque beside it), in products under OpenBLAS's threading size; one np.linalg.lstsq per
+    set took most of the 200 starts' time. The columns are scaled to about 1 (see `outside_torques`), so
+    squaring their condition costs nothing the concentration steps could notice; a set whose Gram matrix is
+    singular goes through np.linalg.lstsq. Large sets (`outer` None) one by one, as a correction to their
+    previous estimate (see `_corrected`).
     """
-    K, m = chosen.shape
+    K, n = chosen.shape
     p = X.shape[1]
-    if K == 1 or (p + 1) ** 2 * m >= PRODUCT_PIECE:
+    if outer is None or K == 1:
         return np.array([_corrected(X[rows], y[rows], theta) for rows, theta in zip(chosen, thetas)])
-    augmented = np.column_stack([X, y])[chosen]  # (K, m, p + 1)
-    gram = np.matmul(augmented.transpose(0, 2, 1), augmented)
+    masks = chosen.astype(float)
+    gram = np.zeros((K, outer.shape[1]))
+    piece = max(1, PRODUCT_PIECE // (K * outer.shape[1]))
+    for first in range(0, n, piece):
+        gram += masks[:, first:first + piece] @ outer[first:first + piece]
+    gram = gram.reshape(K, p + 1, p + 1)
     out = np.empty((K, p))
     singular = np.zeros(K, dtype=bool)
     try:
@@ -229,16 +259,16 @@ def _corrected(X: np.ndarray, y: np.ndarray, theta: np.ndarray, weights: np.ndar
     own error (condition^2 eps times the correction) the next step corrects again: the iterations converge to
     what lstsq gives. An ill-conditioned Gram matrix (GRAM_CONDITION) still goes through np.linalg.lstsq.
     """
-    residuals = y - X @ theta
-    weighted = X if weights is None else X * weights[:, None]
-    gram = np.zeros((X.shape[1], X.shape[1]))
-    score = np.zeros(X.shape[1])
+    p = X.shape[1]
+    gram = np.zeros((p, p))
+    score = np.zeros(p)
     # In pieces below 2^18 multiply-adds, which OpenBLAS runs on one thread (see PRODUCT_PIECE).
-    piece = max(1, PRODUCT_PIECE // (X.shape[1] * (X.shape[1] + 1)))
+    piece = max(1, PRODUCT_PIECE // (p * (p + 1)))
     for first in range(0, len(y), piece):
-        block = weighted[first:first + piece].T
-        gram += block @ X[first:first + piece]
-        score += block @ residuals[first:first + piece]
+        rows = X[first:first + piece]
+        block = (rows if weights is None else rows * weights[first:first + piece, None]).T
+        gram += block @ rows
+        score += block @ (y[first:first + piece] - rows @ theta)
     with np.errstate(all="ignore"):
         condition = np.linalg.cond(gram) if np.all(np.isfinite(gram)) else math.inf
     if not condition <= GRAM_CONDITION:
@@ -272,8 +302,7 @@ def bisquare(X: np.ndarray, y: np.ndarray, theta: np.ndarray, scale: float) -> n
 
 def runs(mask: np.ndarray) -> list[tuple[int, int]]:
     """(first, last) indices of each run of True in `mask`."""
-    edges = np.diff(np.concatenate([[0], mask.astype(np.int8), [0]]))
-    return list(zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1))
+    return list(zip(*_run_ends(mask)))
 
 
 def widened(mask: np.ndarray, count: int) -> np.ndarray:
@@ -283,13 +312,28 @@ def widened(mask: np.ndarray, count: int) -> np.ndarray:
     return np.convolve(mask.astype(float), np.ones(2 * count + 1), mode="same") > 0.5
 
 
+DIRECT_LAGS = 100
+"""Up to this many lags the effective count sums them one by one; beyond, by FFT (newey_west_sum)."""
+
+
 def effective_count(residuals: np.ndarray, kept: np.ndarray, lag: int) -> float:
     """How many independent residuals the kept ones are worth (Bartlett-weighted autocorrelation, gaps zeroed)."""
     positions = np.flatnonzero(kept)
     if not len(positions):
         return 0.0
-    _, autocorrelation = newey_west_sum(np.ones((len(positions), 1)), residuals[positions], positions, lag)
-    return len(positions) / autocorrelation
+    if lag > DIRECT_LAGS:
+        _, autocorrelation = newey_west_sum(np.ones((len(positions), 1)), residuals[positions], positions, lag)
+        return len(positions) / autocorrelation
+    grid = np.zeros(positions[-1] - positions[0] + 1)
+    grid[positions - positions[0]] = residuals[positions]
+    c0 = float(np.einsum("i,i->", grid, grid))
+    if not c0 > 0:
+        return float(len(positions))
+    # A dot product per lag (einsum: BLAS's would wake OpenBLAS's threads): newey_west_sum's FFTs of the whole
+    # grid cost ten times more for the few dozen lags a decimated log has.
+    total = c0 + 2 * sum((1 - k / (lag + 1)) * float(np.einsum("i,i->", grid[:-k], grid[k:]))
+                         for k in range(1, min(lag, len(grid) - 1) + 1))
+    return len(positions) / max(total / c0, 1.0)
 
 
 def standstill(speed: np.ndarray, resolution: float, support: int) -> tuple[np.ndarray, np.ndarray, float]:
@@ -347,15 +391,29 @@ def outside_torques(X: np.ndarray, y: np.ndarray, usable: np.ndarray, rest: np.n
     from statistics import NormalDist  # only log fits get here
 
     level = NormalDist().inv_cdf(1 - FALSE_ALARM / (2 * max(effective_count(residuals, clean, lag), 1.0)))
-    flagged = np.zeros(len(y), dtype=bool)
-    for first, last in runs(z > EXTENT):
-        if z[first:last + 1].max() > level:
-            flagged[first:last + 1] = True
-    stretches = runs(flagged)
-    for (_, end), (start, _) in zip(stretches[:-1], stretches[1:]):
-        if start - end - 1 < 2 * support:
-            flagged[end:start] = True
-    return flagged, level, estimate
+    # Each stretch's peak by one reduceat and the stretches marked by differences: a Python loop over the
+    # thousands of stretches above EXTENT took a few ms a call.
+    firsts, lasts = _run_ends(z > EXTENT)
+    peaks = np.maximum.reduceat(np.append(z, 0.0), np.stack([firsts, lasts + 1], axis=1).ravel())[::2]
+    high = peaks > level
+    flagged = _marked(len(y), firsts[high], lasts[high])
+    firsts, lasts = _run_ends(flagged)
+    close = firsts[1:] - lasts[:-1] - 1 < 2 * support
+    return flagged | _marked(len(y), lasts[:-1][close], firsts[1:][close] - 1), level, estimate
+
+
+def _run_ends(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(first indices, last indices) of the runs of True in `mask`, as arrays (see `runs`)."""
+    edges = np.diff(np.concatenate([[0], mask.astype(np.int8), [0]]))
+    return np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
+
+
+def _marked(n: int, firsts: np.ndarray, lasts: np.ndarray) -> np.ndarray:
+    """(n,) True from each of `firsts` to the matching one of `lasts` (inclusive; the spans apart)."""
+    steps = np.zeros(n + 1, dtype=np.int64)
+    np.add.at(steps, firsts, 1)
+    np.add.at(steps, lasts + 1, -1)
+    return np.cumsum(steps[:n]) > 0
 
 
 def intervals(mask: np.ndarray, t: np.ndarray) -> tuple[tuple[float, float], ...]:
