@@ -140,8 +140,9 @@ def _blocks(runs: tuple[LoadedLogs, ...], chosen: tuple[int, ...]):
         yield X[:, shared], None if bias is None else X[:, bias], result.training.tau, positions, lag, weight
 
 
-def _pool(runs: tuple[LoadedLogs, ...], chosen: tuple[int, ...]):
-    """(estimate, standard errors, weights) of the weighted fit of the chosen runs together."""
+def _pool(runs: tuple[LoadedLogs, ...], chosen: tuple[int, ...], errors: bool = True):
+    """(estimate, standard errors or None without `errors`, weights) of the weighted fit of the chosen runs
+    together."""
     blocks = list(_blocks(runs, chosen))
     has_bias = blocks[0][1] is not None
     rows, targets = [], []
@@ -156,6 +157,8 @@ def _pool(runs: tuple[LoadedLogs, ...], chosen: tuple[int, ...]):
     if solution.estimate is None:
         size = rows[0].shape[1]
         return np.full(size, np.nan), np.full(size, np.nan), tuple(block[-1] for block in blocks)
+    if not errors:  # the leave-one-run-out pools need only the estimate: their Newey-West sums were half their time
+        return solution.estimate, None, tuple(block[-1] for block in blocks)
     factor = covariance_factor(solution)
     meat = np.zeros_like(factor)
     for X, target, (_, _, _, positions, lag, _) in zip(rows, targets, blocks):
@@ -167,7 +170,7 @@ def _pool(runs: tuple[LoadedLogs, ...], chosen: tuple[int, ...]):
 def _predicted_by_others(runs: tuple[LoadedLogs, ...], index: int) -> float | None:
     """RMS of run `index`'s filtered torque less the other runs' pooled prediction, its offset its own."""
     others = tuple(k for k in range(len(runs)) if k != index)
-    estimate, _, _ = _pool(runs, others)
+    estimate, _, _ = _pool(runs, others, errors=False)
     if not np.all(np.isfinite(estimate)):
         return None
     X, _, tau, _, _, _ = next(_blocks(runs, (index,)))
