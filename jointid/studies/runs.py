@@ -23,7 +23,7 @@ import numpy as np
 
 from ..estimation.exclusion import ExclusionRequest
 from ..estimation.low_pass import FilterRequest
-from ..estimation.solver import solve_least_squares
+from ..estimation.solver import solve_least_squares, triangle_of
 from ..estimation.uncertainty import covariance_factor, newey_west_sum
 from ..logs.pipeline import JointLog
 from ..model.terms import JointModel
@@ -120,7 +120,8 @@ def pool_runs(runs: tuple[LoadedLogs, ...]) -> PooledRuns:
     model = runs[0].result.model
     everyone = tuple(range(len(runs)))
     estimate, std_error, weights = _pool(runs, everyone)
-    others = tuple(_predicted_by_others(runs, index) for index in everyone)
+    triangles = _triangles(runs)
+    others = tuple(_predicted_by_others(runs, triangles, index) for index in everyone)
     shared = tuple(name for name in model.column_names if name != BIAS)
     return PooledRuns(runs, shared, estimate, std_error, weights, others)
 
@@ -140,9 +141,8 @@ def _blocks(runs: tuple[LoadedLogs, ...], chosen: tuple[int, ...]):
         yield X[:, shared], None if bias is None else X[:, bias], result.training.tau, positions, lag, weight
 
 
-def _pool(runs: tuple[LoadedLogs, ...], chosen: tuple[int, ...], errors: bool = True):
-    """(estimate, standard errors or None without `errors`, weights) of the weighted fit of the chosen runs
-    together."""
+def _pool(runs: tuple[LoadedLogs, ...], chosen: tuple[int, ...]):
+    """(estimate, standard errors, weights) of the weighted fit of the chosen runs together."""
     blocks = list(_blocks(runs, chosen))
     has_bias = blocks[0][1] is not None
     rows, targets = [], []
@@ -157,8 +157,6 @@ def _pool(runs: tuple[LoadedLogs, ...], chosen: tuple[int, ...], errors: bool = 
     if solution.estimate is None:
         size = rows[0].shape[1]
         return np.full(size, np.nan), np.full(size, np.nan), tuple(block[-1] for block in blocks)
-    if not errors:  # the leave-one-run-out pools need only the estimate: their Newey-West sums were half their time
-        return solution.estimate, None, tuple(block[-1] for block in blocks)
     factor = covariance_factor(solution)
     meat = np.zeros_like(factor)
     for X, target, (_, _, _, positions, lag, _) in zip(rows, targets, blocks):
@@ -167,13 +165,35 @@ def _pool(runs: tuple[LoadedLogs, ...], chosen: tuple[int, ...], errors: bool = 
     return solution.estimate, np.sqrt(np.diag(covariance)), tuple(block[-1] for block in blocks)
 
 
-def _predicted_by_others(runs: tuple[LoadedLogs, ...], index: int) -> float | None:
-    """RMS of run `index`'s filtered torque less the other runs' pooled prediction, its offset its own."""
-    others = tuple(k for k in range(len(runs)) if k != index)
-    estimate, _, _ = _pool(runs, others, errors=False)
-    if not np.all(np.isfinite(estimate)):
-        return None
-    X, _, tau, _, _, _ = next(_blocks(runs, (index,)))
-    residual = tau - X @ estimate[: X.shape[1]]
-    return float(np.sqrt(np.mean((residual - residual.mean()) ** 2)))
+def _triangles(runs: tuple[LoadedLogs, ...]) -> list[np.ndarray]:
+    """Each run's weighted rows reduced to the triangle of [shared columns | its bias column, if any | torque]
+    (see triangle_of): every leave-one-run-out pool is solved from the other runs' triangles, the same least
+    squares in a few dozen rows, where stacking their tens of thousands of rows again took most of pooling."""
+    out = []
+    for X, bias, tau, _, _, weight in _blocks(runs, tuple(range(len(runs)))):
+        scale = math.sqrt(weight)
+        out.append(triangle_of((X if bias is None else np.column_stack([X, bias])) * scale, tau * scale))
+    return out
 
+
+def _predicted_by_others(runs: tuple[LoadedLogs, ...], triangles: list[np.ndarray], index: int) -> float | None:
+    """RMS of run `index`'s filtered torque less the other runs' pooled prediction, its offset its own
+    (`triangles`: each run's, see `_triangles`)."""
+    others = [k for k in range(len(runs)) if k != index]
+    X, bias, tau, _, _, _ = next(_blocks(runs, (index,)))
+    shared = X.shape[1]
+    offsets = len(others) if bias is not None else 0
+    rows = []
+    for position, k in enumerate(others):
+        triangle = triangles[k]
+        block = np.zeros((len(triangle), shared + offsets + 1))
+        block[:, :shared], block[:, -1] = triangle[:, :shared], triangle[:, -1]
+        if offsets:
+            block[:, shared + position] = triangle[:, shared]
+        rows.append(block)
+    stacked = np.vstack(rows)
+    estimate = solve_least_squares(stacked[:, :-1], stacked[:, -1]).estimate
+    if estimate is None or not np.all(np.isfinite(estimate)):
+        return None
+    residual = tau - X @ estimate[:shared]
+    return float(np.sqrt(np.mean((residual - residual.mean()) ** 2)))
