@@ -161,24 +161,30 @@ def _concentrated(X: np.ndarray, y: np.ndarray, thetas: np.ndarray, steps: int) 
     augmented = np.column_stack([X, y])
     outer = (augmented[:, :, None] * augmented[:, None, :]).reshape(n, -1) \
         if (p + 1) ** 2 * keep < PRODUCT_PIECE else None
+    # Two (K, n) buffers for every step's squares and their partition: fresh arrays of that size each step
+    # (page faults on this VM) cost as much as the partition itself.
+    buffers = np.empty((2, len(thetas), n))
     for _ in range(steps):
         if not len(active):
             break
-        values, chosen, found = _smallest(_squared_residuals(X, y, thetas[active]), keep, thresholds[active])
+        squares = _squared_residuals(X, y, thetas[active], buffers[0, :len(active)])
+        values, chosen, found = _smallest(squares, keep, thresholds[active], buffers[1, :len(active)])
         going = values < objectives[active] * (1 - 1e-9)
         active, chosen = active[going], chosen[going]
         objectives[active], thresholds[active] = values[going], found[going]
         if len(active):
-            thetas[active] = _refits(X, y, chosen, thetas[active], outer)
-    return _smallest(_squared_residuals(X, y, thetas), keep, thresholds)[0], thetas
+            thetas[active] = _refits(X, y, chosen, thetas[active], outer, buffers[1, :len(active)])
+    return _smallest(_squared_residuals(X, y, thetas, buffers[0]), keep, thresholds, buffers[1])[0], thetas
 
 
 BAND = 0.05
 """A row's keep-th smallest square is first looked for within this share of the previous step's."""
 
 
-def _smallest(squares: np.ndarray, keep: int, guesses: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """((K,) sums of each row's `keep` smallest squares, (K, n) True at them, (K,) the keep-th smallest).
+def _smallest(squares: np.ndarray, keep: int, guesses: np.ndarray, work: np.ndarray
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """((K,) sums of each row's `keep` smallest squares, (K, n) True at them, (K,) the keep-th smallest); `work`
+    is a (K, n) buffer to partition in.
 
     A comparison with each row's keep-th smallest rather than np.argpartition, which moves indices beside the
     values. A few long rows look for it first among the values near `guesses` (the previous step's, NaN for
@@ -188,7 +194,7 @@ def _smallest(squares: np.ndarray, keep: int, guesses: np.ndarray) -> tuple[np.n
     """
     K, n = squares.shape
     kth = np.full(K, math.nan)
-    if K <= 4:
+    if K <= 10:
         for k, guess in enumerate(guesses):
             if not guess > 0:
                 continue
@@ -200,8 +206,10 @@ def _smallest(squares: np.ndarray, keep: int, guesses: np.ndarray) -> tuple[np.n
     values = np.empty(K)
     missing = np.isnan(kth)
     if missing.any():
-        smallest = np.partition(squares[missing], keep - 1, axis=1)[:, :keep]
-        kth[missing], values[missing] = smallest[:, -1], smallest.sum(axis=1)
+        smallest = work[:np.count_nonzero(missing)]
+        np.compress(missing, squares, axis=0, out=smallest)
+        smallest.partition(keep - 1, axis=1)
+        kth[missing], values[missing] = smallest[:, keep - 1], smallest[:, :keep].sum(axis=1)
     chosen = squares <= kth[:, None]
     for k in np.flatnonzero(~missing):
         values[k] = squares[k, chosen[k]].sum()
@@ -212,10 +220,10 @@ def _smallest(squares: np.ndarray, keep: int, guesses: np.ndarray) -> tuple[np.n
     return values, chosen, kth
 
 
-def _refits(X: np.ndarray, y: np.ndarray, chosen: np.ndarray, thetas: np.ndarray, outer: np.ndarray | None
-            ) -> np.ndarray:
+def _refits(X: np.ndarray, y: np.ndarray, chosen: np.ndarray, thetas: np.ndarray, outer: np.ndarray | None,
+            work: np.ndarray) -> np.ndarray:
     """(K, p) least-squares estimates on each of the K row sets `chosen` (K, n masks), the previous estimates
-    `thetas` (K, p) their starting points.
+    `thetas` (K, p) their starting points; `work` a (K, n) buffer.
 
     Small sets together, by their Gram matrices: the masks times `outer` (n, (p + 1)^2, each row's outer
     product with the torque beside it), in products under OpenBLAS's threading size; one np.linalg.lstsq per
@@ -228,7 +236,8 @@ def _refits(X: np.ndarray, y: np.ndarray, chosen: np.ndarray, thetas: np.ndarray
     p = X.shape[1]
     if outer is None or K == 1:
         return np.array([_corrected(X[rows], y[rows], theta) for rows, theta in zip(chosen, thetas)])
-    masks = chosen.astype(float)
+    masks = work
+    np.copyto(masks, chosen)
     gram = np.zeros((K, outer.shape[1]))
     piece = max(1, PRODUCT_PIECE // (K * outer.shape[1]))
     for first in range(0, n, piece):
@@ -277,9 +286,8 @@ def _corrected(X: np.ndarray, y: np.ndarray, theta: np.ndarray, weights: np.ndar
     return theta + np.linalg.solve(gram, score)
 
 
-def _squared_residuals(X: np.ndarray, y: np.ndarray, thetas: np.ndarray) -> np.ndarray:
-    """(K, n) squared residuals of each of the K estimates, a row each (contiguous for the partition)."""
-    out = np.empty((len(thetas), len(y)))
+def _squared_residuals(X: np.ndarray, y: np.ndarray, thetas: np.ndarray, out: np.ndarray) -> np.ndarray:
+    """(K, n) squared residuals of each of the K estimates, a row each (contiguous for the partition), in `out`."""
     # Products below 2^18 multiply-adds, which OpenBLAS runs on one thread: waking its threads for each one
     # made the 200 starts' steps three times slower on this busy 2-core machine.
     piece = max(1, PRODUCT_PIECE // max(1, X.size))
