@@ -187,14 +187,17 @@ def _smallest(squares: np.ndarray, keep: int, guesses: np.ndarray, work: np.ndar
     is a (K, n) buffer to partition in.
 
     A comparison with each row's keep-th smallest rather than np.argpartition, which moves indices beside the
-    values. A few long rows look for it first among the values near `guesses` (the previous step's, NaN for
-    none), since a concentration step moves it little: a partition of all of them each step took a third of
-    the steps' time on a 1e6-row log. A row whose comparison does not pick exactly `keep` (ties at the
-    boundary, NaN) takes np.argpartition's choice.
+    values. Many rows (the starts' first steps) find it by a partition of float32 roundings (see `_located`);
+    a few look for it first among the values near `guesses` (the previous step's, NaN for none), since a
+    concentration step moves it little: a partition of all of them each step took a third of the steps' time
+    on a 1e6-row log. A row whose comparison does not pick exactly `keep` (ties at the boundary, NaN) takes
+    np.argpartition's choice.
     """
     K, n = squares.shape
-    kth = np.full(K, math.nan)
-    if K <= 10:
+    if K > 10:
+        kth = _located(squares, keep, work)
+    else:
+        kth = np.full(K, math.nan)
         for k, guess in enumerate(guesses):
             if not guess > 0:
                 continue
@@ -203,21 +206,43 @@ def _smallest(squares: np.ndarray, keep: int, guesses: np.ndarray, work: np.ndar
             near = row[(row >= guess * (1 - BAND)) & (row <= guess * (1 + BAND))]
             if below < keep <= below + len(near):
                 kth[k] = np.partition(near, keep - 1 - below)[keep - 1 - below]
-    values = np.empty(K)
     missing = np.isnan(kth)
     if missing.any():
-        smallest = work[:np.count_nonzero(missing)]
-        np.compress(missing, squares, axis=0, out=smallest)
-        smallest.partition(keep - 1, axis=1)
-        kth[missing], values[missing] = smallest[:, keep - 1], smallest[:, :keep].sum(axis=1)
+        exact = work[:np.count_nonzero(missing)]
+        np.compress(missing, squares, axis=0, out=exact)
+        exact.partition(keep - 1, axis=1)
+        kth[missing] = exact[:, keep - 1]
     chosen = squares <= kth[:, None]
-    for k in np.flatnonzero(~missing):
+    with np.errstate(all="ignore"):  # an infinite square left out would make NaN: summed again below
+        values = np.einsum("ij,ij->i", squares, chosen)  # sum(where=) took four times as long
+    for k in np.flatnonzero(~np.isfinite(values)):
         values[k] = squares[k, chosen[k]].sum()
-    for k in np.flatnonzero(chosen.sum(axis=1) != keep):
+    for k in np.flatnonzero(np.count_nonzero(chosen, axis=1) != keep):
         chosen[k] = False
         chosen[k, np.argpartition(squares[k], keep - 1)[:keep]] = True
         values[k] = squares[k, chosen[k]].sum()
     return values, chosen, kth
+
+
+def _located(squares: np.ndarray, keep: int, work: np.ndarray) -> np.ndarray:
+    """(K,) each row's keep-th smallest square, or NaN where this way cannot say, found in float32.
+
+    Rounding to float32 keeps the order, so the keep-th smallest rounding is the rounding of the keep-th
+    smallest square: every square below the midpoint between that float32 and the one before it is smaller,
+    and the smallest square from that midpoint on is the keep-th smallest unless another square rounds to the
+    same float32 (which `_smallest`'s count then finds). The partition moves half the bytes: on the 200 starts'
+    (200, 1500) squares it took 1.6 ms against 2.9 ms, 2.7 ms against 3.2 ms with the passes this adds.
+    """
+    K, n = squares.shape
+    coarse = work.reshape(-1).view(np.float32)[:K * n].reshape(K, n)
+    with np.errstate(all="ignore"):  # squares beyond float32's range round to infinity: such rows are left out
+        np.copyto(coarse, squares, casting="same_kind")
+        coarse.partition(keep - 1, axis=1)
+        rounded = coarse[:, keep - 1]
+        lower = (np.nextafter(rounded, np.float32(-np.inf)).astype(float) + rounded.astype(float)) / 2
+        kth = np.where(squares >= lower[:, None], squares, math.inf).min(axis=1)  # min(where=) took twice as long
+        kth[~(np.isfinite(rounded) & (rounded > 0))] = math.nan  # beyond float32's range (or NaN): in float64
+    return kth
 
 
 def _refits(X: np.ndarray, y: np.ndarray, chosen: np.ndarray, thetas: np.ndarray, outer: np.ndarray | None,
