@@ -303,8 +303,9 @@ def _corrected(X: np.ndarray, y: np.ndarray, theta: np.ndarray, weights: np.ndar
         block = (rows if weights is None else rows * weights[first:first + piece, None]).T
         gram += block @ rows
         score += block @ (y[first:first + piece] - rows @ theta)
-    with np.errstate(all="ignore"):
-        condition = np.linalg.cond(gram) if np.all(np.isfinite(gram)) else math.inf
+    with np.errstate(all="ignore"):  # np.linalg.cond's checks took as long as the SVD itself
+        singular = np.linalg.svd(gram, compute_uv=False) if np.all(np.isfinite(gram)) else np.zeros(1)
+        condition = singular[0] / singular[-1] if singular[-1] > 0 else math.inf
     if not condition <= GRAM_CONDITION:
         root = np.ones(len(y)) if weights is None else np.sqrt(weights)
         return np.linalg.lstsq(X * root[:, None], y * root, rcond=None)[0]
@@ -327,7 +328,9 @@ def bisquare(X: np.ndarray, y: np.ndarray, theta: np.ndarray, scale: float) -> n
     for _ in range(50):
         u = (y - X @ theta) / (BISQUARE * scale)
         new = _corrected(X, y, theta, np.where(np.abs(u) < 1, (1 - u * u) ** 2, 0.0))
-        if np.allclose(new, theta, rtol=1e-8, atol=1e-12):
+        with np.errstate(all="ignore"):  # np.allclose's test, without its overhead (a tenth of an iteration)
+            close = np.all(np.abs(new - theta) <= 1e-12 + 1e-8 * np.abs(theta))
+        if close:
             return new
         theta = new
     return theta
