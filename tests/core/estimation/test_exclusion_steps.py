@@ -28,7 +28,8 @@ def test_smallest_picks_the_keep_smallest_of_every_row(rows):
     keep = 750
     values, chosen, kth = _smallest(squares, keep, np.full(rows, math.nan), np.empty_like(squares))
     sums, kths = reference_smallest(squares, keep)
-    assert np.array_equal(kth, kths)
+    following = np.sort(squares, axis=1)[:, keep]
+    assert ((kth >= kths) & (kth < following)).all()  # the keep-th itself, or a threshold below the next
     assert np.array_equal(chosen, squares <= kths[:, None])
     assert np.allclose(values, sums, rtol=1e-13, atol=0)
 
