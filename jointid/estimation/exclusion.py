@@ -50,6 +50,8 @@ STANDSTILL_SHARE = 0.1
 """Speeds below this share of the RMS filtered speed count as standstill."""
 BREAKAWAY_RATIO = 1.5
 """At rest, friction may reach this many times Fc (breakaway): only residuals beyond it count as a push."""
+EXACT = 1e-12
+"""Residuals below this share of the torque's RMS are rounding: the model fits exactly."""
 SEED = 0
 """The random starts' seed, so a log always gives the same exclusions."""
 
@@ -129,6 +131,11 @@ def fast_lts(X: np.ndarray, y: np.ndarray, rng: np.random.Generator) -> np.ndarr
         return np.linalg.lstsq(X, y, rcond=None)[0]
     values, thetas = _concentrated(X[sub], y[sub], solutions[full], 2)
     order = np.argsort(values, kind="stable")[:10]
+    keep = max(p + 1, int(COVERAGE * len(sub)))
+    if values[order[0]] <= keep * (EXACT * rms(y)) ** 2:
+        # Half the samples fitted to rounding (a model that fits exactly): the trimmed sum's least value is
+        # reached, and further steps only move rounding about (on a noise-free log they took half the time).
+        return thetas[order[0]]
     values, thetas = _concentrated(X[sub], y[sub], thetas[order], 30)
     order = np.argsort(values, kind="stable")
     if len(sub) < n:
@@ -164,27 +171,33 @@ def _concentrated(X: np.ndarray, y: np.ndarray, thetas: np.ndarray, steps: int) 
     # Two (K, n) buffers for every step's squares and their partition: fresh arrays of that size each step
     # (page faults on this VM) cost as much as the partition itself.
     buffers = np.empty((2, len(thetas), n))
+    direct = False
     for _ in range(steps):
         if not len(active):
             break
         squares = _squared_residuals(X, y, thetas[active], buffers[0, :len(active)])
-        values, chosen, found = _smallest(squares, keep, thresholds[active], buffers[1, :len(active)])
+        values, chosen, found, failed = _smallest(squares, keep, thresholds[active], buffers[1, :len(active)],
+                                                  direct)
+        # Squares with many ties (a model that fits exactly: multiples of eps^2) leave most thresholds unsure:
+        # the following steps go to np.argpartition at once rather than looking first.
+        direct = direct or failed > len(active) // 2
         going = values < objectives[active] * (1 - 1e-9)
         active, chosen = active[going], chosen[going]
         objectives[active], thresholds[active] = values[going], found[going]
         if len(active):
             thetas[active] = _refits(X, y, chosen, thetas[active], outer, buffers[1, :len(active)])
-    return _smallest(_squared_residuals(X, y, thetas, buffers[0]), keep, thresholds, buffers[1])[0], thetas
+    return _smallest(_squared_residuals(X, y, thetas, buffers[0]), keep, thresholds, buffers[1], direct)[0], thetas
 
 
 BAND = 0.05
 """A row's keep-th smallest square is first looked for within this share of the previous step's."""
 
 
-def _smallest(squares: np.ndarray, keep: int, guesses: np.ndarray, work: np.ndarray
-              ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def _smallest(squares: np.ndarray, keep: int, guesses: np.ndarray, work: np.ndarray, direct: bool = False
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
     """((K,) sums of each row's `keep` smallest squares, (K, n) True at them, (K,) the keep-th smallest or a
-    threshold between it and the next); `work` is a (K, n) buffer to partition in.
+    threshold between it and the next, how many rows' thresholds failed to pick exactly `keep`); `work` is a
+    (K, n) buffer to partition in; `direct`: every row by np.argpartition.
 
     A comparison with each row's keep-th smallest rather than np.argpartition, which moves indices beside the
     values. Many rows (the starts' first steps) find it by a partition of float32 roundings (see `_located`);
@@ -194,7 +207,9 @@ def _smallest(squares: np.ndarray, keep: int, guesses: np.ndarray, work: np.ndar
     np.argpartition's choice.
     """
     K, n = squares.shape
-    if K > 10:
+    if direct:
+        kth = np.full(K, math.nan)
+    elif K > 10:
         kth = _located(squares, keep, work)
     else:
         kth = np.full(K, math.nan)
@@ -206,22 +221,30 @@ def _smallest(squares: np.ndarray, keep: int, guesses: np.ndarray, work: np.ndar
             near = row[(row >= guess * (1 - BAND)) & (row <= guess * (1 + BAND))]
             if below < keep <= below + len(near):
                 kth[k] = np.partition(near, keep - 1 - below)[keep - 1 - below]
-    missing = np.isnan(kth)
-    if missing.any():
-        exact = work[:np.count_nonzero(missing)]
-        np.compress(missing, squares, axis=0, out=exact)
-        exact.partition(keep - 1, axis=1)
-        kth[missing] = exact[:, keep - 1]
-    chosen = squares <= kth[:, None]
+    # Rows whose threshold does not pick exactly `keep` (none found, ties at the boundary, NaN, or squares too
+    # small for float32, as where the model fits exactly) take np.argpartition's choice, all in one call.
+    if direct:
+        chosen, unsure, failed = None, np.arange(K), K
+    else:
+        with np.errstate(invalid="ignore"):  # a NaN threshold picks nothing, and the row goes below
+            chosen = squares <= kth[:, None]
+        unsure = np.flatnonzero(np.count_nonzero(chosen, axis=1) != keep)
+        failed = int(np.count_nonzero(~np.isnan(kth[unsure])))
+    if len(unsure):
+        rows = squares if len(unsure) == K else squares[unsure]
+        picks = np.argpartition(rows, keep - 1, axis=1)[:, :keep]
+        picked = np.zeros(rows.shape, dtype=bool)
+        np.put_along_axis(picked, picks, True, axis=1)
+        if len(unsure) == K:
+            chosen = picked
+        else:
+            chosen[unsure] = picked
+        kth[unsure] = np.take_along_axis(rows, picks, axis=1).max(axis=1)
     with np.errstate(all="ignore"):  # an infinite square left out would make NaN: summed again below
         values = np.einsum("ij,ij->i", squares, chosen)  # sum(where=) took four times as long
     for k in np.flatnonzero(~np.isfinite(values)):
         values[k] = squares[k, chosen[k]].sum()
-    for k in np.flatnonzero(np.count_nonzero(chosen, axis=1) != keep):
-        chosen[k] = False
-        chosen[k, np.argpartition(squares[k], keep - 1)[:keep]] = True
-        values[k] = squares[k, chosen[k]].sum()
-    return values, chosen, kth
+    return values, chosen, kth, failed
 
 
 def _located(squares: np.ndarray, keep: int, work: np.ndarray) -> np.ndarray:
@@ -416,7 +439,7 @@ def outside_torques(X: np.ndarray, y: np.ndarray, usable: np.ndarray, rest: np.n
         estimate = theta * torque_scale / column_scale
     residuals = y - X @ theta
     scale = mad_scale(residuals[usable])
-    if not scale > 1e-12 * rms(y):  # an exact fit (noise-free data): nothing stands out
+    if not scale > EXACT * rms(y):  # an exact fit (noise-free data): nothing stands out
         return np.zeros(len(y), dtype=bool), math.inf, estimate
     z = np.abs(residuals) / scale
     if coulomb is not None:

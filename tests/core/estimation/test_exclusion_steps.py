@@ -26,7 +26,7 @@ def test_smallest_picks_the_keep_smallest_of_every_row(rows):
     rng = np.random.default_rng(rows)
     squares = rng.standard_t(3, (rows, 1500)) ** 2 * 10.0 ** rng.uniform(-30, 30, (rows, 1))
     keep = 750
-    values, chosen, kth = _smallest(squares, keep, np.full(rows, math.nan), np.empty_like(squares))
+    values, chosen, kth, _ = _smallest(squares, keep, np.full(rows, math.nan), np.empty_like(squares))
     sums, kths = reference_smallest(squares, keep)
     following = np.sort(squares, axis=1)[:, keep]
     assert ((kth >= kths) & (kth < following)).all()  # the keep-th itself, or a threshold below the next
@@ -44,7 +44,7 @@ def test_smallest_with_ties_near_float32_roundings_zeros_and_huge_values():
     squares[4, :50] = 1e-320  # subnormal, rounds to float32 zero
     squares[5, 7] = math.nan
     keep = 51
-    values, chosen, _ = _smallest(squares, keep, np.full(len(squares), math.nan), np.empty_like(squares))
+    values, chosen, _, _ = _smallest(squares, keep, np.full(len(squares), math.nan), np.empty_like(squares))
     assert (chosen.sum(axis=1) == keep).all()
     finite = np.isfinite(squares).all(axis=1)
     sums, kths = reference_smallest(squares[finite], keep)
@@ -54,13 +54,28 @@ def test_smallest_with_ties_near_float32_roundings_zeros_and_huge_values():
         assert not (row[~picked] < row[picked].max()).any()
 
 
+@pytest.mark.parametrize("direct", [False, True])
+def test_smallest_where_the_model_fits_exactly(direct):
+    rng = np.random.default_rng(2)
+    squares = (rng.integers(0, 4, (30, 1500)) * np.finfo(float).eps) ** 2  # an exact fit's residuals: ties
+    keep = 750
+    values, chosen, kth, unsure = _smallest(squares, keep, np.full(30, math.nan), np.empty_like(squares), direct)
+    sums, kths = reference_smallest(squares, keep)
+    assert unsure > 15  # most thresholds fail on ties
+    assert (chosen.sum(axis=1) == keep).all()
+    assert (kth >= kths).all()
+    assert np.allclose(values, sums, rtol=1e-13, atol=0)
+    for row, picked in zip(squares, chosen):
+        assert not (row[~picked] < row[picked].max()).any()
+
+
 def test_smallest_from_a_guess_matches_a_partition():
     rng = np.random.default_rng(9)
     squares = rng.exponential(1.0, (4, 20000))
     keep = 10000
-    _, _, exact = _smallest(squares, keep, np.full(4, math.nan), np.empty_like(squares))
+    _, _, exact, _ = _smallest(squares, keep, np.full(4, math.nan), np.empty_like(squares))
     guesses = exact * np.array([1.0, 1.01, 0.7, 1.3])  # near, and too far for the band
-    values, chosen, kth = _smallest(squares, keep, guesses, np.empty_like(squares))
+    values, chosen, kth, _ = _smallest(squares, keep, guesses, np.empty_like(squares))
     sums, kths = reference_smallest(squares, keep)
     assert np.array_equal(kth, kths)
     assert (chosen.sum(axis=1) == keep).all()
