@@ -57,6 +57,8 @@ STANDSTILL_SHARE = 0.1
 """Speeds below this share of the RMS filtered speed count as standstill."""
 BREAKAWAY_RATIO = 1.5
 """At rest, friction may reach this many times Fc (breakaway): only residuals beyond it count as a push."""
+EXACT = 1e-12
+"""Residuals below this share of the torque's RMS are rounding: the model fits exactly."""
 SEED = 0
 """The random starts' seed, so a log always gives the same exclusions."""
 
@@ -136,6 +138,11 @@ def fast_lts(X: np.ndarray, y: np.ndarray, rng: np.random.Generator) -> np.ndarr
         return np.linalg.lstsq(X, y, rcond=None)[0]
     values, thetas = _concentrated(X[sub], y[sub], solutions[full], 2)
     order = np.argsort(values, kind="stable")[:10]
+    keep = max(p + 1, int(COVERAGE * len(sub)))
+    if values[order[0]] <= keep * (EXACT * rms(y)) ** 2:
+        # Half the samples fitted to rounding (a model that fits exactly): the trimmed sum's least value is
+        # reached, and further steps only move rounding about (on a noise-free log they took half the time).
+        return thetas[order[0]]
     values, thetas = _concentrated(X[sub], y[sub], thetas[order], 30)
     order = np.argsort(values, kind="stable")
     if len(sub) < n:
@@ -162,36 +169,134 @@ def _concentrated(X: np.ndarray, y: np.ndarray, thetas: np.ndarray, steps: int) 
     keep = max(p + 1, int(COVERAGE * n))
     thetas = np.array(thetas, dtype=float)
     objectives = np.full(len(thetas), math.inf)
+    thresholds = np.full(len(thetas), math.nan)
     active = np.arange(len(thetas))
+    # Small sets' Gram matrices as one product of the chosen-row masks with every row's outer product.
+    augmented = np.column_stack([X, y])
+    outer = (augmented[:, :, None] * augmented[:, None, :]).reshape(n, -1) \
+        if (p + 1) ** 2 * keep < PRODUCT_PIECE else None
+    # Two (K, n) buffers for every step's squares and their partition: fresh arrays of that size each step
+    # (page faults on this VM) cost as much as the partition itself.
+    buffers = np.empty((2, len(thetas), n))
+    direct = False
     for _ in range(steps):
         if not len(active):
             break
-        squares = _squared_residuals(X, y, thetas[active])
-        chosen = np.argpartition(squares, keep - 1, axis=1)[:, :keep]
-        values = np.take_along_axis(squares, chosen, axis=1).sum(axis=1)
+        squares = _squared_residuals(X, y, thetas[active], buffers[0, :len(active)])
+        values, chosen, found, failed = _smallest(squares, keep, thresholds[active], buffers[1, :len(active)],
+                                                  direct)
+        # Squares with many ties (a model that fits exactly: multiples of eps^2) leave most thresholds unsure:
+        # the following steps go to np.argpartition at once rather than looking first.
+        direct = direct or failed > len(active) // 2
         going = values < objectives[active] * (1 - 1e-9)
         active, chosen = active[going], chosen[going]
-        objectives[active] = values[going]
+        objectives[active], thresholds[active] = values[going], found[going]
         if len(active):
-            thetas[active] = _refits(X, y, chosen)
-    squares = _squared_residuals(X, y, thetas)
-    return np.partition(squares, keep - 1, axis=1)[:, :keep].sum(axis=1), thetas
+            thetas[active] = _refits(X, y, chosen, thetas[active], outer, buffers[1, :len(active)])
+    return _smallest(_squared_residuals(X, y, thetas, buffers[0]), keep, thresholds, buffers[1], direct)[0], thetas
 
 
-def _refits(X: np.ndarray, y: np.ndarray, chosen: np.ndarray) -> np.ndarray:
-    """(K, p) least-squares estimates on each of the K row sets `chosen` (K, m).
+BAND = 0.05
+"""A row's keep-th smallest square is first looked for within this share of the previous step's."""
 
-    Small sets together, by their Gram matrices (a stack of small products, each on one OpenBLAS thread): one
-    np.linalg.lstsq per set took most of the 200 starts' time. The columns are scaled to about 1 (see
-    `outside_torques`), so squaring their condition costs nothing the concentration steps could notice; a set
-    whose Gram matrix is singular, and large sets, go through np.linalg.lstsq.
+
+def _smallest(squares: np.ndarray, keep: int, guesses: np.ndarray, work: np.ndarray, direct: bool = False
+              ) -> tuple[np.ndarray, np.ndarray, np.ndarray, int]:
+    """((K,) sums of each row's `keep` smallest squares, (K, n) True at them, (K,) the keep-th smallest or a
+    threshold between it and the next, how many rows' thresholds failed to pick exactly `keep`); `work` is a
+    (K, n) buffer to partition in; `direct`: every row by np.argpartition.
+
+    A comparison with each row's keep-th smallest rather than np.argpartition, which moves indices beside the
+    values. Many rows (the starts' first steps) find it by a partition of float32 roundings (see `_located`);
+    a few look for it first among the values near `guesses` (the previous step's, NaN for none), since a
+    concentration step moves it little: a partition of all of them each step took a third of the steps' time
+    on a 1e6-row log. A row whose comparison does not pick exactly `keep` (ties at the boundary, NaN) takes
+    np.argpartition's choice.
     """
-    K, m = chosen.shape
+    K, n = squares.shape
+    if direct:
+        kth = np.full(K, math.nan)
+    elif K > 10:
+        kth = _located(squares, keep, work)
+    else:
+        kth = np.full(K, math.nan)
+        for k, guess in enumerate(guesses):
+            if not guess > 0:
+                continue
+            row = squares[k]
+            below = int(np.count_nonzero(row < guess * (1 - BAND)))
+            near = row[(row >= guess * (1 - BAND)) & (row <= guess * (1 + BAND))]
+            if below < keep <= below + len(near):
+                kth[k] = np.partition(near, keep - 1 - below)[keep - 1 - below]
+    # Rows whose threshold does not pick exactly `keep` (none found, ties at the boundary, NaN, or squares too
+    # small for float32, as where the model fits exactly) take np.argpartition's choice, all in one call.
+    if direct:
+        chosen, unsure, failed = None, np.arange(K), K
+    else:
+        with np.errstate(invalid="ignore"):  # a NaN threshold picks nothing, and the row goes below
+            chosen = squares <= kth[:, None]
+        unsure = np.flatnonzero(np.count_nonzero(chosen, axis=1) != keep)
+        failed = int(np.count_nonzero(~np.isnan(kth[unsure])))
+    if len(unsure):
+        rows = squares if len(unsure) == K else squares[unsure]
+        picks = np.argpartition(rows, keep - 1, axis=1)[:, :keep]
+        picked = np.zeros(rows.shape, dtype=bool)
+        np.put_along_axis(picked, picks, True, axis=1)
+        if len(unsure) == K:
+            chosen = picked
+        else:
+            chosen[unsure] = picked
+        kth[unsure] = np.take_along_axis(rows, picks, axis=1).max(axis=1)
+    with np.errstate(all="ignore"):  # an infinite square left out would make NaN: summed again below
+        values = np.einsum("ij,ij->i", squares, chosen)  # sum(where=) took four times as long
+    for k in np.flatnonzero(~np.isfinite(values)):
+        values[k] = squares[k, chosen[k]].sum()
+    return values, chosen, kth, failed
+
+
+def _located(squares: np.ndarray, keep: int, work: np.ndarray) -> np.ndarray:
+    """(K,) for each row a threshold at or above its keep-th smallest square and below the next one unless
+    another square rounds to the same float32 (which `_smallest`'s count then finds), or NaN where this way
+    cannot say.
+
+    Rounding to float32 keeps the order, so the keep-th smallest rounding is the rounding of the keep-th
+    smallest square, and the midpoint between it and the next float32 bounds every square that rounds to it.
+    The partition moves half the bytes: on the 200 starts' (200, 1500) squares it took 1.6 ms against 2.9 ms.
+    """
+    K, n = squares.shape
+    coarse = work.reshape(-1).view(np.float32)[:K * n].reshape(K, n)
+    with np.errstate(all="ignore"):  # squares beyond float32's range round to infinity: such rows are left out
+        np.copyto(coarse, squares, casting="same_kind")
+        coarse.partition(keep - 1, axis=1)
+        rounded = coarse[:, keep - 1]
+        bound = (rounded.astype(float) + np.nextafter(rounded, np.float32(np.inf)).astype(float)) / 2
+        bound[~(np.isfinite(rounded) & (rounded > 0))] = math.nan  # beyond float32's range (or NaN): in float64
+    return bound
+
+
+def _refits(X: np.ndarray, y: np.ndarray, chosen: np.ndarray, thetas: np.ndarray, outer: np.ndarray | None,
+            work: np.ndarray) -> np.ndarray:
+    """(K, p) least-squares estimates on each of the K row sets `chosen` (K, n masks), the previous estimates
+    `thetas` (K, p) their starting points; `work` a (K, n) buffer.
+
+    Small sets together, by their Gram matrices: the masks times `outer` (n, (p + 1)^2, each row's outer
+    product with the torque beside it), in products under OpenBLAS's threading size; one np.linalg.lstsq per
+    set took most of the 200 starts' time. The columns are scaled to about 1 (see `outside_torques`), so
+    squaring their condition costs nothing the concentration steps could notice; a set whose Gram matrix is
+    singular goes through np.linalg.lstsq. Large sets (`outer` None) one by one, as a correction to their
+    previous estimate (see `_corrected`).
+    """
+    K, n = chosen.shape
     p = X.shape[1]
-    if K == 1 or (p + 1) ** 2 * m >= PRODUCT_PIECE:
-        return np.array([np.linalg.lstsq(X[rows], y[rows], rcond=None)[0] for rows in chosen])
-    augmented = np.column_stack([X, y])[chosen]  # (K, m, p + 1)
-    gram = np.matmul(augmented.transpose(0, 2, 1), augmented)
+    if outer is None or K == 1:
+        return np.array([_corrected(X[rows], y[rows], theta) for rows, theta in zip(chosen, thetas)])
+    masks = work
+    np.copyto(masks, chosen)
+    gram = np.zeros((K, outer.shape[1]))
+    piece = max(1, PRODUCT_PIECE // (K * outer.shape[1]))
+    for first in range(0, n, piece):
+        gram += masks[:, first:first + piece] @ outer[first:first + piece]
+    gram = gram.reshape(K, p + 1, p + 1)
     out = np.empty((K, p))
     singular = np.zeros(K, dtype=bool)
     try:
@@ -204,9 +309,40 @@ def _refits(X: np.ndarray, y: np.ndarray, chosen: np.ndarray) -> np.ndarray:
     return out
 
 
-def _squared_residuals(X: np.ndarray, y: np.ndarray, thetas: np.ndarray) -> np.ndarray:
-    """(K, n) squared residuals of each of the K estimates, a row each (contiguous for the partition)."""
-    out = np.empty((len(thetas), len(y)))
+GRAM_CONDITION = 1e10
+"""Above this condition of the Gram matrix a weighted least-squares step goes through np.linalg.lstsq."""
+
+
+def _corrected(X: np.ndarray, y: np.ndarray, theta: np.ndarray, weights: np.ndarray | None = None) -> np.ndarray:
+    """The (weighted) least-squares estimate of y on X, as the correction to `theta` that the normal equations
+    give for its residuals.
+
+    np.linalg.lstsq (an SVD) took 1-5 ms per call on tens of thousands of rows and most of the robust step's
+    time; the normal equations square the columns' condition, but they only solve for the correction, whose
+    own error (condition^2 eps times the correction) the next step corrects again: the iterations converge to
+    what lstsq gives. An ill-conditioned Gram matrix (GRAM_CONDITION) still goes through np.linalg.lstsq.
+    """
+    p = X.shape[1]
+    gram = np.zeros((p, p))
+    score = np.zeros(p)
+    # In pieces below 2^18 multiply-adds, which OpenBLAS runs on one thread (see PRODUCT_PIECE).
+    piece = max(1, PRODUCT_PIECE // (p * (p + 1)))
+    for first in range(0, len(y), piece):
+        rows = X[first:first + piece]
+        block = (rows if weights is None else rows * weights[first:first + piece, None]).T
+        gram += block @ rows
+        score += block @ (y[first:first + piece] - rows @ theta)
+    with np.errstate(all="ignore"):  # np.linalg.cond's checks took as long as the SVD itself
+        singular = np.linalg.svd(gram, compute_uv=False) if np.all(np.isfinite(gram)) else np.zeros(1)
+        condition = singular[0] / singular[-1] if singular[-1] > 0 else math.inf
+    if not condition <= GRAM_CONDITION:
+        root = np.ones(len(y)) if weights is None else np.sqrt(weights)
+        return np.linalg.lstsq(X * root[:, None], y * root, rcond=None)[0]
+    return theta + np.linalg.solve(gram, score)
+
+
+def _squared_residuals(X: np.ndarray, y: np.ndarray, thetas: np.ndarray, out: np.ndarray) -> np.ndarray:
+    """(K, n) squared residuals of each of the K estimates, a row each (contiguous for the partition), in `out`."""
     # Products below 2^18 multiply-adds, which OpenBLAS runs on one thread: waking its threads for each one
     # made the 200 starts' steps three times slower on this busy 2-core machine.
     piece = max(1, PRODUCT_PIECE // max(1, X.size))
@@ -220,9 +356,10 @@ def bisquare(X: np.ndarray, y: np.ndarray, theta: np.ndarray, scale: float) -> n
     """Tukey-bisquare M-estimate from `theta` with the scale fixed (iteratively reweighted least squares)."""
     for _ in range(50):
         u = (y - X @ theta) / (BISQUARE * scale)
-        weights = np.sqrt(np.where(np.abs(u) < 1, (1 - u * u) ** 2, 0.0))
-        new = np.linalg.lstsq(X * weights[:, None], y * weights, rcond=None)[0]
-        if np.allclose(new, theta, rtol=1e-8, atol=1e-12):
+        new = _corrected(X, y, theta, np.where(np.abs(u) < 1, (1 - u * u) ** 2, 0.0))
+        with np.errstate(all="ignore"):  # np.allclose's test, without its overhead (a tenth of an iteration)
+            close = np.all(np.abs(new - theta) <= 1e-12 + 1e-8 * np.abs(theta))
+        if close:
             return new
         theta = new
     return theta
@@ -230,8 +367,7 @@ def bisquare(X: np.ndarray, y: np.ndarray, theta: np.ndarray, scale: float) -> n
 
 def runs(mask: np.ndarray) -> list[tuple[int, int]]:
     """(first, last) indices of each run of True in `mask`."""
-    edges = np.diff(np.concatenate([[0], mask.astype(np.int8), [0]]))
-    return list(zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1))
+    return list(zip(*_run_ends(mask)))
 
 
 def widened(mask: np.ndarray, count: int) -> np.ndarray:
@@ -241,13 +377,28 @@ def widened(mask: np.ndarray, count: int) -> np.ndarray:
     return np.convolve(mask.astype(float), np.ones(2 * count + 1), mode="same") > 0.5
 
 
+DIRECT_LAGS = 100
+"""Up to this many lags the effective count sums them one by one; beyond, by FFT (newey_west_sum)."""
+
+
 def effective_count(residuals: np.ndarray, kept: np.ndarray, lag: int) -> float:
     """How many independent residuals the kept ones are worth (Bartlett-weighted autocorrelation, gaps zeroed)."""
     positions = np.flatnonzero(kept)
     if not len(positions):
         return 0.0
-    _, autocorrelation = newey_west_sum(np.ones((len(positions), 1)), residuals[positions], positions, lag)
-    return len(positions) / autocorrelation
+    if lag > DIRECT_LAGS:
+        _, autocorrelation = newey_west_sum(np.ones((len(positions), 1)), residuals[positions], positions, lag)
+        return len(positions) / autocorrelation
+    grid = np.zeros(positions[-1] - positions[0] + 1)
+    grid[positions - positions[0]] = residuals[positions]
+    c0 = float(np.einsum("i,i->", grid, grid))
+    if not c0 > 0:
+        return float(len(positions))
+    # A dot product per lag (einsum: BLAS's would wake OpenBLAS's threads): newey_west_sum's FFTs of the whole
+    # grid cost ten times more for the few dozen lags a decimated log has.
+    total = c0 + 2 * sum((1 - k / (lag + 1)) * float(np.einsum("i,i->", grid[:-k], grid[k:]))
+                         for k in range(1, min(lag, len(grid) - 1) + 1))
+    return len(positions) / max(total / c0, 1.0)
 
 
 def standstill(speed: np.ndarray, resolution: float, support: int) -> tuple[np.ndarray, np.ndarray, float]:
@@ -295,7 +446,7 @@ def outside_torques(X: np.ndarray, y: np.ndarray, usable: np.ndarray, rest: np.n
         estimate = theta * torque_scale / column_scale
     residuals = y - X @ theta
     scale = mad_scale(residuals[usable])
-    if not scale > 1e-12 * rms(y):  # an exact fit (noise-free data): nothing stands out
+    if not scale > EXACT * rms(y):  # an exact fit (noise-free data): nothing stands out
         return np.zeros(len(y), dtype=bool), math.inf, estimate
     z = np.abs(residuals) / scale
     if coulomb is not None:
@@ -305,26 +456,41 @@ def outside_torques(X: np.ndarray, y: np.ndarray, usable: np.ndarray, rest: np.n
     from statistics import NormalDist  # only log fits get here
 
     level = NormalDist().inv_cdf(1 - FALSE_ALARM / (2 * max(effective_count(residuals, clean, lag), 1.0)))
-    flagged = np.zeros(len(y), dtype=bool)
-    for first, last in runs(z > EXTENT):
-        if z[first:last + 1].max() > level:
-            flagged[first:last + 1] = True
-    stretches = runs(flagged)
-    for (_, end), (start, _) in zip(stretches[:-1], stretches[1:]):
-        if start - end - 1 < 2 * support:
-            flagged[end:start] = True
+    # Each stretch's peak by one reduceat and the stretches marked by differences: a Python loop over the
+    # thousands of stretches above EXTENT took a few ms a call.
+    firsts, lasts = _run_ends(z > EXTENT)
+    peaks = np.maximum.reduceat(np.append(z, 0.0), np.stack([firsts, lasts + 1], axis=1).ravel())[::2]
+    high = peaks > level
+    flagged = _marked(len(y), firsts[high], lasts[high])
+    firsts, lasts = _run_ends(flagged)
+    close = firsts[1:] - lasts[:-1] - 1 < 2 * support
+    flagged |= _marked(len(y), lasts[:-1][close], firsts[1:][close] - 1)
     return widened_inside(flagged, int(round(WIDENING * support))), level, estimate
 
 
 def widened_inside(mask: np.ndarray, count: int) -> np.ndarray:
     """`mask` with every run of True that touches neither end grown by `count` samples on each side (a run at an
     end is the log's edge, not a push: its extent is the smoothing's, already judged by its residuals)."""
-    out = mask.copy()
-    last = len(mask) - 1
-    for first, final in runs(mask):
-        if first > 0 and final < last:
-            out[max(0, first - count): final + count + 1] = True
-    return out
+    firsts, lasts = _run_ends(mask)
+    inside = (firsts > 0) & (lasts < len(mask) - 1)
+    if count <= 0 or not inside.any():
+        return mask.copy()
+    grown = _marked(len(mask), np.maximum(firsts[inside] - count, 0), np.minimum(lasts[inside] + count, len(mask) - 1))
+    return mask | grown
+
+
+def _run_ends(mask: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(first indices, last indices) of the runs of True in `mask`, as arrays (see `runs`)."""
+    edges = np.diff(np.concatenate([[0], mask.astype(np.int8), [0]]))
+    return np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
+
+
+def _marked(n: int, firsts: np.ndarray, lasts: np.ndarray) -> np.ndarray:
+    """(n,) True from each of `firsts` to the matching one of `lasts` (inclusive; the spans apart)."""
+    steps = np.zeros(n + 1, dtype=np.int64)
+    np.add.at(steps, firsts, 1)
+    np.add.at(steps, lasts + 1, -1)
+    return np.cumsum(steps[:n]) > 0
 
 
 def intervals(mask: np.ndarray, t: np.ndarray) -> tuple[tuple[float, float], ...]:

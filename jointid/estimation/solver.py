@@ -259,15 +259,15 @@ def block_rows_for(columns: int, values: int = BLOCK_VALUES) -> int:
     return max(columns + 1, values // max(columns, 1))
 
 
-def triangle_of(X: np.ndarray, y: np.ndarray) -> np.ndarray:
+def triangle_of(X: np.ndarray, y: np.ndarray, direct_rows: int = DIRECT_ROWS) -> np.ndarray:
     """(n, p + 1) upper triangle T of [X | y] (N, p) and (N,), n = min(N, p + 1): for every theta,
     ||y - X theta|| = ||T[:, p] - T[:, :p] theta||, so any subset of X's columns can be fitted from T alone.
 
-    One blocked pass above DIRECT_ROWS rows (as `solve_least_squares` reduces X), LAPACK's QR below.
+    One blocked pass above `direct_rows` rows (as `solve_least_squares` reduces X), LAPACK's QR below.
     """
     X, y = np.asarray(X, dtype=float), np.asarray(y, dtype=float)
     rows, columns = X.shape
-    if rows <= DIRECT_ROWS:
+    if rows <= direct_rows:
         return np.linalg.qr(np.column_stack([X, y]), mode="r")
     r_factor, qty, residual = _reduce_by_blocks(X, y, block_rows_for(columns))
     triangle = np.zeros((min(rows, columns + 1), columns + 1))
