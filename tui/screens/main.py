@@ -594,19 +594,20 @@ class MainScreen(Screen):
         from .open_log import OpenLogScreen
 
         folder = os.path.dirname(os.path.abspath(self.logs.training.path)) if self.logs else None
-        self.app.push_screen(OpenLogScreen(folder, heldout_allowed=self.logs is not None and self.runs is None,
+        self.app.push_screen(OpenLogScreen(folder, on_request=self.start_loading,
+                                           heldout_allowed=self.logs is not None and self.runs is None,
                                            run_allowed=self.logs is not None,
                                            derivatives=self.app.derivatives, filtering=self.app.filtering,
-                                           conventions=self.app.conventions),
-                             self.start_loading)
+                                           conventions=self.app.conventions))
 
-    def start_loading(self, request: LoadRequest | None) -> None:
-        """Load a chosen file in a worker behind a progress dialog."""
+    def start_loading(self, request: LoadRequest | None, chooser: Screen | None = None) -> None:
+        """Load a chosen file in a worker behind a progress dialog; the dialog it was chosen in (`chooser`)
+        closes once it is shown, and stays, with its path, when it cannot be."""
         if request is None:
             return
         from .loading import LoadingScreen
 
-        dialog = LoadingScreen(request.path)
+        dialog = LoadingScreen(request.path, chooser)
         self.app.push_screen(dialog)
         self.load_worker(request, self.logs if self.runs is None else self.runs, dialog)
 
@@ -650,10 +651,12 @@ class MainScreen(Screen):
         """Close the progress dialog and show the new logs (or the run added), or say why the current data stay."""
         if dialog.is_attached:
             dialog.dismiss()
-        if logs is None:
+        if logs is None:  # the Open dialog, if the file was chosen there, shows again with its path
             cancelled = dialog.cancelled.is_set()
             self.notify(problem, title="Log not loaded", severity="warning" if cancelled else "error")
             return
+        if dialog.chooser is not None and dialog.chooser.is_attached:
+            dialog.chooser.dismiss()
         if hasattr(logs, "runs"):
             self.set_runs(logs, len(logs.runs) - 1)
             self.notify(f"{logs.runs[-1].training.source_text()}; u: every run and the pooled fit",
