@@ -154,7 +154,7 @@ class MainScreen(Screen):
                 tooltip="Keys, controls, model and things to try"),
         Binding("q", "quit", "Quit", priority=True, tooltip="Leave the explorer"),
         # The analysis views; s and m are not number characters, so they work in a number
-        # field too, while e stays typeable there (1e-2), like the motion keys' digits.
+        # field too; e reaches the field only after typing there (1e-2), so it opens the view otherwise.
         Binding("s", "sweep", "Sweep", priority=True, group=VIEWS_GROUP,
                 tooltip="Seed sweep: this experiment under many noise seeds"),
         Binding("m", "matrix", "Matrix", priority=True, group=VIEWS_GROUP,
