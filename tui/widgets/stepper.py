@@ -11,6 +11,7 @@ from textual.widgets import Input
 
 from jointid.options import SettingsError, parse_setting
 
+from ..notices import ROUTINE_SECONDS
 from ..third_party.adapter import RepaintOnValue
 
 NUMBER_CHARACTERS = frozenset("0123456789.+-eE")
@@ -217,7 +218,7 @@ class Stepper(RepaintOnValue, Input):
             return self.steps.parse(self.value)
         except SettingsError as error:
             self.notify(f"{error}. Kept {self.steps.format(self.number)}.", title="Value refused",
-                        severity="error")
+                        severity="error", timeout=ROUTINE_SECONDS)
             self.show_value(self.number)
             return None
 
