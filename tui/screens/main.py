@@ -148,8 +148,11 @@ class MainScreen(Screen):
         ),
         Binding("4", f"motion('{DESIGNED}')", "Designed", group=MOTION_GROUP,
                 tooltip="Train on the designed motion (after d, t)"),
+        # Before there is a designed motion, 4 says how to make one rather than doing nothing.
+        Binding("4", "explain_design", show=False),
         # Priority, and not claimed by number fields, so these work while one has focus.
-        Binding("r", "reset", "Reset", priority=True, tooltip="Restore the four default settings"),
+        Binding("r", "reset", "Reset", priority=True,
+                tooltip="Back to the lesson: rich motion, noise 0, 24 samples, seed 7, its joint and plain fit"),
         Binding("question_mark", "help", "Help", key_display="?", priority=True,
                 tooltip="Keys, controls, model and things to try"),
         Binding("q", "quit", "Quit", priority=True, tooltip="Leave the explorer"),
@@ -470,9 +473,20 @@ class MainScreen(Screen):
                     "as a motion file.", title="Designed motion")
 
     def action_reset(self) -> None:
-        """Restore the four controls' defaults; the model, the constraint and the physics stay (p sets them)."""
-        defaults = {field: getattr(DEFAULT_SETTINGS, field) for field in ("motion", "noise", "samples", "seed")}
-        self.set_settings(replace(self.settings, **defaults))
+        """Back to the lesson's experiment, as the tour's first stop: the four controls, and the lesson's joint
+        (no missing physics), the plain model and an unconstrained fit, saying so when those were changed."""
+        settings = self.settings
+        undone = [what for what, changed in (
+            ("no missing physics", settings.true_joint.has_missing_physics),
+            ("the plain model", settings.model != DEFAULT_SETTINGS.model),
+            ("an unconstrained fit", settings.constrained != DEFAULT_SETTINGS.constrained)) if changed]
+        self.set_settings(DEFAULT_SETTINGS)
+        if undone:
+            self.notify(f"Back to the lesson's joint and fit: {', '.join(undone)} (p changes them).", title="Reset")
+
+    def action_explain_design(self) -> None:
+        """4 before a design exists: say how to make one."""
+        self.action_motion(DESIGNED)
 
     def action_physics(self) -> None:
         """Open the physics dialog: the true joint's missing physics, the fitted model, the constraint."""
@@ -556,6 +570,8 @@ class MainScreen(Screen):
             return True if self.logs is None else None
         if action == "explain_synthetic":
             return self.logs is not None
+        if action == "explain_design":
+            return self.designed is None
         return super().check_action(action, parameters)
 
     def action_explain_synthetic(self, view: str) -> None:

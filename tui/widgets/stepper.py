@@ -32,6 +32,7 @@ class StepRange:
         big_step: Change per Shift+Left/Right press.
         decimals: Decimals shown; 0 means a whole number.
         unit: Unit appended in messages ("" for none).
+        label: The setting's name in messages (default: `field`, which is the core's internal name).
     """
 
     field: str
@@ -41,6 +42,7 @@ class StepRange:
     big_step: float
     decimals: int = 0
     unit: str = ""
+    label: str = ""
 
     def clamp(self, value: float) -> float:
         """Value limited to [low, high], rounded to kill float drift from repeated steps."""
@@ -72,7 +74,8 @@ class StepRange:
         # One message for every refusal, naming this control's range rather than the core's
         # wider one, which the explorer cannot show.
         kind = "a number" if self.decimals else "a whole number"
-        raise SettingsError(self.field, f"{self.field} must be {kind} {self.describe()}; got {text.strip()!r}")
+        raise SettingsError(self.field, f"{self.label or self.field} must be {kind} {self.describe()}; "
+                                        f"got {text.strip()!r}")
 
 
 class Stepper(RepaintOnValue, Input):
