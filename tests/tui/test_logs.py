@@ -267,7 +267,8 @@ async def test_export_writes_the_command_lines_json_and_an_svg_and_never_overwri
     assert sorted(p.name for p in folder.iterdir()) == [
         "train-fit-2.json", "train-fit-2.svg", "train-fit-3.json", "train-fit-3.svg", "train-fit.json"]
     messages = [n.message for n in app._notifications]
-    assert f"Wrote {folder / 'train-fit-2.json'} and {folder / 'train-fit-2.svg'}" in messages
+    # The second export's note replaced the first's (one notification per kind).
+    assert f"Wrote {folder / 'train-fit-3.json'} and {folder / 'train-fit-3.svg'}" in messages
     assert f"{tmp_path / 'missing'}: no such folder" in messages
 
 
