@@ -16,6 +16,7 @@ from textual.screen import Screen
 from jointid.options import DEFAULT_ORDER, DEFAULT_WINDOW
 from jointid.synthetic.settings import DEFAULT_SETTINGS, Settings
 
+from .notices import NEWS_SECONDS, ROUTINE_SECONDS
 from .palette import TourCommands
 from .screens.main import MainScreen
 from .third_party import adapter as third_party
@@ -81,6 +82,18 @@ class JointIdApp(App):
         self.derivatives = derivatives
         self.filtering = filtering
         self.conventions = conventions
+
+    def notify(self, message: str, *, title: str = "", severity="information", timeout: float | None = None,
+               markup: bool = True) -> None:
+        """Textual's `App.notify`, with a warning's default timeout short (tui/notices.py)."""
+        if timeout is None:
+            timeout = ROUTINE_SECONDS if severity == "warning" else NEWS_SECONDS
+        super().notify(message, title=title, severity=severity, timeout=timeout, markup=markup)
+
+    def on_notify(self, event) -> None:
+        """Take down the notifications of the new one's title before Textual shows it: one box per kind, so three
+        refused values are one box, not three stacked over the charts."""
+        third_party.forget_notifications(self, event.notification.title)
 
     def run(self, *, headless: bool = False, **kwargs):
         """Textual's `App.run`; in a terminal's place, refused with NoTerminal before anything is drawn."""

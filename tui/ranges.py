@@ -36,9 +36,11 @@ def check_explorer_settings(settings: Settings) -> None:
             )
 
 PHYSICS_RANGES = (
-    StepRange("true_coulomb", *COULOMB_LIMITS, 0.05, 0.5, decimals=2, unit="N m"),
-    StepRange("true_bias", *BIAS_LIMITS, 0.05, 0.5, decimals=2, unit="N m"),
-    StepRange("true_angle_offset", *ANGLE_OFFSET_LIMITS, 0.01, 0.05, decimals=2, unit="rad"),
+    # Labelled as the dialog and `jointid fit --true-coulomb FC` name them: a message never shows true_coulomb.
+    StepRange("true_coulomb", *COULOMB_LIMITS, 0.05, 0.5, decimals=2, unit="N m", label="Coulomb friction FC"),
+    StepRange("true_bias", *BIAS_LIMITS, 0.05, 0.5, decimals=2, unit="N m", label="sensor bias TAU0"),
+    StepRange("true_angle_offset", *ANGLE_OFFSET_LIMITS, 0.01, 0.05, decimals=2, unit="rad",
+              label="encoder offset Q0"),
 )
 """The physics dialog's fields: the synthetic joint's Coulomb friction, sensor bias and encoder offset."""
 

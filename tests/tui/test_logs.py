@@ -145,7 +145,9 @@ async def test_views_of_synthetic_settings_say_they_need_one(logs):
         await pilot.press("s")
         await pilot.press("m")
         assert isinstance(app.screen, MainScreen)
-        assert sum("needs a synthetic experiment" in n.message for n in app._notifications) == 2
+        # One box for the kind: the matrix's note replaced the sweep's.
+        assert [n.message for n in app._notifications if "needs a synthetic" in n.message] == [
+            "The cross-excitation matrix needs a synthetic experiment: press 1, 2, 3 or c to leave the log."]
         await pilot.press("e")  # the residuals of the log's fit
         assert str(app.screen.query_one("#residual-title").render()) == "Residuals: log train.csv"
 
@@ -265,7 +267,8 @@ async def test_export_writes_the_command_lines_json_and_an_svg_and_never_overwri
     assert sorted(p.name for p in folder.iterdir()) == [
         "train-fit-2.json", "train-fit-2.svg", "train-fit-3.json", "train-fit-3.svg", "train-fit.json"]
     messages = [n.message for n in app._notifications]
-    assert f"Wrote {folder / 'train-fit-2.json'} and {folder / 'train-fit-2.svg'}" in messages
+    # The second export's note replaced the first's (one notification per kind).
+    assert f"Wrote {folder / 'train-fit-3.json'} and {folder / 'train-fit-3.svg'}" in messages
     assert f"{tmp_path / 'missing'}: no such folder" in messages
 
 

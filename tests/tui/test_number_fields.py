@@ -4,10 +4,14 @@ from __future__ import annotations
 
 from dataclasses import replace
 
+from support.bursts import send_burst, with_app
 from support.tui_support import run_app
 
 from jointid.synthetic.settings import DEFAULT_SETTINGS
+from tui.screens.matrix import MatrixScreen
+from tui.screens.residuals import ResidualScreen
 from tui.screens.sweep import SweepScreen
+from tui.widgets.footer import KeyFooter
 from tui.widgets.stepper import Stepper
 
 
@@ -148,3 +152,36 @@ def test_c_typed_quickly_after_other_letters_is_typed_too():
         return screen.query_one(Stepper).value, str(screen.query_one("#sweep-state").render())
 
     assert run(scenario) == ("abc", "done: 1000 seeds")
+
+
+@with_app
+async def test_e_opens_the_residuals_from_a_number_field_that_a_view_left_focused(pilot, app, watch):
+    """After m and Escape the focus was back in the noise field and e typed 'e' there ('e23'); e cannot start a
+    number, so with nothing typed it is the view's key wherever the focus is (issue 24, item 6)."""
+    screen = app.screen
+    noise = screen.query_one("#noise", Stepper)
+    noise.focus()
+    send_burst(app, "m")
+    await watch.until(app, lambda: isinstance(app.screen, MatrixScreen), "the matrix view")
+    send_burst(app, "escape")
+    await watch.until(app, lambda: app.screen is screen, "the main screen")
+    assert screen.focused is noise
+    send_burst(app, "e")
+    await watch.until(app, lambda: isinstance(app.screen, ResidualScreen), "the residual view")
+    assert noise.value == "0.00"
+    send_burst(app, "escape")
+    await watch.until(app, lambda: app.screen is screen, "the main screen")
+    send_burst(app, "1", "e", "-", "2", "enter")  # within a number e is its exponent
+    await watch.until(app, lambda: app.screen is screen and screen.settings.noise == 0.01, "1e-2 typed as the noise")
+    assert noise.value == "0.01"
+
+
+@with_app
+async def test_the_footer_keeps_e_while_a_number_field_only_shows_its_value(pilot, app, watch):
+    screen = app.screen
+    footer = screen.query_one(KeyFooter)
+    screen.query_one("#noise", Stepper).focus()
+    await watch.until(app, lambda: "Motion" not in footer.text, "the footer of a focused number field (digits type)")
+    assert "e Residuals" in footer.text
+    send_burst(app, "3")
+    await watch.until(app, lambda: "Residuals" not in footer.text, "e to leave the footer while a number is typed")

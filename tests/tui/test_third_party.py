@@ -120,6 +120,7 @@ def test_status_lines_name_the_installed_versions():
         "plotext 5.3.2, textual-plotext 1.0.1: direct chart strips active",
         "textual 8.2.8: repaint-only number fields active",
         "textual 8.2.8: modal screens safe from key bursts",
+        "textual 8.2.8: one notification per title",
     ]
     for name, version in third_party.PINNED.items():
         assert metadata.version(name) == version  # the pins match pyproject.toml's

@@ -41,8 +41,6 @@ from ..widgets.stepper import Stepper, StepRange
 class LimitRange(StepRange):
     """A limit field's range; limits are not experiment settings, so the range parses its own text."""
 
-    label: str = ""
-
     def parse(self, text: str) -> float:
         """Typed text as a limit in range, or raise SettingsError (one line)."""
         text = text.strip()

@@ -35,16 +35,19 @@ class LoadingScreen(ModalScreen[None]):
 
     BINDINGS = [Binding("escape", "cancel", "Cancel loading", tooltip="Stop reading the log; keep the current data")]
 
-    def __init__(self, path: str) -> None:
+    def __init__(self, path: str, chooser: ModalScreen | None = None) -> None:
         """Create the dialog.
 
         Args:
             path: The file being read.
+            chooser: The dialog the file was chosen in (Ctrl+O's), closed once the log is shown.
         """
         super().__init__()
         self.path = path
         self.cancelled = threading.Event()
         """Set by Escape; the loader checks it between chunks."""
+        self.chooser = chooser
+        """The dialog the file was chosen in, closed once the log is shown; it stays when the file cannot be."""
 
     def compose(self) -> ComposeResult:
         """File name, progress bar, hint."""

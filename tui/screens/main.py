@@ -148,13 +148,16 @@ class MainScreen(Screen):
         ),
         Binding("4", f"motion('{DESIGNED}')", "Designed", group=MOTION_GROUP,
                 tooltip="Train on the designed motion (after d, t)"),
+        # Before there is a designed motion, 4 says how to make one rather than doing nothing.
+        Binding("4", "explain_design", show=False),
         # Priority, and not claimed by number fields, so these work while one has focus.
-        Binding("r", "reset", "Reset", priority=True, tooltip="Restore the four default settings"),
+        Binding("r", "reset", "Reset", priority=True,
+                tooltip="Back to the lesson: rich motion, noise 0, 24 samples, seed 7, its joint and plain fit"),
         Binding("question_mark", "help", "Help", key_display="?", priority=True,
                 tooltip="Keys, controls, model and things to try"),
         Binding("q", "quit", "Quit", priority=True, tooltip="Leave the explorer"),
         # The analysis views; s and m are not number characters, so they work in a number
-        # field too, while e stays typeable there (1e-2), like the motion keys' digits.
+        # field too; e reaches the field only after typing there (1e-2), so it opens the view otherwise.
         Binding("s", "sweep", "Sweep", priority=True, group=VIEWS_GROUP,
                 tooltip="Seed sweep: this experiment under many noise seeds"),
         Binding("m", "matrix", "Matrix", priority=True, group=VIEWS_GROUP,
@@ -470,9 +473,20 @@ class MainScreen(Screen):
                     "as a motion file.", title="Designed motion")
 
     def action_reset(self) -> None:
-        """Restore the four controls' defaults; the model, the constraint and the physics stay (p sets them)."""
-        defaults = {field: getattr(DEFAULT_SETTINGS, field) for field in ("motion", "noise", "samples", "seed")}
-        self.set_settings(replace(self.settings, **defaults))
+        """Back to the lesson's experiment, as the tour's first stop: the four controls, and the lesson's joint
+        (no missing physics), the plain model and an unconstrained fit, saying so when those were changed."""
+        settings = self.settings
+        undone = [what for what, changed in (
+            ("no missing physics", settings.true_joint.has_missing_physics),
+            ("the plain model", settings.model != DEFAULT_SETTINGS.model),
+            ("an unconstrained fit", settings.constrained != DEFAULT_SETTINGS.constrained)) if changed]
+        self.set_settings(DEFAULT_SETTINGS)
+        if undone:
+            self.notify(f"Back to the lesson's joint and fit: {', '.join(undone)} (p changes them).", title="Reset")
+
+    def action_explain_design(self) -> None:
+        """4 before a design exists: say how to make one."""
+        self.action_motion(DESIGNED)
 
     def action_physics(self) -> None:
         """Open the physics dialog: the true joint's missing physics, the fitted model, the constraint."""
@@ -556,6 +570,8 @@ class MainScreen(Screen):
             return True if self.logs is None else None
         if action == "explain_synthetic":
             return self.logs is not None
+        if action == "explain_design":
+            return self.designed is None
         return super().check_action(action, parameters)
 
     def action_explain_synthetic(self, view: str) -> None:
@@ -594,19 +610,20 @@ class MainScreen(Screen):
         from .open_log import OpenLogScreen
 
         folder = os.path.dirname(os.path.abspath(self.logs.training.path)) if self.logs else None
-        self.app.push_screen(OpenLogScreen(folder, heldout_allowed=self.logs is not None and self.runs is None,
+        self.app.push_screen(OpenLogScreen(folder, on_request=self.start_loading,
+                                           heldout_allowed=self.logs is not None and self.runs is None,
                                            run_allowed=self.logs is not None,
                                            derivatives=self.app.derivatives, filtering=self.app.filtering,
-                                           conventions=self.app.conventions),
-                             self.start_loading)
+                                           conventions=self.app.conventions))
 
-    def start_loading(self, request: LoadRequest | None) -> None:
-        """Load a chosen file in a worker behind a progress dialog."""
+    def start_loading(self, request: LoadRequest | None, chooser: Screen | None = None) -> None:
+        """Load a chosen file in a worker behind a progress dialog; the dialog it was chosen in (`chooser`)
+        closes once it is shown, and stays, with its path, when it cannot be."""
         if request is None:
             return
         from .loading import LoadingScreen
 
-        dialog = LoadingScreen(request.path)
+        dialog = LoadingScreen(request.path, chooser)
         self.app.push_screen(dialog)
         self.load_worker(request, self.logs if self.runs is None else self.runs, dialog)
 
@@ -650,10 +667,12 @@ class MainScreen(Screen):
         """Close the progress dialog and show the new logs (or the run added), or say why the current data stay."""
         if dialog.is_attached:
             dialog.dismiss()
-        if logs is None:
+        if logs is None:  # the Open dialog, if the file was chosen there, shows again with its path
             cancelled = dialog.cancelled.is_set()
             self.notify(problem, title="Log not loaded", severity="warning" if cancelled else "error")
             return
+        if dialog.chooser is not None and dialog.chooser.is_attached:
+            dialog.chooser.dismiss()
         if hasattr(logs, "runs"):
             self.set_runs(logs, len(logs.runs) - 1)
             self.notify(f"{logs.runs[-1].training.source_text()}; u: every run and the pooled fit",

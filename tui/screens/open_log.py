@@ -1,13 +1,17 @@
 """The Ctrl+O dialog: a path field, a folder tree, the log's role and its angle unit, all by keyboard.
 
 A ROS bag (a ROS 2 bag folder, or a .bag, .mcap or .db3 file) opens the joint
-picker next; the request then names the joint and topic.
+picker next; the request then names the joint and topic. The dialog stays open
+while the chosen file loads (the progress dialog covers it): the explorer closes
+it once the log is shown, and a file that cannot be used leaves it as it was,
+path and options included, to correct or cancel.
 """
 
 from __future__ import annotations
 
 import os
 from pathlib import Path
+from typing import Callable, Iterable
 
 from textual.app import ComposeResult
 from textual.binding import Binding
@@ -24,7 +28,16 @@ from ..widgets.footer import KeyFooter
 from ..widgets.marks import ClearCheckbox, ClearRadioButton
 
 
-class OpenLogScreen(ModalScreen[LoadRequest | None]):
+class LogTree(DirectoryTree):
+    """The folder tree without hidden entries (`.git`, `.venv`), as file pickers show it; a hidden folder typed
+    into the path field is still shown, with its contents."""
+
+    def filter_paths(self, paths: Iterable[Path]) -> Iterable[Path]:
+        """Leave out names starting with a dot."""
+        return [path for path in paths if not path.name.startswith(".")]
+
+
+class OpenLogScreen(ModalScreen[None]):
     """Choose a CSV log or a ROS bag: type a path and press Enter, or pick a file in the tree."""
 
     DEFAULT_CSS = """
@@ -68,7 +81,9 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
 
     BINDINGS = [Binding("escape", "cancel", "Cancel", tooltip="Close without loading")]
 
-    def __init__(self, folder: str | os.PathLike | None = None, *, heldout_allowed: bool = False,
+    def __init__(self, folder: str | os.PathLike | None = None, *,
+                 on_request: Callable[[LoadRequest, OpenLogScreen], None] | None = None,
+                 heldout_allowed: bool = False,
                  run_allowed: bool = False,
                  derivatives: tuple[int | None, int] = (DEFAULT_WINDOW, DEFAULT_ORDER),
                  filtering: FilterRequest | None = None, conventions: LogConventions | None = None) -> None:
@@ -76,6 +91,9 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
 
         Args:
             folder: Folder the tree starts in (default: the current directory).
+            on_request: Called with the load request and this dialog when a file is chosen; the owner loads it
+                and dismisses the dialog once it is shown (the dialog stays open if the file cannot be used).
+                None dismisses the dialog with the request instead.
             heldout_allowed: True when a training log is loaded, so a held-out log can be chosen.
             run_allowed: True when a training log (or several runs) is loaded, so another run can be added.
             derivatives: Savitzky-Golay window and order for a log without qd or qdd
@@ -86,6 +104,7 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
         """
         super().__init__()
         self.folder = Path(folder or os.getcwd())
+        self.on_request = on_request
         self.heldout_allowed = heldout_allowed
         self.run_allowed = run_allowed
         self.derivatives = derivatives
@@ -115,7 +134,7 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
                    else " With several runs each is predicted by the others: no held-out log."),
                 classes="dialog--hint", markup=False,
             )
-            yield DirectoryTree(self.folder, id="open-tree")
+            yield LogTree(self.folder, id="open-tree")
         yield KeyFooter()  # the dialog's keys, over the explorer's
 
     def on_mount(self) -> None:
@@ -135,6 +154,13 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
                            joint=joint, topic=topic, filtering=self.filtering,
                            **self.conventions.request_fields(bag=joint is not None))
 
+    def submit(self, request: LoadRequest) -> None:
+        """Hand a request to the owner, which closes this dialog once the log is shown."""
+        if self.on_request is None:
+            self.dismiss(request)
+        else:
+            self.on_request(request, self)
+
     def choose(self, path: str) -> None:
         """Load a CSV log now; for a bag, pick its joint first (the dialog stays open behind the picker)."""
         from jointid.logs.bag import looks_like_bag
@@ -142,13 +168,13 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
         if os.path.basename(path) == "metadata.yaml":  # chosen inside a ROS 2 bag folder: the folder is the bag
             path = os.path.dirname(path)
         if not looks_like_bag(path):
-            self.dismiss(self.request(path))
+            self.submit(self.request(path))
             return
         from .bag_joint import BagJointScreen
 
         def picked(choice: tuple[str, str] | None) -> None:
             if choice is not None:
-                self.dismiss(self.request(path, *choice))
+                self.submit(self.request(path, *choice))
 
         self.app.push_screen(BagJointScreen(path), picked)
 
@@ -168,7 +194,11 @@ class OpenLogScreen(ModalScreen[LoadRequest | None]):
         self.choose(path)
 
     def on_directory_tree_file_selected(self, message: DirectoryTree.FileSelected) -> None:
-        """A file chosen in the tree is loaded (a bag's after its joint is picked)."""
+        """A file chosen in the tree is loaded (a bag's after its joint is picked); the path field shows it, so a
+        file that cannot be used is named there to correct."""
+        field = self.query_one("#open-path", Input)
+        field.value = str(message.path)
+        field.cursor_position = len(field.value)
         self.choose(str(message.path))
 
     def action_cancel(self) -> None:

@@ -36,6 +36,8 @@ NUMBER_FIELDS = "number-fields"
 """Adapter: a number field's new value repaints the field instead of relayouting the screen."""
 MODAL_BURSTS = "modal-bursts"
 """Adapter: a modal screen ignores what its widgets report after it closed or was covered (see `BurstGuard`)."""
+NOTICE_KINDS = "notice-kinds"
+"""Adapter: a new notification takes down the shown ones of its title (`forget_notifications`)."""
 
 
 @dataclass(frozen=True)
@@ -63,6 +65,8 @@ ADAPTERS = (
             "stock number fields (a new value relayouts the screen)"),
     Adapter(MODAL_BURSTS, ("textual",), "modal screens safe from key bursts",
             "stock modal screens (Enter Enter can close one twice and end the app)"),
+    Adapter(NOTICE_KINDS, ("textual",), "one notification per title",
+            "stock notifications (those of one title stack)"),
 )
 """Every adapter, in status order."""
 
@@ -156,7 +160,8 @@ def uninstall() -> None:
 
 
 def active(key: str) -> bool:
-    """Whether an adapter (`PLOTEXT_HELPERS`, `CHART_MATRIX`, `NUMBER_FIELDS`, `MODAL_BURSTS`) is in use."""
+    """Whether an adapter (`PLOTEXT_HELPERS`, `CHART_MATRIX`, `NUMBER_FIELDS`, `MODAL_BURSTS`, `NOTICE_KINDS`) is
+    in use."""
     return _in_use is not None and _in_use[key]
 
 
@@ -346,6 +351,18 @@ class BurstGuard:
             screen.app.call_later(BurstGuard._dismiss, screen, result)
             return AwaitComplete.nothing()
         return BurstGuard._stock["dismiss"](screen, result)
+
+
+def forget_notifications(app, title: str) -> None:
+    """Remove the app's notifications with this title without redrawing them (the new one's arrival redraws).
+
+    Textual keeps notifications in a private collection and removes one by a private method; with another
+    release nothing is removed and notifications stack as stock Textual's do.
+    """
+    if not active(NOTICE_KINDS):
+        return
+    for notification in [n for n in app._notifications if n.title == title]:
+        app._unnotify(notification, refresh=False)
 
 
 def _require_pinned_textual(what: str) -> None:

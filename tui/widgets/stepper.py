@@ -11,10 +11,13 @@ from textual.widgets import Input
 
 from jointid.options import SettingsError, parse_setting
 
+from ..notices import ROUTINE_SECONDS
 from ..third_party.adapter import RepaintOnValue
 
 NUMBER_CHARACTERS = frozenset("0123456789.+-eE")
 """Characters a typed number may contain; other keys fall through to the screen's bindings."""
+EXPONENT_CHARACTERS = frozenset("eE")
+"""Letters a number may contain but not start with: typed only after other typing (1e-2), else the screen's keys."""
 
 
 @dataclass(frozen=True)
@@ -29,6 +32,7 @@ class StepRange:
         big_step: Change per Shift+Left/Right press.
         decimals: Decimals shown; 0 means a whole number.
         unit: Unit appended in messages ("" for none).
+        label: The setting's name in messages (default: `field`, which is the core's internal name).
     """
 
     field: str
@@ -38,6 +42,7 @@ class StepRange:
     big_step: float
     decimals: int = 0
     unit: str = ""
+    label: str = ""
 
     def clamp(self, value: float) -> float:
         """Value limited to [low, high], rounded to kill float drift from repeated steps."""
@@ -69,7 +74,8 @@ class StepRange:
         # One message for every refusal, naming this control's range rather than the core's
         # wider one, which the explorer cannot show.
         kind = "a number" if self.decimals else "a whole number"
-        raise SettingsError(self.field, f"{self.field} must be {kind} {self.describe()}; got {text.strip()!r}")
+        raise SettingsError(self.field, f"{self.label or self.field} must be {kind} {self.describe()}; "
+                                        f"got {text.strip()!r}")
 
 
 class Stepper(RepaintOnValue, Input):
@@ -80,7 +86,8 @@ class Stepper(RepaintOnValue, Input):
     typed text step from the typed value, or refuse it as Enter would. After
     Enter, a step or Escape the whole text is selected, so the next digit
     starts a new value instead of appending to the old one. With nothing typed,
-    Escape is not the field's: it reaches the screen (a dialog closes). A new value is
+    Escape is not the field's: it reaches the screen (a dialog closes), and neither is a letter that
+    cannot start a number (e), so a view's key works wherever the focus was left. A new value is
     handed to the owner's `on_commit` callback (the explorer's one convention for
     widgets reporting up: see tui/widgets/direct_controls.py for the measured reason);
     the owner, holding the one copy of the state, shows it with `show_value`.
@@ -124,17 +131,22 @@ class Stepper(RepaintOnValue, Input):
         self._was_editing = False
         super().__init__(value=self._shown, id=id, compact=True)
 
+    def letter_passes(self, character: str | None) -> bool:
+        """Whether a letter goes on to the screen's keys: one that cannot start a number (e) or a command key,
+        while nothing is typed here (the field merely shows its value, however it got the focus)."""
+        return character is not None and character in (self.command_keys | EXPONENT_CHARACTERS) and not self.editing
+
     def check_consume_key(self, key: str, character: str | None) -> bool:
-        """Claim characters a number can contain (r, ? and q stay global), command keys only while typing."""
-        if character in self.command_keys:
-            return self.editing
-        return character is not None and character in NUMBER_CHARACTERS
+        """Claim characters a number can contain (r, ? and q stay global); e and command keys only while typing."""
+        if self.letter_passes(character):
+            return False
+        return character is not None and (character in NUMBER_CHARACTERS or character in self.command_keys)
 
     def _on_key(self, event: Key) -> None:
         # Decided here, in order with the keys typed before it: a priority binding on the
         # screen is decided when the key arrives, before this field has taken those keys.
         # Textual runs this before Input's own key handler, as a subclass's handler.
-        if event.character in self.command_keys and not self.editing:
+        if self.letter_passes(event.character):
             event.prevent_default()  # Input would type it; not stopped, it reaches the owner's binding
 
     @property
@@ -209,7 +221,7 @@ class Stepper(RepaintOnValue, Input):
             return self.steps.parse(self.value)
         except SettingsError as error:
             self.notify(f"{error}. Kept {self.steps.format(self.number)}.", title="Value refused",
-                        severity="error")
+                        severity="error", timeout=ROUTINE_SECONDS)
             self.show_value(self.number)
             return None
 
