@@ -222,7 +222,7 @@ def test_a_storm_of_10000_keys_through_every_view(tmp_path, monkeypatch, seed):
     monkeypatch.chdir(tmp_path)
     report = asyncio.run(storm(seed=seed, key_count=10_000, resize_chance=0.1, check_every=500))
     print(f"seed {seed}: {report.keys} keys, {report.resizes} resizes, views {sorted(report.views)}")
-    assert report.keys >= 10_000 and report.resizes >= 250
+    assert report.keys >= 10_000 and report.resizes >= 200  # a tenth of the bursts; macros make bursts longer
     assert EVERY_VIEW <= report.views
     assert list(tmp_path.iterdir()) == []
 
