@@ -136,9 +136,44 @@ def simulation_cell(check) -> str:
 
 
 def simulation_table(comparison: Comparison, checks: dict, horizon: float) -> str:
-    """Each model's simulation error (rad) beside its held-out torque error; models not yet simulated read '…'."""
+    """Each model's simulation error (rad) beside its held-out torque error; models not yet simulated read '…';
+    then a sentence for each model whose simulation looks better than its torque does (simulation_sentences)."""
     header = ["model", "held RMSE (N m)", f"simulation error, H = {horizon:g} s (rad)"]
     rows = [[row.model.name, "-" if row.heldout_rmse is None else format_number(row.heldout_rmse),
              simulation_cell(checks[row.model.name]) if row.model.name in checks else "…"]
             for row in comparison.rows]
-    return text_table(header, rows)
+    sentences = simulation_sentences(comparison, checks, horizon)
+    return text_table(header, rows) + ("\n\n" + " ".join(sentences) if sentences else "")
+
+
+CONTRADICTION = 10.0
+"""A model whose held-out torque error is this many times the best one's yet simulates closer gets a sentence."""
+
+
+def simulation_sentences(comparison: Comparison, checks: dict, horizon: float) -> tuple[str, ...]:
+    """Why a model can simulate closer than the best torque predictor while predicting torque far worse: its fitted
+    inertia is larger, so in each window the simulated joint moves less and stays near the true state it restarts
+    from; a small simulation error of a sluggish model is not accuracy."""
+    rows = [row for row in comparison.rows if row.heldout_rmse is not None and row.solution.estimate is not None
+            and row.model.name in checks and checks[row.model.name] is not None
+            and checks[row.model.name].rmse is not None]
+    if len(rows) < 2:
+        return ()
+    best = min(rows, key=lambda row: row.heldout_rmse)
+    best_inertia = float(best.solution.estimate[best.model.column_names.index("I")])
+    sentences = []
+    for row in rows:
+        if row is best or row.heldout_rmse < CONTRADICTION * best.heldout_rmse:
+            continue
+        if checks[row.model.name].rmse >= checks[best.model.name].rmse:
+            continue
+        inertia = float(row.solution.estimate[row.model.column_names.index("I")])
+        ratio = inertia / best_inertia if best_inertia else math.inf
+        why = (f"its fitted inertia is {ratio:.3g} times {best.model.name}'s, so its simulated joint barely moves "
+               f"in a {horizon:g} s window and stays near the true state each window restarts from"
+               if ratio > 1.5 else "its error in torque cancels over the windows it is simulated for")
+        sentences.append(
+            f"{row.model.name} simulates closer than {best.model.name} though its held-out torque error is "
+            f"{row.heldout_rmse / best.heldout_rmse:.3g} times larger: {why}. A small simulation error is not an "
+            "accurate model.")
+    return tuple(sentences)
