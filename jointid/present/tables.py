@@ -56,6 +56,10 @@ def sweep_message(sweep: SweepResult) -> str:
     return f"{head}: {verdict}."
 
 
+ROUNDING = 1e-12
+"""Sweep statistics smaller than this (in the lesson's units, N m and its parameters' own) are rounding."""
+
+
 def sweep_table(sweep: SweepResult) -> str:
     """The statistics table (rows: statistics; columns: parameters and both RMSEs), or '' without estimates."""
     if not sweep.is_full_rank:
@@ -68,7 +72,9 @@ def sweep_table(sweep: SweepResult) -> str:
     fractions = sweep.sign_failure_fractions
 
     def cell(value) -> str:
-        return "-" if value is None else format_number(value)
+        # The sweep fits the lesson's synthetic joint (torques of about 1 N m): below ROUNDING a statistic is the
+        # rounding of exact fits, read as the zero it is rather than as 1.973139e-31 among fixed decimals.
+        return "-" if value is None else format_number(0.0 if abs(value) < ROUNDING else value)
 
     rows = [
         [cell(value) for value in sweep.settings.true_joint.values_for(model)] + blank_rmse,

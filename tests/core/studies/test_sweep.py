@@ -131,3 +131,18 @@ def test_percentiles_are_numpys(values, levels):
         expected = np.percentile(values, levels)
         got = percentiles(values, levels)
     np.testing.assert_array_equal(got, expected)
+
+
+def test_the_sweep_table_reads_rounding_as_zero_and_keeps_its_fixed_decimals(capsys):
+    """Noise 0: every fit is exact, and the held-out RMSE's spread over the seeds is rounding (about 1e-31); the table
+    shows it as 0.000000 among its fixed decimals, and a real spread (noise 0.2) still shows in full."""
+    from jointid.cli import main
+
+    assert main(["sweep", "--noise", "0", "--seeds", "50"]) == 0
+    table = capsys.readouterr().out
+    assert "e-" not in table
+    std_row = next(line for line in table.splitlines() if line.startswith("std (empirical)"))
+    assert std_row.split()[2:] == ["0.000000"] * 5
+    assert main(["sweep", "--noise", "0.2", "--seeds", "50"]) == 0
+    std_row = next(line for line in capsys.readouterr().out.splitlines() if line.startswith("std (empirical)"))
+    assert all(float(value) > 0 for value in std_row.split()[2:])
