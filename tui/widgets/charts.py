@@ -30,6 +30,8 @@ LEGEND_LINE = "⠒⠒"
 MUTED = 0.5
 """How far the dots a fit left out and the shading fade into the background: Textual's '-muted' colours, which
 the legend uses, are the same colours at half strength."""
+Y_LABEL_WIDTH = 5
+"""Torque tick labels are padded to this width ('-10.0' fits), so the plot keeps its place as values change."""
 SHADE_MARKER = "░"
 """Fill of the stretches left out for an outside torque: light, so dots and line stay readable over it."""
 
@@ -144,7 +146,9 @@ def draw_torque_chart(plt, data: ChartData, line_rgb: tuple[int, int, int], dots
     plt.ylim(low - pad, high + pad)
     if size is not None:  # round ticks at even steps (plotext's own split the range evenly: 5.02, 4.51, 3.48 ...)
         width, height = size
-        plt.yticks(*axis_ticks(low - pad, high + pad, max(2, (height - 2) // 2)))
+        ticks, labels = axis_ticks(low - pad, high + pad, max(2, (height - 2) // 2))
+        # Labels of one width, so the plot does not shift sideways when new data need a longer one ('-0.5').
+        plt.yticks(ticks, [label.rjust(Y_LABEL_WIDTH) for label in labels])
         plt.xticks(*axis_ticks(float(data.t[0]), float(data.t[-1]), max(2, width // 8)))
     # Shading first, the line next, so the dots, the data the fit must explain, are drawn on top.
     for start, end in data.shaded:

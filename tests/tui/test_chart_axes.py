@@ -1,0 +1,36 @@
+"""Torque charts' axes: round, evenly spaced ticks; a plot that keeps its place when new data need longer labels."""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+
+from jointid.present.charts import ChartData
+from tui.third_party.adapter import new_figure
+from tui.widgets.charts import draw_torque_chart
+
+
+def chart(low: float, high: float) -> ChartData:
+    t = np.linspace(0.0, 8.0, 40)
+    dots = low + (high - low) * (0.5 + 0.5 * np.sin(t))
+    return ChartData(titles=("t",), t=t, dots=dots, line=dots, dots_label="measured", line_label="fitted",
+                     summaries=("s",))
+
+
+def drawn(data: ChartData, size=(60, 14)) -> list[str]:
+    plt = new_figure()
+    plt.plot_size(*size)
+    plt.theme("clear")
+    draw_torque_chart(plt, data, (1, 2, 3), (4, 5, 6), size=size)
+    return [re.sub(r"\x1b\[[0-9;]*m", "", line) for line in plt.build().splitlines()]
+
+
+def test_ticks_are_round_and_even_and_the_plot_does_not_shift_with_longer_labels():
+    small, signed = drawn(chart(0.7, 5.1)), drawn(chart(-1.1, 1.1))
+    for lines in (small, signed):
+        labels = [float(line.split("┤")[0]) for line in lines if "┤" in line]
+        assert len(labels) >= 3 and np.allclose(np.diff(labels), np.diff(labels)[0])
+        assert not any(line.split("┤")[0].strip() == "-0.0" for line in lines if "┤" in line)
+    axis = [{line.index("┤") for line in lines if "┤" in line} for lines in (small, signed)]
+    assert len(axis[0] | axis[1]) == 1  # '5' and '-0.5' leave the y axis in the same column
