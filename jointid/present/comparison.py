@@ -146,6 +146,11 @@ def simulation_table(comparison: Comparison, checks: dict, horizon: float) -> st
     return text_table(header, rows) + ("\n\n" + " ".join(sentences) if sentences else "")
 
 
+def times(ratio: float) -> str:
+    """A ratio in words' digits: '2,310' or '3.7' (no '2.31e+03' in a sentence)."""
+    return f"{ratio:,.0f}" if ratio >= 100 else f"{ratio:.3g}"
+
+
 CONTRADICTION = 10.0
 """A model whose held-out torque error is this many times the best one's yet simulates closer gets a sentence."""
 
@@ -169,11 +174,11 @@ def simulation_sentences(comparison: Comparison, checks: dict, horizon: float) -
             continue
         inertia = float(row.solution.estimate[row.model.column_names.index("I")])
         ratio = inertia / best_inertia if best_inertia else math.inf
-        why = (f"its fitted inertia is {ratio:.3g} times {best.model.name}'s, so its simulated joint barely moves "
+        why = (f"its fitted inertia is {times(ratio)} times {best.model.name}'s, so its simulated joint barely moves "
                f"in a {horizon:g} s window and stays near the true state each window restarts from"
                if ratio > 1.5 else "its error in torque cancels over the windows it is simulated for")
         sentences.append(
             f"{row.model.name} simulates closer than {best.model.name} though its held-out torque error is "
-            f"{row.heldout_rmse / best.heldout_rmse:.3g} times larger: {why}. A small simulation error is not an "
+            f"{times(row.heldout_rmse / best.heldout_rmse)} times larger: {why}. A small simulation error is not an "
             "accurate model.")
     return tuple(sentences)

@@ -101,3 +101,17 @@ def test_the_real_pendulums_three_runs_at_80x24(snap_compare, monkeypatch, view)
             await pilot.pause()
 
     assert snap_compare(app, terminal_size=COMPACT, run_before=open_view)
+
+
+@needs_real_logs
+def test_a_real_logs_notes_at_80x24(snap_compare, monkeypatch):
+    """n on the energy-shaping run: the notes in their own view, what was read and how, what was left out."""
+    monkeypatch.chdir(REAL_LOGS)
+    app = make_app(logs=fit_log("pendulum_energy_shaping.csv", zero="down"))
+
+    async def open_notes(pilot):
+        steady(pilot)
+        await pilot.press("n")
+        await pilot.pause()
+
+    assert snap_compare(app, terminal_size=COMPACT, run_before=open_notes)

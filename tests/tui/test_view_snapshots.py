@@ -31,6 +31,18 @@ def open_view(key: str):
     return run_before
 
 
+def test_ladder_view_compact_with_its_simulations(snap_compare):
+    """Slow motion at noise 0.20 at 80x24: the table fits 80 columns, and the simulation column's contradiction
+    (angle-offset's torque far worse, its simulation closer) is explained under it; scrolled to show that."""
+
+    async def run_before(pilot) -> None:
+        await open_view("l")(pilot)
+        pilot.app.screen.query_one("#ladder-body").scroll_end(animate=False)
+        await pilot.pause()
+
+    assert snap_compare(make_app(SLOW), terminal_size=COMPACT, run_before=run_before)
+
+
 def test_sweep_view_wide(snap_compare):
     # K = 1000 (the default) from seed 7: deterministic, and the worker is awaited.
     assert snap_compare(make_app(SLOW), terminal_size=WIDE, run_before=open_view("s"))

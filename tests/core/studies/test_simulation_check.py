@@ -130,5 +130,5 @@ def test_a_model_that_simulates_closer_but_predicts_torque_far_worse_is_explaine
     ratio = offset[0] / plain[0]
     assert ratio > 100
     assert "angle-offset simulates closer than plain" in text
-    assert f"its fitted inertia is {ratio:.3g} times plain's" in text
+    assert f"its fitted inertia is {ratio:,.0f} times plain's" in text
     assert "bias simulates closer" not in text  # its held-out torque is as good as plain's: nothing to explain
