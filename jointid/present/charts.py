@@ -123,6 +123,9 @@ def torque_chart(result: FitResult, data: JointData, predictions: np.ndarray | N
         summaries = (
             f"{count} {what} torques (dots), {low} to {high} N m; {line_label} line, RMSE {error} N m{thinned}.",
             f"{count} {what}, {low} to {high} N m; RMSE {error} N m{thinned_short}",
+            # Narrow charts: a thinned one says so before its RMSE, which the readouts give as well.
+            *((f"{dots_label} {low}..{high} N m; RMSE {error}; 1 in {stride}",
+               f"{dots_label} {low}..{high} N m; 1 in {stride} shown") if stride > 1 else ()),
             f"{dots_label} {low}..{high} N m; RMSE {error}",
         )
     return ChartData(

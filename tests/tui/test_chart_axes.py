@@ -34,3 +34,22 @@ def test_ticks_are_round_and_even_and_the_plot_does_not_shift_with_longer_labels
         assert not any(line.split("┤")[0].strip() == "-0.0" for line in lines if "┤" in line)
     axis = [{line.index("┤") for line in lines if "┤" in line} for lines in (small, signed)]
     assert len(axis[0] | axis[1]) == 1  # '5' and '-0.5' leave the y axis in the same column
+
+
+def test_a_thinned_chart_says_so_down_to_its_narrow_summaries():
+    """200 held-out samples on 80 columns: every 3rd is drawn, and every summary down to the two shortest forms
+    that still say it (the shortest keeps only range and RMSE) tells so."""
+    from jointid.present.charts import torque_chart
+    from jointid.studies.experiment import run_experiment
+    from jointid.synthetic.settings import DEFAULT_SETTINGS
+
+    result = run_experiment(DEFAULT_SETTINGS)
+    data = result.training
+    wide = np.repeat(data.tau, 9)  # 216 samples: thinned to 80 columns by 3
+    thinned = type(data)(t=np.repeat(data.t, 9), q=np.repeat(data.q, 9), qd=np.repeat(data.qd, 9),
+                         qdd=np.repeat(data.qdd, 9), tau=wide)
+    chart = torque_chart(result, thinned, wide, 0.1, titles=("t",), what="measured", dots_label="measured",
+                         line_label="fitted", columns=80)
+    assert len(chart.t) == 72
+    assert all("3rd" in summary or "1 in 3" in summary for summary in chart.summaries[:-1])
+    assert chart.summaries[-2].endswith("1 in 3 shown")
