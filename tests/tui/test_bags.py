@@ -11,7 +11,7 @@ import pytest
 
 pytest.importorskip("rosbags")
 
-from support.bag_support import bag_path, two_joints, write_joint_bag  # noqa: E402
+from support.bag_support import bag_path, two_joints, write_joint_bag, write_mismatched_bag  # noqa: E402
 from support.tui_support import displayed_readouts, make_app  # noqa: E402
 from test_logs import SIZE, main_screen, synchronous  # noqa: E402
 from textual.widgets import Input, OptionList  # noqa: E402
@@ -31,7 +31,8 @@ def bags(tmp_path_factory):
     corrupt = folder / "corrupt.bag"
     corrupt.write_bytes(b"#ROSBAG V2.0\n" + bytes(range(256)) * 4)
     no_effort = write_joint_bag(bag_path(folder, "noeffort", "sqlite3"), "sqlite3", t, two_joints(t), effort=False)
-    return {"good": good, "corrupt": corrupt, "no effort": no_effort}
+    mismatched = write_mismatched_bag(folder, "ros1", "effort", 1)
+    return {"good": good, "corrupt": corrupt, "no effort": no_effort, "mismatched": mismatched}
 
 
 async def settle(pilot, until=None):
@@ -85,17 +86,21 @@ async def test_the_picker_on_a_corrupt_bag_notifies_and_closes(bags):
         await settle(pilot, lambda: not isinstance(app.screen, BagJointScreen))
         assert not isinstance(app.screen, BagJointScreen)
         (note,) = app._notifications
-        assert note.severity == "error" and "corrupt.bag: cannot be read as a ROS bag" in note.message
+        assert note.severity == "error" and "corrupt.bag: cannot be read as a ROS 1 bag" in note.message
         await pilot.press("escape")
         assert isinstance(app.screen, MainScreen)
 
 
-@pytest.mark.parametrize("case, joint", [("corrupt", "shoulder"), ("no effort", "shoulder"), ("good", "wrist")])
+@pytest.mark.parametrize("case, joint", [("corrupt", "shoulder"), ("no effort", "shoulder"), ("good", "wrist"),
+                                         ("mismatched", "shoulder")])
 @synchronous
 async def test_a_bad_bag_is_one_notification_and_nothing_on_screen_changes(bags, capsys, case, joint):
     capsys.readouterr()
     assert main(["fit", "--bag", str(bags[case]), "--joint", joint]) == 2
     line = capsys.readouterr().err.strip().removeprefix("jointid: ")
+    if case == "mismatched":  # not "no effort ... (the arrays are empty)": the message and field at fault
+        assert line.endswith("message 41 on /joint_states: effort has 1 value for 2 joint names "
+                             "(a JointState gives one per name, or none)"), line
     app = make_app()
     async with app.run_test(size=SIZE) as pilot:
         before = displayed_readouts(app.screen)
