@@ -142,3 +142,70 @@ async def test_escape_cancels_loading_a_bag(bags, monkeypatch):
         assert isinstance(app.screen, MainScreen) and app.screen.logs is None
         assert displayed_readouts(app.screen) == before
         assert [n.message for n in app._notifications] == ["Loading cancelled; nothing changed."]
+
+
+async def _wait_in_thread(event: threading.Event) -> None:
+    """Wait for an event set by the load worker without blocking the app's loop."""
+    import asyncio
+
+    assert await asyncio.to_thread(event.wait, 30), "the load worker never got there"
+
+
+@synchronous
+async def test_escape_during_the_fit_drops_its_result(bags, monkeypatch):
+    # The fit cannot stop part-way; an Escape while it runs must still leave the explorer as it was.
+    from jointid.studies import log_fit
+
+    fitting, release = threading.Event(), threading.Event()
+    real_fit = log_fit.fit_logs
+
+    def held_fit(*args, **kwargs):
+        fitting.set()
+        release.wait(30)
+        return real_fit(*args, **kwargs)
+
+    monkeypatch.setattr(log_fit, "fit_logs", held_fit)
+    app = make_app()
+    async with app.run_test(size=SIZE) as pilot:
+        before = displayed_readouts(app.screen)
+        app.screen.start_loading(LoadRequest(str(bags["good"]), joint="shoulder"))
+        await _wait_in_thread(fitting)
+        await pilot.pause()
+        assert type(app.screen).__name__ == "LoadingScreen"
+        await pilot.press("escape")
+        hint = str(app.screen.query_one("#load-hint").render())
+        assert str(app.screen.query_one("Label").render()).startswith("Loading arm")
+        assert "the fit cannot stop part-way; its result will be dropped" in hint, hint
+        release.set()
+        await settle(pilot)
+        assert isinstance(app.screen, MainScreen) and app.screen.logs is None
+        assert displayed_readouts(app.screen) == before
+        assert [(n.message, n.severity) for n in app._notifications] == [
+            ("Loading cancelled; nothing changed.", "warning")]
+
+
+@synchronous
+async def test_escape_after_the_reading_starts_no_fit(bags, monkeypatch):
+    from jointid.studies import log_fit
+
+    read, release, fits = threading.Event(), threading.Event(), []
+    real_load = log_fit.load_joint_log
+
+    def held_load(*args, **kwargs):
+        log = real_load(*args, **kwargs)
+        read.set()
+        release.wait(30)
+        return log
+
+    monkeypatch.setattr(log_fit, "load_joint_log", held_load)
+    monkeypatch.setattr(log_fit, "fit_logs", lambda *args, **kwargs: fits.append(args))
+    app = make_app()
+    async with app.run_test(size=SIZE) as pilot:
+        app.screen.start_loading(LoadRequest(str(bags["good"]), joint="shoulder"))
+        await _wait_in_thread(read)
+        await pilot.pause()
+        await pilot.press("escape")
+        release.set()
+        await settle(pilot)
+        assert fits == [] and app.screen.logs is None
+        assert [n.message for n in app._notifications] == ["Loading cancelled; nothing changed."]
