@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 
 from ..options import (
     CRITERIA,
@@ -21,6 +22,9 @@ from .arguments import UserError, bounded_number, positive_number, setting_type,
 from .exit_status import ExitStatus
 
 NAME = "design"
+
+PROGRESS_SECONDS = 2.0
+"""Estimated seconds (jointid.studies.design.design_seconds) from which a design shows its starts on a terminal."""
 
 
 def criterion_name(text: str) -> str:
@@ -82,7 +86,7 @@ def run(args: argparse.Namespace) -> int:
     """Design the motion, print text or JSON, and write --out; exit status 0."""
     from ..files import ExportError
     from ..present.design import design_document, design_text
-    from ..studies.design import DesignError, DesignSpec, Limits, design_motion
+    from ..studies.design import DesignError, DesignSpec, Limits, design_motion, design_seconds, over_budget
     from ..synthetic.fourier import save_motion
     from ..synthetic.settings import Settings
     from .output import print_json
@@ -93,9 +97,20 @@ def run(args: argparse.Namespace) -> int:
             criterion=args.criterion, harmonics=args.harmonics, period=args.period, starts=args.starts,
             seed=args.seed, experiment=Settings(noise=args.noise, samples=args.samples, model=args.model),
         )
-        result = design_motion(spec)
     except DesignError as error:
         raise UserError(str(error)) from None
+    # --force only replaces files: a design over budget is refused outright, since lowering a flag always helps.
+    problem = over_budget(spec)
+    if problem is not None:
+        raise UserError(problem)
+    show = sys.stderr.isatty() and design_seconds(spec) >= PROGRESS_SECONDS
+    try:
+        result = design_motion(spec, progress=progress_line if show else None)
+    except DesignError as error:
+        raise UserError(str(error)) from None
+    finally:
+        if show:  # clear the progress line, also after Ctrl+C
+            print("\r\033[K", end="", file=sys.stderr, flush=True)
     if args.out is not None:
         try:
             save_motion(result.motion, args.out, overwrite=args.force)
@@ -109,3 +124,8 @@ def run(args: argparse.Namespace) -> int:
         if args.out is not None:
             print(f"\nWrote {args.out}: train on it with --motion-file {args.out}.")
     return ExitStatus.SUCCESS
+
+
+def progress_line(done: int, total: int) -> None:
+    """Rewrite one line on stderr: 'jointid design: start 3 of 8 done'."""
+    print(f"\rjointid design: start {done:,} of {total:,} done", end="", file=sys.stderr, flush=True)

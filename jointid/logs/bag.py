@@ -199,8 +199,27 @@ def open_bag(path):
         reader = reader_class([Path(path)])
         reader.open()
     except Exception as error:  # rosbags raises many kinds for a damaged file; all mean the same here
-        raise LogError(path, f"cannot be read as a ROS bag: {_one_line(error)}") from None
+        raise LogError(path, _unopenable(path, error)) from None
     return reader
+
+
+def _bag_kind(path: str) -> str:
+    """What the path should hold, in the words of a message: 'a ROS 1 bag', 'an MCAP file', ..."""
+    if os.path.isdir(path):
+        return "a ROS 2 bag folder"
+    return {".bag": "a ROS 1 bag", ".mcap": "an MCAP bag file", ".db3": "an SQLite bag file"}.get(
+        os.path.splitext(path)[1].lower(), "a ROS bag")
+
+
+def _unopenable(path: str, error: BaseException) -> str:
+    """jointid's one line for a bag rosbags could not open; rosbags' own text is only used to tell which part
+    of a ROS 2 folder is at fault, never shown, since it names internals (offsets, YAML parser states)."""
+    kind = _bag_kind(path)
+    if os.path.isdir(path):
+        if "metadata" in str(error).lower() or "yaml" in str(error).lower():
+            return f"cannot be read as {kind}: its metadata.yaml is damaged or not a bag's description"
+        return f"cannot be read as {kind}: its storage file is damaged, truncated or not a bag's"
+    return f"cannot be read as {kind}: the file is damaged, truncated or not a bag"
 
 
 def _check_bag_files(path: str) -> None:
@@ -225,12 +244,6 @@ def _check_bag_files(path: str) -> None:
         except FileRefused as error:
             place = None if name == path else f"file {shown_path(os.path.basename(name))}"
             raise LogError(path, error.problem, place=place) from None
-
-
-def _one_line(error: BaseException) -> str:
-    """An exception's text on one line, without a trailing period."""
-    text = " ".join(str(error).split()) or type(error).__name__
-    return text.rstrip(".")
 
 
 def joint_state_topics(reader) -> dict[str, list]:
@@ -284,8 +297,10 @@ class _Scan:
                 self._flush(batch, received, first)
         except (LoadCancelled, LogError):
             raise
-        except Exception as error:  # a damaged chunk or table part-way through
-            raise LogError(self.path, f"cannot be read as a ROS bag: {_one_line(error)}") from None
+        except Exception:  # a damaged chunk or table part-way through; rosbags' text names its internals
+            topic = self.connections[0].topic
+            where = f"after message {number} on {topic}" if number else f"at the first message on {topic}"
+            raise LogError(self.path, f"cannot be read {where}: the bag is damaged or truncated there") from None
         return number
 
     def _flush(self, batch, received, first) -> None:
@@ -305,11 +320,20 @@ class _Scan:
             self.progress(first + len(batch), self.total)
 
     def _layout(self, raw, number: int) -> Layout:
+        where = f"message {number + 1} on {self.connections[0].topic}"
         try:
-            return parse_layout(raw, self.ros1)
+            layout = parse_layout(raw, self.ros1)
         except (_Truncated, ValueError, struct.error):
-            raise LogError(self.path, f"message {number + 1} on {self.connections[0].topic} cannot be read "
-                           "as sensor_msgs/JointState (damaged or truncated)") from None
+            raise LogError(self.path, f"{where} cannot be read as sensor_msgs/JointState (damaged or truncated)"
+                           ) from None
+        joints = len(layout.names)
+        for name, count in zip(FIELDS, layout.counts):
+            # ROS gives one value per joint name or none; any other length cannot say which joint a value is.
+            if count not in (0, joints):
+                raise LogError(self.path, f"{name} has {count} value{'s' if count != 1 else ''} for {joints} "
+                               f"joint name{'s' if joints != 1 else ''} (a JointState gives one per name, or none)",
+                               place=where)
+        return layout
 
 
 # ---------------------------------------------------------------------------------------------- bag-info

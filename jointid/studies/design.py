@@ -445,6 +445,65 @@ def shrink_to_limits(motion: FourierMotion, spec: DesignSpec) -> FourierMotion:
     raise DesignError("could not bring the design within the torque limit; raise --tau-max")
 
 
+DESIGN_BUDGET_SECONDS = 30.0
+"""Estimated seconds of work a `jointid design` runs without being told to do less (see `design_seconds`)."""
+SECONDS_PER_UNIT = 3e-7
+"""Seconds per unit of starts x parameters x harmonics² x (samples + FIXED_SAMPLES), measured here (2 cores):
+each start's SLSQP takes iterations and gradient points that grow with the harmonics, each criterion a regressor
+of samples x parameters. Per start: 3 harmonics, 240,000 samples, plain 1.98 s (est. 1.95); 3 harmonics, 24,000
+samples, coulomb+bias 0.36 s (est. 0.36); 10 harmonics, 24 samples 0.22 s (est. 0.22; 1000 starts took 258 s);
+20 harmonics, 24 samples 0.86 s (est. 0.87). Small designs are overestimated (6 harmonics: 0.03 s, est. 0.08).
+At the budget's edge (est. 30 s): 8 starts x 3 harmonics x 460,562 samples ran 21 s, 137 starts x 10 harmonics 35 s."""
+FIXED_SAMPLES = 2400
+"""The optimiser's own work per start, outside the regressor, as the samples that would cost as much."""
+
+
+def design_seconds(spec: DesignSpec) -> float:
+    """Estimated seconds `design_motion(spec)` takes on this machine (SECONDS_PER_UNIT's figures)."""
+    return _seconds(spec.starts, spec.harmonics, spec.experiment.samples, spec.experiment.joint_model.size)
+
+
+def _seconds(starts: int, harmonics: int, samples: int, parameters: int) -> float:
+    return SECONDS_PER_UNIT * starts * parameters * harmonics**2 * (samples + FIXED_SAMPLES)
+
+
+def over_budget(spec: DesignSpec, budget: float | None = None) -> str | None:
+    """None when the design's estimated time is within `budget` seconds (DESIGN_BUDGET_SECONDS by default);
+    otherwise one line saying how long, and which of --samples, --harmonics and --starts to lower to what."""
+    budget = DESIGN_BUDGET_SECONDS if budget is None else budget
+    seconds = design_seconds(spec)
+    if seconds <= budget:
+        return None
+    starts, harmonics = spec.starts, spec.harmonics
+    samples, parameters = spec.experiment.samples, spec.experiment.joint_model.size
+    unit = SECONDS_PER_UNIT * parameters
+    # The largest value of each flag that fits the budget with the others as given (absent when none does).
+    fits = {
+        "--samples": math.floor(budget / (unit * starts * harmonics**2)) - FIXED_SAMPLES,
+        "--harmonics": math.floor(math.sqrt(budget / (unit * starts * (samples + FIXED_SAMPLES)))),
+        "--starts": math.floor(budget / (unit * harmonics**2 * (samples + FIXED_SAMPLES))),
+    }
+    lowest = {"--samples": 64, "--harmonics": HARMONIC_LIMITS[0], "--starts": STARTS_LIMITS[0]}
+    ways = [f"{flag} {value}" for flag, value in fits.items() if value >= lowest[flag]]
+    if ways:
+        how = f"{', '.join(ways[:-1])} or {ways[-1]}" if len(ways) > 1 else ways[0]
+        advice = f"lower --samples, --harmonics or --starts ({how} would fit with the rest as given)"
+    else:
+        advice = "lower --samples, --harmonics and --starts together"
+    return (f"a design of {starts:,} starts x {harmonics} harmonics x {samples:,} samples for the {parameters}-parameter "
+            f"{spec.experiment.joint_model.name} model is about {_duration(seconds)} of work here, over the "
+            f"{budget:g} s budget; {advice}")
+
+
+def _duration(seconds: float) -> str:
+    """'45 s', '4 minutes', '3.2 hours'."""
+    if seconds < 120:
+        return f"{seconds:.0f} s"
+    if seconds < 7200:
+        return f"{seconds / 60:.0f} minutes"
+    return f"{seconds / 3600:.1f} hours"
+
+
 def design_motion(
     spec: DesignSpec = DesignSpec(),
     *,

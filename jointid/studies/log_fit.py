@@ -26,7 +26,7 @@ from ..estimation.solver import NonFiniteError
 from ..logs.derivatives import MAX_WINDOW, smooth
 from ..logs.pipeline import JointLog
 from ..logs.request import HELDOUT, TRAINING, LoadRequest, load_joint_log
-from ..logs.table import LogError
+from ..logs.table import LoadCancelled, LogError
 from ..model.terms import CANDIDATE_TERMS, PLAIN, JointModel, model_argument
 from ..norms import rms
 from ..options import DEFAULT_ORDER, LOG_MODEL
@@ -459,6 +459,8 @@ def load_request(
     """Load one log into its role beside the current other log and refit (leaving out what `exclusion` asks, by
     default what the current fit's request did); LogError/LoadCancelled as load_log."""
     log = load_joint_log(request, progress=progress, cancel=cancel)
+    if cancel is not None and cancel():  # the fit cannot stop part-way, so an Escape after reading must not start it
+        raise LoadCancelled(request.path)
     if exclusion is None:
         exclusion = ExclusionRequest() if current is None else current.exclusion
     if request.role == HELDOUT:

@@ -132,3 +132,20 @@ def write_joint_bag(path: Path, kind: str, t, joints: dict, *, velocity=True, ef
             # Received a little after the stamp, as a recorder would.
             bag.write(topic, int(stamp) + 200_000, serialize(bag.store, kind, message))
     return path
+
+
+def write_mismatched_bag(folder: Path, kind: str, field: str, length: int) -> Path:
+    """A bag of 100 JointState messages naming 'shoulder' and 'elbow', whose message 41 has `length` values in
+    `field` ('position', 'velocity' or 'effort') instead of 2; returns its path."""
+    store = typestore(kind)
+    path = bag_path(folder, f"mismatch-{field}-{length}", kind)
+    with BagWriter(path, kind) as bag:
+        bag.add_topic("/joint_states")
+        for i in range(100):
+            arrays = {name: [0.1 * i, 0.2] for name in ("position", "velocity", "effort")}
+            if i == 40:
+                arrays[field] = [0.3] * length
+            message = joint_state(store, (i + 1) * 2_000_000, ["shoulder", "elbow"], arrays["position"],
+                                  arrays["velocity"], arrays["effort"])
+            bag.write("/joint_states", (i + 1) * 2_000_000, serialize(store, kind, message))
+    return path

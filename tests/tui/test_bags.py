@@ -11,7 +11,7 @@ import pytest
 
 pytest.importorskip("rosbags")
 
-from support.bag_support import bag_path, two_joints, write_joint_bag  # noqa: E402
+from support.bag_support import bag_path, two_joints, write_joint_bag, write_mismatched_bag  # noqa: E402
 from support.tui_support import displayed_readouts, make_app  # noqa: E402
 from test_logs import SIZE, main_screen, synchronous  # noqa: E402
 from textual.widgets import Input, OptionList  # noqa: E402
@@ -31,7 +31,8 @@ def bags(tmp_path_factory):
     corrupt = folder / "corrupt.bag"
     corrupt.write_bytes(b"#ROSBAG V2.0\n" + bytes(range(256)) * 4)
     no_effort = write_joint_bag(bag_path(folder, "noeffort", "sqlite3"), "sqlite3", t, two_joints(t), effort=False)
-    return {"good": good, "corrupt": corrupt, "no effort": no_effort}
+    mismatched = write_mismatched_bag(folder, "ros1", "effort", 1)
+    return {"good": good, "corrupt": corrupt, "no effort": no_effort, "mismatched": mismatched}
 
 
 async def settle(pilot, until=None):
@@ -85,17 +86,21 @@ async def test_the_picker_on_a_corrupt_bag_notifies_and_closes(bags):
         await settle(pilot, lambda: not isinstance(app.screen, BagJointScreen))
         assert not isinstance(app.screen, BagJointScreen)
         (note,) = app._notifications
-        assert note.severity == "error" and "corrupt.bag: cannot be read as a ROS bag" in note.message
+        assert note.severity == "error" and "corrupt.bag: cannot be read as a ROS 1 bag" in note.message
         await pilot.press("escape")
         assert isinstance(app.screen, MainScreen)
 
 
-@pytest.mark.parametrize("case, joint", [("corrupt", "shoulder"), ("no effort", "shoulder"), ("good", "wrist")])
+@pytest.mark.parametrize("case, joint", [("corrupt", "shoulder"), ("no effort", "shoulder"), ("good", "wrist"),
+                                         ("mismatched", "shoulder")])
 @synchronous
 async def test_a_bad_bag_is_one_notification_and_nothing_on_screen_changes(bags, capsys, case, joint):
     capsys.readouterr()
     assert main(["fit", "--bag", str(bags[case]), "--joint", joint]) == 2
     line = capsys.readouterr().err.strip().removeprefix("jointid: ")
+    if case == "mismatched":  # not "no effort ... (the arrays are empty)": the message and field at fault
+        assert line.endswith("message 41 on /joint_states: effort has 1 value for 2 joint names "
+                             "(a JointState gives one per name, or none)"), line
     app = make_app()
     async with app.run_test(size=SIZE) as pilot:
         before = displayed_readouts(app.screen)
@@ -136,4 +141,71 @@ async def test_escape_cancels_loading_a_bag(bags, monkeypatch):
         await settle(pilot)
         assert isinstance(app.screen, MainScreen) and app.screen.logs is None
         assert displayed_readouts(app.screen) == before
+        assert [n.message for n in app._notifications] == ["Loading cancelled; nothing changed."]
+
+
+async def _wait_in_thread(event: threading.Event) -> None:
+    """Wait for an event set by the load worker without blocking the app's loop."""
+    import asyncio
+
+    assert await asyncio.to_thread(event.wait, 30), "the load worker never got there"
+
+
+@synchronous
+async def test_escape_during_the_fit_drops_its_result(bags, monkeypatch):
+    # The fit cannot stop part-way; an Escape while it runs must still leave the explorer as it was.
+    from jointid.studies import log_fit
+
+    fitting, release = threading.Event(), threading.Event()
+    real_fit = log_fit.fit_logs
+
+    def held_fit(*args, **kwargs):
+        fitting.set()
+        release.wait(30)
+        return real_fit(*args, **kwargs)
+
+    monkeypatch.setattr(log_fit, "fit_logs", held_fit)
+    app = make_app()
+    async with app.run_test(size=SIZE) as pilot:
+        before = displayed_readouts(app.screen)
+        app.screen.start_loading(LoadRequest(str(bags["good"]), joint="shoulder"))
+        await _wait_in_thread(fitting)
+        await pilot.pause()
+        assert type(app.screen).__name__ == "LoadingScreen"
+        await pilot.press("escape")
+        hint = str(app.screen.query_one("#load-hint").render())
+        assert str(app.screen.query_one("Label").render()).startswith("Loading arm")
+        assert "the fit cannot stop part-way; its result will be dropped" in hint, hint
+        release.set()
+        await settle(pilot)
+        assert isinstance(app.screen, MainScreen) and app.screen.logs is None
+        assert displayed_readouts(app.screen) == before
+        assert [(n.message, n.severity) for n in app._notifications] == [
+            ("Loading cancelled; nothing changed.", "warning")]
+
+
+@synchronous
+async def test_escape_after_the_reading_starts_no_fit(bags, monkeypatch):
+    from jointid.studies import log_fit
+
+    read, release, fits = threading.Event(), threading.Event(), []
+    real_load = log_fit.load_joint_log
+
+    def held_load(*args, **kwargs):
+        log = real_load(*args, **kwargs)
+        read.set()
+        release.wait(30)
+        return log
+
+    monkeypatch.setattr(log_fit, "load_joint_log", held_load)
+    monkeypatch.setattr(log_fit, "fit_logs", lambda *args, **kwargs: fits.append(args))
+    app = make_app()
+    async with app.run_test(size=SIZE) as pilot:
+        app.screen.start_loading(LoadRequest(str(bags["good"]), joint="shoulder"))
+        await _wait_in_thread(read)
+        await pilot.pause()
+        await pilot.press("escape")
+        release.set()
+        await settle(pilot)
+        assert fits == [] and app.screen.logs is None
         assert [n.message for n in app._notifications] == ["Loading cancelled; nothing changed."]

@@ -1,4 +1,4 @@
-"""The progress dialog shown while a log loads; Escape asks the loader to stop."""
+"""The progress dialog shown while a log loads; Escape asks the loader to stop, or drops a fit under way."""
 
 from __future__ import annotations
 
@@ -54,13 +54,23 @@ class LoadingScreen(ModalScreen[None]):
         with Vertical():
             yield Label(f"Loading {os.path.basename(self.path)}", markup=False)
             yield ProgressBar(total=None, show_eta=False, id="load-progress")
-            yield Static("Escape cancels; the current data stay.", markup=False)
+            yield Static("Escape cancels; the current data stay.", markup=False, id="load-hint")
+
+    @property
+    def hint(self) -> Static:
+        """The line under the bar; by id, since the file name's Label is a Static too and comes first."""
+        return self.query_one("#load-hint", Static)
 
     def advance(self, done: int, total: int) -> None:
-        """Show bytes read so far (called on the main thread)."""
+        """Show bytes read so far (called on the main thread); once all is read, that the fit is under way."""
         self.query_one(ProgressBar).update(total=max(total, 1), progress=done)
+        if done >= total and not self.cancelled.is_set():
+            self.hint.update("Read; fitting. Escape drops the fit when it ends.")
 
     def action_cancel(self) -> None:
-        """Ask the loader to stop at its next chunk."""
+        """Ask the loader to stop at its next chunk; after the reading, the fit runs on and its result is dropped."""
         self.cancelled.set()
-        self.query_one(Static).update("Cancelling…")
+        bar = self.query_one(ProgressBar)
+        read = bar.total is not None and bar.progress >= bar.total
+        self.hint.update("Cancelling: the fit cannot stop part-way; its result will be dropped."
+                                      if read else "Cancelling…")

@@ -645,6 +645,8 @@ class MainScreen(Screen):
                 if current is None:
                     raise ValueError(f"{request.path}: another run needs a training log first")
                 log = load_joint_log(request, progress=progress, cancel=dialog.cancelled.is_set)
+                if dialog.cancelled.is_set():  # as load_request: no refit is started after an Escape
+                    raise LoadCancelled(request.path)
                 logs = add_run(current, log, self.settings.joint_model, self.settings.constrained)
             elif hasattr(current, "runs"):  # several runs: each is predicted by the others; a new log replaces them
                 if request.role == HELDOUT:
@@ -665,6 +667,9 @@ class MainScreen(Screen):
     def finish_loading(self, dialog: LoadingScreen, logs: LoadedLogs | PooledRuns | None,
                        problem: str | None) -> None:
         """Close the progress dialog and show the new logs (or the run added), or say why the current data stay."""
+        if logs is not None and dialog.cancelled.is_set():
+            # Escape came during the fit, which cannot stop part-way: its result is dropped, as the dialog said.
+            logs, problem = None, "Loading cancelled; nothing changed."
         if dialog.is_attached:
             dialog.dismiss()
         if logs is None:  # the Open dialog, if the file was chosen there, shows again with its path

@@ -29,6 +29,7 @@ from support.bag_support import (  # noqa: E402
     two_joints,
     typestore,
     write_joint_bag,
+    write_mismatched_bag,
 )
 
 from jointid.cli import main  # noqa: E402
@@ -213,7 +214,7 @@ def bad_bags(tmp_path_factory):
 
 
 BAD = {
-    "corrupt": "cannot be read as a ROS bag",
+    "corrupt": "cannot be read as a ROS 1 bag: the file is damaged, truncated or not a bag",
     "no metadata": "is a folder without metadata.yaml: not a ROS 2 bag folder",
     "no JointState": "has no sensor_msgs/JointState topic (topics: /count (std_msgs/msg/Int32))",
     "effort empty": "joint 'shoulder' has no effort in any message on /joint_states",
@@ -268,6 +269,65 @@ def test_without_rosbags_one_line_names_the_extra(bad_bags, capsys, monkeypatch)
     line = refused(capsys, "fit", "--bag", str(bad_bags["ok"]), "--joint", "shoulder")
     assert line.endswith("pip install 'jointid[ros]'")
     assert refused(capsys, "bag-info", str(bad_bags["ok"])).endswith("pip install 'jointid[ros]'")
+
+
+@pytest.mark.parametrize("kind, field, length", [("ros1", "position", 1), ("mcap", "effort", 3),
+                                                  ("sqlite3", "velocity", 1)])
+def test_mismatched_array_lengths_name_the_message_and_field(tmp_path, capsys, kind, field, length):
+    path = write_mismatched_bag(tmp_path, kind, field, length)
+    expected = (f"{path}, message 41 on /joint_states: {field} has {length} "
+                f"value{'s' if length > 1 else ''} for 2 joint names")
+    for argv in (["fit", "--bag", str(path), "--joint", "shoulder"], ["bag-info", str(path)]):
+        line = refused(capsys, *argv)
+        assert expected in line and "empty" not in line, line
+
+
+def _damaged_copies(folder, good, kind):
+    """Copies of a good bag with its data file truncated, overwritten in the middle or headed by zeros, and
+    (ROS 2) with an unparsable metadata.yaml."""
+    import shutil
+
+    def data_file(path):
+        return next(f for f in path.iterdir() if f.name != "metadata.yaml") if path.is_dir() else path
+
+    made = {}
+    for how in ("truncated", "garbled", "zeroed", "bad metadata"):
+        if how == "bad metadata" and kind == "ros1":
+            continue
+        copy = bag_path(folder, how.replace(" ", "-"), kind)
+        (shutil.copytree if good.is_dir() else shutil.copy)(good, copy)
+        target = data_file(copy)
+        data = bytearray(target.read_bytes())
+        if how == "truncated":
+            data = data[: len(data) // 2]
+        elif how == "garbled":
+            start = len(data) // 3
+            data[start: start + 4000] = np.random.default_rng(3).integers(0, 256, 4000, dtype=np.uint8).tobytes()
+        elif how == "zeroed":
+            data[:64] = bytes(64)
+        else:
+            (copy / "metadata.yaml").write_text("{{: [\n")
+        target.write_bytes(bytes(data))
+        made[how] = copy
+    return made
+
+
+# Fragments of rosbags' own exception texts, which must not reach the user.
+ROSBAGS_WORDING = ("magic", "Header could not", "malformed", "not a database", "load YAML", "NoneType", "ssize_t",
+                   "codec", "offset", "Bag index", "Cannot open")
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_a_damaged_bag_is_jointids_own_line_naming_the_file(tmp_path, capsys, kind):
+    t = np.arange(2000) / 500.0
+    good = write_joint_bag(bag_path(tmp_path, "good", kind), kind, t, two_joints(t))
+    for how, path in _damaged_copies(tmp_path, good, kind).items():
+        for argv in (["fit", "--bag", str(path), "--joint", "shoulder"], ["bag-info", str(path)]):
+            line = refused(capsys, *argv)
+            assert line.startswith(f"jointid") and f"{path}" in line and "cannot be read" in line, (how, line)
+            assert not any(text.lower() in line.lower() for text in ROSBAGS_WORDING), (how, line)
+            if "after message" in line or "at the first message" in line:
+                assert "on /joint_states" in line, (how, line)
 
 
 # ------------------------------------------------------------------------------------ timing
