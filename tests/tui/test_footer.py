@@ -73,9 +73,10 @@ def test_a_number_field_hides_the_keys_it_takes_as_typing():
     assert "r Reset" in text and "s Sweep" in text and "e Residuals" in text
 
 
-def test_80_columns_keep_export_with_a_designed_motion():
-    text = footer_text((80, 24), settings=DESIGNED)
+def test_80_columns_keep_export_and_no_scrollbar_with_a_designed_motion():
+    text, scrollbar = footer_and_side((80, 24), settings=DESIGNED)
     assert text == "1 2 3 4 Motion rReset ?Help qQuit s m e l d Views pPhysics ^oOpen log ^sExport"
+    assert not scrollbar  # Reset gives way to the motion list's fourth row (r still works)
 
 
 @pytest.mark.parametrize("settings", [None, DESIGNED], ids=["lesson", "designed"])
