@@ -46,7 +46,7 @@ PHYSICS_RANGES = (
 
 PHYSICS_LABELS = {
     "true_coulomb": "Coulomb friction FC (N m)",
-    "true_bias": "Torque sensor bias TAU0 (N m)",
+    "true_bias": "Sensor bias TAU0 (N m)",
     "true_angle_offset": "Encoder offset Q0 (rad)",
 }
 """Label beside each physics field."""

@@ -9,19 +9,30 @@ from hypothesis import given
 from hypothesis import strategies as st
 from support.tui_support import make_app
 
+from jointid.synthetic.fourier import FourierMotion
+from jointid.synthetic.settings import Settings
 from tui.screens.main import VIEWS_GROUP, MainScreen
 from tui.widgets.footer import KeyEntry, KeyFooter, footer_line
 
 
-def footer_text(size, focus: str | None = None) -> str:
+DESIGNED = Settings(motion=FourierMotion(8.0, 0.0, (0.0, 0.0, 1.2), (0.0, 0.0, 0.4)), noise=0.2)
+"""The explorer opened on a motion file: the designed motion is the list's fourth, key 4."""
+
+
+def footer_text(size, focus: str | None = None, settings: Settings | None = None) -> str:
+    return footer_and_side(size, focus, settings)[0]
+
+
+def footer_and_side(size, focus: str | None = None, settings: Settings | None = None) -> tuple[str, bool]:
+    """The footer's text and whether the side panel shows a scrollbar."""
     async def main():
-        app = make_app(None)
+        app = make_app(settings)
         async with app.run_test(size=size) as pilot:
             await pilot.pause()
             if focus is not None:
                 app.screen.query_one(focus).focus()
                 await pilot.pause()
-            return app.screen.query_one(KeyFooter).text
+            return app.screen.query_one(KeyFooter).text, app.screen.query_one("#side").show_vertical_scrollbar
 
     return asyncio.run(main())
 
@@ -60,6 +71,27 @@ def test_a_number_field_hides_the_keys_it_takes_as_typing():
     text = footer_text((120, 40), focus="#noise")
     assert "Motion" not in text  # digits type; e cannot start a number, so it stays the residuals' key
     assert "r Reset" in text and "s Sweep" in text and "e Residuals" in text
+
+
+def test_80_columns_keep_export_and_no_scrollbar_with_a_designed_motion():
+    text, scrollbar = footer_and_side((80, 24), settings=DESIGNED)
+    assert text == "1 2 3 4 Motion rReset ?Help qQuit s m e l d Views pPhysics ^oOpen log ^sExport"
+    assert not scrollbar  # Reset gives way to the motion list's fourth row (r still works)
+
+
+@pytest.mark.parametrize("settings", [None, DESIGNED], ids=["lesson", "designed"])
+@pytest.mark.parametrize("focus", [None, "#motion", "#noise", "#seed", "#reset"])
+def test_at_80_columns_focus_changes_the_keys_shown_but_not_the_spacing_or_the_palette(focus, settings):
+    text = footer_text((80, 24), focus, settings)
+    assert "rReset ?Help qQuit s m e l d Views pPhysics ^oOpen log ^sExport" in text
+    assert "^p" not in text and "│" not in text  # the palette's key is dropped at 80 columns, as documented
+    # A number field takes digits as typing, so the motion keys leave; nothing else moves.
+    assert text.startswith("rReset" if focus in ("#noise", "#seed") else "1 2 3")
+
+
+def test_a_number_field_keeps_the_wide_spacing_at_120_columns():
+    assert footer_text((120, 40), "#noise").split("│")[0].rstrip() == footer_text((120, 40)).split(
+        "│")[0].rstrip().removeprefix("1 2 3 Motion ")
 
 
 def test_below_80_columns_the_keys_that_fit_and_an_ellipsis():

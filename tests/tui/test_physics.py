@@ -7,6 +7,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from textual.geometry import Region
 from support.tui_support import run_app as run
 
 from jointid.present.comparison import comparison_table
@@ -148,3 +149,34 @@ def test_the_palette_stops_beyond_the_lesson_set_their_settings(index):
 
     shown, items = run(scenario)
     assert shown == settings and items == readouts(run_experiment(settings))
+
+
+def damping_row(main) -> tuple[Region, str]:
+    """The screen region of the readout panel's damping row, and that row's text."""
+    panel = main.query_one(ReadoutPanel)
+    lines = [line.plain for line in panel.lines(panel.content_region.width)]
+    index = next(i for i, line in enumerate(lines) if line.startswith(("B ", "Fitted damping")))
+    content = panel.content_region
+    return Region(content.x, content.y + index, content.width, 1), lines[index]
+
+
+@pytest.mark.parametrize("size", [(80, 24), (120, 40)], ids=["80x24", "120x40"])
+def test_the_physics_dialog_leaves_the_damping_readout_in_view_while_fc_changes_it(size):
+    async def scenario(pilot, app):
+        main = app.screen
+        await pilot.press("p")
+        await pilot.pause()  # the dialog's first layout
+        dialog = app.screen
+        box = dialog.query_one("#physics").region
+        before_region, before = damping_row(main)
+        for _ in range(6):  # FC from 0 to 0.3 N m: the plain model takes it for damping
+            await pilot.press("right")
+        after_region, after = damping_row(main)
+        return dialog, app.screen, box, before_region, before, after_region, after
+
+    dialog, still_open, box, before_region, before, after_region, after = run(scenario, size=size)
+    assert isinstance(dialog, PhysicsScreen) and still_open is dialog
+    assert box and before_region and before_region.width >= len(before.rstrip())
+    assert not box.overlaps(before_region) and not box.overlaps(after_region)
+    assert box.bottom <= size[1] - 1  # the whole dialog is on screen, above its footer
+    assert "0.150000" in before and "0.449309" in after  # B grows from the true 0.15 while the dialog is open

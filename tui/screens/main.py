@@ -323,6 +323,7 @@ class MainScreen(Screen):
         motion.set_option("motion-log", label=None if logs is None else f"{run or 'Log: '}{logs.name}",
                           shown=logs is not None)
         motion.set_option(f"motion-{DESIGNED}", shown=self.designed is not None)
+        self.set_class(self.designed is not None, "-designed")  # its row in the motion list costs Reset's on short screens
         motion.show_pressed("motion-log" if logs is not None else f"motion-{settings.motion_name}")
         for steps in STEP_RANGES:  # by id: a type query walks the whole screen (0.3 ms)
             stepper = self.query_one(f"#{steps.field}", Stepper)

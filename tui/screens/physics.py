@@ -1,7 +1,8 @@
 """The physics dialog: give the synthetic joint missing physics, choose the fitted model, constrain the fit.
 
-Every change applies at once (the main screen refits behind the dialog), so a
-student can step the Coulomb friction and watch the plain model's damping grow.
+Every change applies at once (the main screen refits beside the dialog), so a
+student can step the Coulomb friction and watch the plain model's damping grow:
+the dialog stands over the charts and leaves the side panel, with its readouts, in view.
 The dialog holds no setting of its own: it shows the main screen's settings and
 reports each change through the main screen's callbacks, as every control does.
 """
@@ -23,9 +24,10 @@ from ..ranges import PHYSICS_LABELS, PHYSICS_RANGES
 from ..widgets.direct_controls import ChoiceList
 from ..widgets.footer import KeyFooter
 from ..widgets.stepper import Stepper
+from .main import size_classes
 
 CONSTRAINT_OPTIONS = (("constraint-off", "Unconstrained least squares"),
-                      ("constraint-on", "Subject to the sign rules (I, h, B, Fc ≥ 0)"))
+                      ("constraint-on", "Sign rules: I, h, B, Fc ≥ 0"))
 """The fit's two kinds, as the constraint list shows them."""
 
 
@@ -34,13 +36,14 @@ class PhysicsScreen(ModalScreen[None]):
 
     DEFAULT_CSS = """
     PhysicsScreen {
-        align: center middle;
+        /* Undimmed: the readouts beside the dialog are what its changes are watched on. */
+        background: transparent;
     }
-    PhysicsScreen > Vertical {
-        width: 80%;
-        max-width: 76;
+    PhysicsScreen > #physics {
+        width: 1fr;
         height: auto;
         max-height: 100%;
+        background: $surface;
         border: round $primary;
         border-title-align: left;
         padding: 0 1;
@@ -49,11 +52,17 @@ class PhysicsScreen(ModalScreen[None]):
         height: 1;
     }
     PhysicsScreen .field--label {
-        width: 30;
+        width: 1fr;
+    }
+    PhysicsScreen Stepper {
+        width: 10;
     }
     PhysicsScreen .physics--heading {
         margin-top: 1;
         text-style: bold;
+    }
+    PhysicsScreen .physics--heading.-first {
+        margin-top: 0;
     }
     PhysicsScreen .physics--hint {
         color: $text-muted;
@@ -78,9 +87,10 @@ class PhysicsScreen(ModalScreen[None]):
 
     def compose(self) -> ComposeResult:
         """Three number fields for the true joint, the model list, the constraint list, a hint."""
-        with Vertical() as box:
-            box.border_title = "Physics: the true joint, the fitted model"
-            yield Static("The synthetic joint also has (0: not at all)", classes="physics--heading")
+        self.update_classes(size_classes(*self.app.size))  # before styling, as the main screen does
+        with Vertical(id="physics") as box:
+            box.border_title = "Physics: true joint, fitted model"
+            yield Static("The true joint also has (0: none)", classes="physics--heading -first")
             for steps in PHYSICS_RANGES:
                 with Horizontal(classes="field"):
                     yield Static(PHYSICS_LABELS[steps.field], classes="field--label", markup=False)
@@ -90,14 +100,18 @@ class PhysicsScreen(ModalScreen[None]):
             yield ChoiceList([(f"model-{name}", name) for name in LADDER], on_choose=self.choose_model, id="model")
             yield Static("Fit", classes="physics--heading")
             yield ChoiceList(list(CONSTRAINT_OPTIONS), on_choose=self.choose_constraint, id="constraint")
-            yield Static("←/→ step a field, Up/Down and Enter choose; changes apply at once. "
-                         "l in the explorer compares every model.", classes="physics--hint")
+            yield Static("←/→ step a field, Up/Down and Enter choose; changes apply at once and show "
+                         "in the readouts beside. l in the explorer compares every model.", classes="physics--hint")
         yield KeyFooter()
 
     def on_mount(self) -> None:
         """Show the current model and constraint, and focus the first field."""
         self.show(self.settings)
         self.query_one(Stepper).focus()
+
+    def on_resize(self) -> None:
+        """The main screen's size classes, so app.tcss leaves the side panel's width free as it sizes the panel."""
+        self.update_classes(size_classes(*self.size))
 
     def show(self, settings: Settings) -> None:
         """Display settings the main screen now holds (after a change, or a value it refused)."""

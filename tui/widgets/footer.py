@@ -6,7 +6,9 @@ from dataclasses import dataclass
 from functools import lru_cache
 from itertools import groupby
 
+from textual.actions import parse
 from textual.app import App
+from textual.binding import Binding
 from textual.content import Content
 from textual.screen import Screen
 from textual.widget import Widget
@@ -35,26 +37,54 @@ def key_entries(screen: Screen, app: App) -> tuple[tuple[KeyEntry, ...], KeyEntr
     one group with more than one action share an entry, "1 2 3 Motion".
     """
     active = screen.active_bindings
-    by_action: dict[str, tuple] = {}
-    for _, binding, enabled, _ in active.values():
-        if binding.show:
-            by_action.setdefault(binding.action, (binding, enabled))
-    entries = []
-    for group, members in groupby(by_action.values(), lambda member: member[0].group):
-        members = list(members)
-        if group is not None and len(members) > 1:
-            keys = " ".join(app.get_key_display(binding) for binding, _ in members)
-            parts = tuple(KeyEntry(app.get_key_display(binding), binding.description, enabled)
-                          for binding, enabled in members) if group.description in EXPANDED_WHEN_ROOM else ()
-            entries.append(KeyEntry(keys, group.description, any(enabled for _, enabled in members), parts))
-        else:
-            entries.extend(KeyEntry(app.get_key_display(binding), binding.description, enabled)
-                           for binding, enabled in members)
+    entries = grouped_entries([(binding, enabled) for _, binding, enabled, _ in active.values()], app)
     palette = None
     if app.ENABLE_COMMAND_PALETTE and app.COMMAND_PALETTE_BINDING in active:
         _, binding, enabled, _ = active[app.COMMAND_PALETTE_BINDING]
         palette = KeyEntry(app.get_key_display(binding), binding.description, enabled)
-    return tuple(entries), palette
+    return entries, palette
+
+
+def focus_free_entries(screen: Screen, app: App) -> tuple[KeyEntry, ...]:
+    """The entries shown now, plus the screen's keys a focused field takes as typing (1 2 3 in a number field).
+
+    The footer picks its spacing for these, so that focus changes which keys show but never
+    the spacing or whether the palette's key fits (docs/explorer.md, "Keys").
+    """
+    active = screen.active_bindings
+    members = [(binding, enabled) for _, binding, enabled, _ in active.values()]
+    shown_actions = {binding.action for binding, _ in members}
+    for binding in screen.BINDINGS:
+        if not isinstance(binding, Binding) or not binding.show or binding.action in shown_actions:
+            continue
+        _, name, parameters = parse(binding.action)
+        state = screen.check_action(name, parameters)
+        if state is not False:  # False: hidden for now whatever is focused
+            members.append((binding, bool(state)))
+            shown_actions.add(binding.action)
+    order = {binding.action: index for index, binding in enumerate(screen.BINDINGS) if isinstance(binding, Binding)}
+    members.sort(key=lambda member: order.get(member[0].action, len(order)))  # stable: others keep their order
+    return grouped_entries(members, app)
+
+
+def grouped_entries(members: list[tuple[Binding, bool]], app: App) -> tuple[KeyEntry, ...]:
+    """One entry per shown action, the members of a group sharing one ("1 2 3 Motion")."""
+    by_action: dict[str, tuple] = {}
+    for binding, enabled in members:
+        if binding.show:
+            by_action.setdefault(binding.action, (binding, enabled))
+    entries = []
+    for group, grouped in groupby(by_action.values(), lambda member: member[0].group):
+        grouped = list(grouped)
+        if group is not None and len(grouped) > 1:
+            keys = " ".join(app.get_key_display(binding) for binding, _ in grouped)
+            parts = tuple(KeyEntry(app.get_key_display(binding), binding.description, enabled)
+                          for binding, enabled in grouped) if group.description in EXPANDED_WHEN_ROOM else ()
+            entries.append(KeyEntry(keys, group.description, any(enabled for _, enabled in grouped), parts))
+        else:
+            entries.extend(KeyEntry(app.get_key_display(binding), binding.description, enabled)
+                           for binding, enabled in grouped)
+    return tuple(entries)
 
 
 @lru_cache(maxsize=256)
@@ -78,25 +108,24 @@ at all), roomiest first; the last fits every main-screen key in 80 columns. The 
 word before the keys give up their spaces: at 120 columns every view's key keeps its name."""
 
 
-def footer_line(entries: tuple[KeyEntry, ...], palette: KeyEntry | None, width: int) -> Content:
+def footer_line(entries: tuple[KeyEntry, ...], palette: KeyEntry | None, width: int,
+                spacing_for: tuple[KeyEntry, ...] | None = None) -> Content:
     """The roomiest arrangement that fits the width, the palette's key at the right end.
 
     Groups in EXPANDED_WHEN_ROOM show their keys one by one while any arrangement
-    fits that way. When even the tightest is too wide, the keys that are off for
-    now (dimmed) are left out, groups' too; then the keys that fit are shown and
-    "…". Help and the palette list every key.
+    fits that way. The arrangement is the roomiest in which `spacing_for` fits (the
+    entries themselves by default), or a tighter one the entries need. When even the
+    tightest is too wide, the keys that are off for now (dimmed) are left out, groups'
+    too; then the keys that fit are shown and "…". Help and the palette list every key.
     """
-    expanded = tuple(part for entry in entries for part in (entry.parts or (entry,)))
-    working = tuple(_working(entry) for entry in entries if entry.enabled)
-    tries = [*((expanded, a) for a in ARRANGEMENTS), *((entries, a) for a in ARRANGEMENTS),
-             (working, ARRANGEMENTS[-1])]
-    for shown, (separator, gap, palette_shown) in tries:
-        right = palette_content(palette, palette_shown, gap)
-        room = width - right.cell_length - 1  # a space before the palette
-        line = Content(separator).join(entry_content(entry, gap) for entry in shown)
-        if line.cell_length <= room:
+    first = _first_fitting(spacing_for, palette, width) if spacing_for is not None else 0
+    tries = _tries(entries)
+    for shown, (separator, gap, palette_shown) in tries[first:]:
+        right, line = _arranged(shown, palette, separator, gap, palette_shown)
+        if line.cell_length <= _room(width, right):
             break
     else:
+        room = _room(width, right)
         kept = []
         for entry in shown:
             if Content(separator).join([*kept, entry_content(entry, gap), Content("…")]).cell_length > room:
@@ -104,6 +133,35 @@ def footer_line(entries: tuple[KeyEntry, ...], palette: KeyEntry | None, width: 
             kept.append(entry_content(entry, gap))
         line = Content(separator).join([*kept, Content("…")])
     return line + Content(" " * max(0, width - line.cell_length - right.cell_length)) + right
+
+
+def _tries(entries: tuple[KeyEntry, ...]) -> list[tuple[tuple[KeyEntry, ...], tuple]]:
+    """(entries, arrangement) roomiest first: groups expanded, then shared, then only the working keys."""
+    expanded = tuple(part for entry in entries for part in (entry.parts or (entry,)))
+    working = tuple(_working(entry) for entry in entries if entry.enabled)
+    return [*((expanded, a) for a in ARRANGEMENTS), *((entries, a) for a in ARRANGEMENTS),
+            (working, ARRANGEMENTS[-1])]
+
+
+def _first_fitting(entries: tuple[KeyEntry, ...], palette: KeyEntry | None, width: int) -> int:
+    """The index in `_tries` of the roomiest arrangement in which these entries fit (the last if none)."""
+    tries = _tries(entries)
+    for index, (shown, (separator, gap, palette_shown)) in enumerate(tries):
+        right, line = _arranged(shown, palette, separator, gap, palette_shown)
+        if line.cell_length <= _room(width, right):
+            return index
+    return len(tries) - 1
+
+
+def _arranged(shown, palette, separator, gap, palette_shown) -> tuple[Content, Content]:
+    """The palette's part and the keys' line of one arrangement."""
+    right = palette_content(palette, palette_shown, gap)
+    return right, Content(separator).join(entry_content(entry, gap) for entry in shown)
+
+
+def _room(width: int, right: Content) -> int:
+    """Columns left for the keys: a space separates them from the palette's part, when there is one."""
+    return width - right.cell_length - (1 if right.cell_length else 0)
 
 
 def _working(entry: KeyEntry) -> KeyEntry:
@@ -155,6 +213,8 @@ class KeyFooter(Widget):
         super().__init__()
         self.entries: tuple[KeyEntry, ...] = ()
         self.palette: KeyEntry | None = None
+        self.spacing_for: tuple[KeyEntry, ...] = ()
+        """The entries the spacing is chosen for: those shown with the keys a focused field types added back."""
         self._line: tuple[int, Content] | None = None
         """(width, line) last rendered; the footer repaints with every frame that reaches it."""
 
@@ -172,8 +232,9 @@ class KeyFooter(Widget):
         if screen is not self.screen or not self.app.app_focus:
             return
         entries, palette = key_entries(screen, self.app)
-        if (entries, palette) != (self.entries, self.palette):
-            self.entries, self.palette = entries, palette
+        spacing_for = focus_free_entries(screen, self.app)
+        if (entries, palette, spacing_for) != (self.entries, self.palette, self.spacing_for):
+            self.entries, self.palette, self.spacing_for = entries, palette, spacing_for
             self._line = None
             self.refresh()
 
@@ -186,5 +247,5 @@ class KeyFooter(Widget):
         """The keys arranged for the current width."""
         width = self.content_size.width
         if self._line is None or self._line[0] != width:
-            self._line = (width, footer_line(self.entries, self.palette, width))
+            self._line = (width, footer_line(self.entries, self.palette, width, self.spacing_for))
         return self._line[1]
