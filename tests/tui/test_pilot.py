@@ -16,7 +16,8 @@ from jointid.synthetic.motions import TRAINING_MOTIONS
 from jointid.synthetic.settings import DEFAULT_SETTINGS, Settings
 from tui.palette import TOUR, tour_title
 from tui.ranges import NOISE_RANGE, SAMPLES_RANGE, SEED_RANGE
-from tui.screens.main import MIN_SIZE, MOTION_KEYS, MainScreen
+from tui.screens.main import MOTION_KEYS, MainScreen
+from tui.sizes import MIN_SIZE
 from tui.widgets.charts import TorqueChart
 from tui.widgets.direct_controls import ChoiceList
 from tui.widgets.readouts import ReadoutPanel

@@ -36,6 +36,7 @@ from jointid.synthetic.motions import TRAINING_MOTIONS
 from jointid.synthetic.settings import DEFAULT_SETTINGS, Settings
 
 from ..ranges import FIELD_LABELS, STEP_RANGES
+from ..sizes import MIN_SIZE, size_classes
 from ..widgets.charts import TorqueChart
 from ..widgets.direct_controls import ActionButton, ChoiceList
 from ..widgets.fitting import FittingLine
@@ -59,10 +60,6 @@ FROM_LOG = "from log"
 LOG_NOTE = "From log: c or 1/2/3 for synthetic"
 """The first line of the note shown while a log is (the help gives the rest)."""
 
-MIN_SIZE = (70, 22)
-"""Smallest (width, height) the layout stays readable at; below it the screen asks for more."""
-COMPACT_BELOW = (110, 32)
-"""Narrower or shorter than this (width, height), readouts and known parameters use compact rows."""
 
 STATUS_LINES = 4
 """Rows the status sentence always takes: most fits' sentences wrap to at most four lines,
@@ -76,15 +73,6 @@ MOTION_GROUP = Binding.Group("Motion")
 """The motion keys share one footer entry."""
 VIEWS_GROUP = Binding.Group("Views")
 """The analysis views' keys: an entry each where the footer has room, one shared entry at 80 columns."""
-
-
-def size_classes(width: int, height: int) -> dict[str, bool]:
-    """The screen's size classes: -narrow/-wide, -short/-tall, -compact when either is small, -too-small."""
-    narrow, short = width < COMPACT_BELOW[0], height < COMPACT_BELOW[1]
-    return {
-        "-narrow": narrow, "-wide": not narrow, "-short": short, "-tall": not short,
-        "-compact": narrow or short, "-too-small": width < MIN_SIZE[0] or height < MIN_SIZE[1],
-    }
 
 
 @lru_cache(maxsize=128)

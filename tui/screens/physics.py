@@ -21,10 +21,10 @@ from jointid.options import LADDER
 from jointid.synthetic.settings import Settings
 
 from ..ranges import PHYSICS_LABELS, PHYSICS_RANGES
+from ..sizes import size_classes
 from ..widgets.direct_controls import ChoiceList
 from ..widgets.footer import KeyFooter
 from ..widgets.stepper import Stepper
-from .main import size_classes
 
 CONSTRAINT_OPTIONS = (("constraint-off", "Unconstrained least squares"),
                       ("constraint-on", "Sign rules: I, h, B, Fc ≥ 0"))

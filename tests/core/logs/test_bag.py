@@ -324,7 +324,7 @@ def test_a_damaged_bag_is_jointids_own_line_naming_the_file(tmp_path, capsys, ki
     for how, path in _damaged_copies(tmp_path, good, kind).items():
         for argv in (["fit", "--bag", str(path), "--joint", "shoulder"], ["bag-info", str(path)]):
             line = refused(capsys, *argv)
-            assert line.startswith(f"jointid") and f"{path}" in line and "cannot be read" in line, (how, line)
+            assert line.startswith("jointid") and f"{path}" in line and "cannot be read" in line, (how, line)
             assert not any(text.lower() in line.lower() for text in ROSBAGS_WORDING), (how, line)
             if "after message" in line or "at the first message" in line:
                 assert "on /joint_states" in line, (how, line)
