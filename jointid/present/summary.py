@@ -25,40 +25,32 @@ def log_notes(logs: LoadedLogs) -> tuple[str, ...]:
     return notes.log_notes(logs)
 
 
-def log_notes_text(logs: LoadedLogs) -> str:
-    """Everything a fit of logs says beyond its readouts, one paragraph each: what was read, the sensitivity
-    check, what was left out, and every note (the explorer's notes view)."""
-    from .sensitivity import sensitivity_text
-
-    parts = [*logs.source_lines()]
-    if logs.sensitivity is not None:
-        parts.append(sensitivity_text(logs.sensitivity))
+def log_checks(logs: LoadedLogs) -> tuple[list[str], str | None]:
+    """What the checks of a fit of logs found, one paragraph each (the sensitivity check, terms the residuals
+    follow that the model lacks), and what the fit left out (None when it kept every sample)."""
     from .notes import exclusion_text, omitted_sentence
+    from .sensitivity import sensitivity_text  # only log fits carry a sensitivity check
 
+    found = [] if logs.sensitivity is None else [sensitivity_text(logs.sensitivity)]
     omitted = omitted_sentence(logs)
     if omitted is not None:
-        parts.append(omitted)
-    left = exclusion_text(logs)
-    if left is not None:
-        parts.append(left)
-    parts += log_notes(logs)
-    return "\n\n".join(parts)
+        found.append(omitted)
+    return found, exclusion_text(logs)
+
+
+def log_notes_text(logs: LoadedLogs) -> str:
+    """Everything a fit of logs says beyond its readouts, one paragraph each: what was read, the sensitivity
+    check, terms the model lacks, what was left out, and every note (the explorer's notes view)."""
+    found, left = log_checks(logs)
+    return "\n\n".join([*logs.source_lines(), *found, *([] if left is None else [left]), *log_notes(logs)])
 
 
 def log_fit_summary(logs: LoadedLogs) -> str:
     """What was read, the readouts, the uncertainty, the sensitivity check, terms the residuals follow that the
     model lacks, and every note."""
-    parts = [*logs.source_lines(), readouts_text(logs.result), "", uncertainty_text(logs.result, logs.unsettled)]
-    if logs.sensitivity is not None:
-        from .sensitivity import sensitivity_text  # only log fits carry a sensitivity check
-
-        parts.append(sensitivity_text(logs.sensitivity))
-    from .notes import exclusion_text, omitted_sentence
-
-    omitted = omitted_sentence(logs)
-    if omitted is not None:
-        parts.append(omitted)
-    left = exclusion_text(logs)
+    found, left = log_checks(logs)
+    parts = [*logs.source_lines(), readouts_text(logs.result), "", uncertainty_text(logs.result, logs.unsettled),
+             *found]
     if left is not None:
         parts += ["", left]
     notes = log_notes(logs)
