@@ -23,6 +23,8 @@ class KeyEntry:
     enabled: bool = True
     parts: tuple[KeyEntry, ...] = ()
     """A group's own entries, shown one by one when the width has room (see EXPANDED_WHEN_ROOM)."""
+    action: str = ""
+    """The binding's action ("" for a group's shared entry), for DROPPED_WHEN_TIGHT."""
 
 
 EXPANDED_WHEN_ROOM = {"Views"}
@@ -82,30 +84,31 @@ def grouped_entries(members: list[tuple[Binding, bool]], app: App) -> tuple[KeyE
                           for binding, enabled in grouped) if group.description in EXPANDED_WHEN_ROOM else ()
             entries.append(KeyEntry(keys, group.description, any(enabled for _, enabled in grouped), parts))
         else:
-            entries.extend(KeyEntry(app.get_key_display(binding), binding.description, enabled)
+            entries.extend(KeyEntry(app.get_key_display(binding), binding.description, enabled, action=binding.action)
                            for binding, enabled in grouped)
     return tuple(entries)
 
 
 @lru_cache(maxsize=256)
-def entry_content(entry: KeyEntry, gap: str) -> Content:
-    """A key in the footer's key colour, then its description (a group's keys always get a space).
+def entry_content(entry: KeyEntry) -> Content:
+    """A key in the footer's key colour, a space, then its description ("r Reset": one form at every width).
 
     Remembered: parsing the markup took about 80 µs an entry, and the footer is drawn several
     times before the first frame is up with the same entries (Content is immutable).
     """
-    gap = " " if " " in entry.keys else gap
     content = Content.from_markup("[b $footer-key-foreground]$keys[/]", keys=entry.keys)
     if entry.description:
-        content += Content(gap + entry.description)
+        content += Content(" " + entry.description)
     return content if entry.enabled else content.stylize("dim")
 
 
-ARRANGEMENTS = (("  ", " ", "full"), (" ", " ", "full"), (" ", " ", "key"), (" ", "", "full"), (" ", "", "key"),
-                (" ", "", None))
-"""(between entries, between key and description, the palette shown in full, as its key or not
-at all), roomiest first; the last fits every main-screen key in 80 columns. The palette gives up its
-word before the keys give up their spaces: at 120 columns every view's key keeps its name."""
+ARRANGEMENTS = (("  ", "full"), ("  ", "key"), (" ", "full"), (" ", "key"), (" ", None))
+"""(between entries, the palette shown in full, as its key or not at all), roomiest first. A key and
+its description are always one space apart; the palette's key gives way before any key's name."""
+
+DROPPED_WHEN_TIGHT = ("quit",)
+"""Actions whose entry leaves the footer when the keys do not fit otherwise (80 columns): q is the
+convention for leaving, and help and the palette list it. Every other main-screen key stays."""
 
 
 def footer_line(entries: tuple[KeyEntry, ...], palette: KeyEntry | None, width: int,
@@ -113,50 +116,53 @@ def footer_line(entries: tuple[KeyEntry, ...], palette: KeyEntry | None, width: 
     """The roomiest arrangement that fits the width, the palette's key at the right end.
 
     Groups in EXPANDED_WHEN_ROOM show their keys one by one while any arrangement
-    fits that way. The arrangement is the roomiest in which `spacing_for` fits (the
-    entries themselves by default), or a tighter one the entries need. When even the
-    tightest is too wide, the keys that are off for now (dimmed) are left out, groups'
-    too; then the keys that fit are shown and "…". Help and the palette list every key.
+    fits that way; then they share one entry; then the entries of DROPPED_WHEN_TIGHT
+    leave. The arrangement is the roomiest in which `spacing_for` fits (the entries
+    themselves by default), or a tighter one the entries need. When even the tightest
+    is too wide, the keys that are off for now (dimmed) are left out, groups' too;
+    then the keys that fit are shown and "…". Help and the palette list every key.
     """
     first = _first_fitting(spacing_for, palette, width) if spacing_for is not None else 0
     tries = _tries(entries)
-    for shown, (separator, gap, palette_shown) in tries[first:]:
-        right, line = _arranged(shown, palette, separator, gap, palette_shown)
+    for shown, (separator, palette_shown) in tries[first:]:
+        right, line = _arranged(shown, palette, separator, palette_shown)
         if line.cell_length <= _room(width, right):
             break
     else:
         room = _room(width, right)
         kept = []
         for entry in shown:
-            if Content(separator).join([*kept, entry_content(entry, gap), Content("…")]).cell_length > room:
+            if Content(separator).join([*kept, entry_content(entry), Content("…")]).cell_length > room:
                 break
-            kept.append(entry_content(entry, gap))
+            kept.append(entry_content(entry))
         line = Content(separator).join([*kept, Content("…")])
     return line + Content(" " * max(0, width - line.cell_length - right.cell_length)) + right
 
 
 def _tries(entries: tuple[KeyEntry, ...]) -> list[tuple[tuple[KeyEntry, ...], tuple]]:
-    """(entries, arrangement) roomiest first: groups expanded, then shared, then only the working keys."""
+    """(entries, arrangement) roomiest first: groups expanded, then shared, then without the droppable
+    entries, then only the working keys."""
     expanded = tuple(part for entry in entries for part in (entry.parts or (entry,)))
-    working = tuple(_working(entry) for entry in entries if entry.enabled)
+    kept = tuple(entry for entry in entries if entry.action not in DROPPED_WHEN_TIGHT)
+    working = tuple(_working(entry) for entry in kept if entry.enabled)
     return [*((expanded, a) for a in ARRANGEMENTS), *((entries, a) for a in ARRANGEMENTS),
-            (working, ARRANGEMENTS[-1])]
+            (kept, ARRANGEMENTS[-1]), (working, ARRANGEMENTS[-1])]
 
 
 def _first_fitting(entries: tuple[KeyEntry, ...], palette: KeyEntry | None, width: int) -> int:
     """The index in `_tries` of the roomiest arrangement in which these entries fit (the last if none)."""
     tries = _tries(entries)
-    for index, (shown, (separator, gap, palette_shown)) in enumerate(tries):
-        right, line = _arranged(shown, palette, separator, gap, palette_shown)
+    for index, (shown, (separator, palette_shown)) in enumerate(tries):
+        right, line = _arranged(shown, palette, separator, palette_shown)
         if line.cell_length <= _room(width, right):
             return index
     return len(tries) - 1
 
 
-def _arranged(shown, palette, separator, gap, palette_shown) -> tuple[Content, Content]:
+def _arranged(shown, palette, separator, palette_shown) -> tuple[Content, Content]:
     """The palette's part and the keys' line of one arrangement."""
-    right = palette_content(palette, palette_shown, gap)
-    return right, Content(separator).join(entry_content(entry, gap) for entry in shown)
+    right = palette_content(palette, palette_shown)
+    return right, Content(separator).join(entry_content(entry) for entry in shown)
 
 
 def _room(width: int, right: Content) -> int:
@@ -172,12 +178,12 @@ def _working(entry: KeyEntry) -> KeyEntry:
     return KeyEntry(keys, entry.description, entry.enabled)
 
 
-def palette_content(palette: KeyEntry | None, shown: str | None, gap: str) -> Content:
+def palette_content(palette: KeyEntry | None, shown: str | None) -> Content:
     """The palette's entry at the right end: in full, as its key, or nothing."""
     if palette is None or shown is None:
         return Content("")
     entry = palette if shown == "full" else KeyEntry(palette.keys, "", palette.enabled)
-    return Content.from_markup("[dim]│[/] ") + entry_content(entry, gap)
+    return Content.from_markup("[dim]│[/] ") + entry_content(entry)
 
 
 class KeyFooter(Widget):
@@ -187,10 +193,11 @@ class KeyFooter(Widget):
     changed the keys (a number field hides 1 2 3 and e, which it takes as
     typing); that relayout landed on the next key press, and the widgets
     cost start-up time. This one re-renders a line of text. Below the width
-    of every key, it tightens the spacing, then shows the keys that fit and "…".
+    of every key, it tightens the spacing between entries, then drops Quit, then
+    shows the keys that fit and "…".
 
     Why not the stock Footer: at 80 columns it cut Ctrl+O to "^oO" and dropped
-    Export, where this one shows every key of the main screen (tests/tui/test_footer.py);
+    Export, where this one shows every key of the main screen but Quit (tests/tui/test_footer.py);
     and it is one widget instead of one per key (with the other start-up changes
     made with it, the main screen went from about 55 widgets and 183 style rules
     to 32 and 85; benchmarks/bench_tui_startup.py measures start-up).
