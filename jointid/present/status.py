@@ -200,6 +200,29 @@ NOTES_POINTER = "n: the notes (how the log was read, filtered and checked)."
 """Where a log fit's notes are, at the end of its status."""
 
 
+def compact_status(result: FitResult, untested: str = "untested (no held-out data)") -> str:
+    """A fit's status in about three lines of 78 columns, for a side panel that shows the values and errors: the
+    rank, what the sign rules did, the parameters that fail their sign rule, and those not or weakly determined,
+    by name. A fit without a unique solution keeps its full sentence (it has no readouts to lean on)."""
+    if result.estimate is None:
+        return status_message(result)
+    tested = untested if result.heldout_rmse is None else f"held-out RMSE {format_number(result.heldout_rmse)} N m"
+    parts = [f"Rank {result.rank} of {result.parameter_count}: a unique fit, {tested}."]
+    names = result.model.names
+    if result.constrained:
+        held = ", ".join(result.at_bound)
+        parts.append(f"Sign rules: {held} held at the bound." if held else "Sign rules: no bound active.")
+    parts.extend(f"Fitted {name} fails its sign rule." for name in result.sign_failures)
+    verdicts = result.uncertainty.verdicts
+    if verdicts is not None:
+        found = [f"{', '.join(name for name, judged in zip(names, verdicts) if judged == verdict)} {words}"
+                 for verdict, words in ((NOT_DETERMINED, "not determined"), (WEAK, "weak"))
+                 if verdict in verdicts]
+        if found:
+            parts.append(f"Unique is not accurate: {'; '.join(found)}.")
+    return " ".join(parts)
+
+
 def compact_log_status(logs) -> str:
     """A log fit's status in about four lines of 78 columns, so 80x24 keeps every readout on screen: the rank,
     the parameters not or weakly determined and those the derivative settings move, by name (the readouts beside
@@ -209,18 +232,7 @@ def compact_log_status(logs) -> str:
     result = logs.result
     if result.estimate is None:
         return f"{status_message(result)} n: notes."
-    tested = ("untested (no held-out log)" if result.heldout_rmse is None
-              else f"held-out RMSE {format_number(result.heldout_rmse)} N m")
-    parts = [f"Rank {result.rank} of {result.parameter_count}: a unique fit, {tested}."]
-    names = result.model.names
-    parts.extend(f"Fitted {name} fails its sign rule." for name in result.sign_failures)
-    verdicts = result.uncertainty.verdicts
-    if verdicts is not None:
-        found = [f"{', '.join(name for name, judged in zip(names, verdicts) if judged == verdict)} {words}"
-                 for verdict, words in ((NOT_DETERMINED, "not determined"), (WEAK, "weak"))
-                 if verdict in verdicts]
-        if found:
-            parts.append(f"Unique is not accurate: {'; '.join(found)}.")
+    parts = [compact_status(result, untested="untested (no held-out log)")]
     check = logs.sensitivity
     if check is not None and check.flagged:
         moved = [name for name, flagged in zip(check.names, check.flags) if flagged]

@@ -14,6 +14,7 @@ from jointid.present.comparison import comparison_table
 from jointid.present.readouts import readouts
 from jointid.studies.experiment import run_experiment
 from jointid.studies.ladder import compare_experiment
+from jointid.synthetic.fourier import FourierMotion
 from jointid.synthetic.settings import DEFAULT_SETTINGS
 from tui.palette import PHYSICS_STOPS
 from tui.screens.ladder import LadderScreen
@@ -180,3 +181,36 @@ def test_the_physics_dialog_leaves_the_damping_readout_in_view_while_fc_changes_
     assert not box.overlaps(before_region) and not box.overlaps(after_region)
     assert box.bottom <= size[1] - 1  # the whole dialog is on screen, above its footer
     assert "0.150000" in before and "0.449309" in after  # B grows from the true 0.15 while the dialog is open
+
+
+DESIGNED_MOTION = FourierMotion(8.0, 0.0, (0.0, 0.0, 1.2), (0.0, 0.0, 0.4))
+"""A designed motion as the explorer holds it after the design view's t (or --motion-file): the list's fourth."""
+
+
+@pytest.mark.parametrize("size, settings, choose_model", [
+    ((80, 24), replace(DEFAULT_SETTINGS, motion=DESIGNED_MOTION, noise=0.2), True),
+    ((120, 40), replace(DEFAULT_SETTINGS, motion=DESIGNED_MOTION, noise=0.2), True),
+    ((80, 24), replace(DEFAULT_SETTINGS, noise=1.0), False),
+], ids=["80x24-designed-five-terms", "120x40-designed-five-terms", "80x24-plain-noise-1"])
+def test_every_readout_fits_the_side_panel_without_scrolling(size, settings, choose_model):
+    """A designed motion with the coulomb+bias model gave the side panel a scrollbar at 80x24 and 120x40 (the
+    status took six rows, the fifth parameter's row wrapped beside the bar); so did plain noise 1.0 at 80x24."""
+
+    async def scenario(pilot, app):
+        main = app.screen
+        if choose_model:
+            await pilot.press("p")
+            await pilot.pause()
+            app.screen.query_one("#model", ChoiceList).focus()
+            await pilot.press("down", "down", "down", "down", "enter", "escape")
+            await pilot.pause()
+        side, panel = main.query_one("#side"), main.query_one(ReadoutPanel)
+        lines = [line.plain for line in panel.lines(panel.content_region.width)]
+        return main.settings.model, side.max_scroll_y, panel.region, side.content_region, lines
+
+    model, scroll, panel, side, lines = run(scenario, settings, size=size)
+    assert model == ("coulomb+bias" if choose_model else "plain")
+    assert scroll == 0 and panel.bottom <= side.bottom and panel.right <= side.right
+    text = "\n".join(lines)
+    assert "Cond" in text and "Held-out RMSE" in text  # the last readouts are in the panel, which is all on screen
+    assert ("tau0" in text or "torque bias" in text) == choose_model

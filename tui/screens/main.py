@@ -29,7 +29,7 @@ from jointid.model.terms import PLAIN, G
 from jointid.model.truth import LESSON_JOINT, TrueJoint
 from jointid.present.charts import heldout_chart, log_training_chart, training_chart
 from jointid.present.readouts import precision, readouts
-from jointid.present.status import log_sources, log_status, status_message
+from jointid.present.status import compact_status, log_sources, log_status, status_message
 from jointid.present.text import format_number
 from jointid.studies.experiment import run_experiment
 from jointid.synthetic.motions import TRAINING_MOTIONS
@@ -64,6 +64,10 @@ LOG_NOTE = "From log: c or 1/2/3 for synthetic"
 STATUS_LINES = 4
 """Rows the status sentence always takes: most fits' sentences wrap to at most four lines,
 at 80 columns as at 120, so a key press changes its text but not the screen's layout."""
+
+COMPACT_EXTENDED_STATUS_LINES = 3
+"""Rows the status takes on compact screens under a model with more terms than the lesson's: its shorter
+sentence fits three, and the side panel needs the fourth for the fifth parameter (80x24)."""
 
 MOTION_KEYS = {"1": ("rich", "Rich"), "2": ("slow", "Slow"), "3": ("holds", "Holds")}
 """Global keys that select a training motion, with the palette's short name."""
@@ -339,11 +343,21 @@ class MainScreen(Screen):
 
     def show_status(self) -> None:
         """The status sentence of the fit shown (a log's names its files in full only on roomy screens)."""
-        if self.logs is None:
-            status = status_message(self.result)
+        compact = self.has_class("-compact")
+        if self.logs is not None:
+            variants = (Content(log_status(self.logs, compact=compact)),)
+        elif compact:
+            # The full sentence when it fits the rows, else one that names what the readouts beside show in
+            # figures: a noisy fit's or a five-term model's sentence wrapped to five or six lines at 80 columns
+            # and pushed the readouts off.
+            variants = (Content(status_message(self.result)), Content(compact_status(self.result)))
         else:
-            status = log_status(self.logs, compact=self.has_class("-compact"))
-        self.query_one("#status", FittingLine).show((Content(status),))
+            variants = (Content(status_message(self.result)),)
+        line = self.query_one("#status", FittingLine)
+        # A model with more terms fills the compact side panel's rows: its status gives one back.
+        terse = compact and self.has_class("-extended") and self.logs is None
+        line.set_min_lines(COMPACT_EXTENDED_STATUS_LINES if terse else STATUS_LINES)
+        line.show(variants)
 
     def show_title(self) -> None:
         """The title line, naming the fitted model and the constraint when they are not the lesson's."""

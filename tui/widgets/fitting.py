@@ -1,4 +1,4 @@
-"""Text that picks the longest of its variants that fits the width, and wraps the last resort."""
+"""Text that picks the longest of its variants that fits the width (or its reserved rows), and wraps the last resort."""
 
 from __future__ import annotations
 
@@ -10,8 +10,9 @@ from .rows import RowStrips
 class FittingLine(RowStrips):
     """One line of text with shorter variants for narrow terminals.
 
-    The longest variant that fits the current width is shown; when none fits,
-    the shortest one wraps rather than being cut off. `min_lines` rows are
+    The longest variant that fits the current width is shown (with `min_lines`
+    above 1, the first that wraps into that many rows); when none fits, the
+    shortest one wraps rather than being cut off. `min_lines` rows are
     always taken, so texts of up to that many lines keep the widget's height
     and a new text repaints only this widget instead of relayouting the screen.
     """
@@ -51,6 +52,15 @@ class FittingLine(RowStrips):
         else:
             self.refresh_rows()
 
+    def set_min_lines(self, min_lines: int) -> None:
+        """Reserve another number of rows (a relayout only when that changes the height)."""
+        if min_lines != self.min_lines:
+            width = self.content_region.width
+            old_height = self.height_at(width)
+            self.min_lines, self._heights = min_lines, {}
+            if not width or self.height_at(width) != old_height:
+                self.refresh(layout=True)
+
     def line_count(self, width: int) -> int:
         """Lines the shown variant takes at a given width."""
         if width <= 0:
@@ -72,9 +82,9 @@ class FittingLine(RowStrips):
         return self.height_at(width)
 
     def pick(self, width: int) -> Content:
-        """The variant shown at a given width."""
+        """The variant shown at a given width: the first that fits in `min_lines` rows, else the last."""
         for variant in self.variants:
-            if variant.cell_length <= width:
+            if variant.cell_length <= width or (self.min_lines > 1 and len(variant.wrap(width)) <= self.min_lines):
                 return variant
         return self.variants[-1]
 
