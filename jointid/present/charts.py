@@ -13,6 +13,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from ..options import SEED_COUNT_LIMITS
 from .text import format_number, ordinal
 
 if TYPE_CHECKING:
@@ -211,6 +212,9 @@ class HistogramData:
     true_value: float
     marker_label: str = ""
     """What the vertical marker line shows, for the heading's legend: 'true 0.8'."""
+    widest_titles: tuple[str, ...] = ()
+    """`titles` as they read at the largest seed count: a chart chooses its title by these, so the choice
+    depends on its width alone and does not flip as the count widens ('1000 seeds', '10000 seeds')."""
 
 
 TRUE_MARKER = "│"
@@ -221,6 +225,7 @@ def sweep_histograms(sweep: SweepResult) -> list[HistogramData]:
     """One histogram per parameter of a full-rank sweep, with the true value marked."""
     model = sweep.model
     seeds = "1 seed" if sweep.seed_count == 1 else f"{sweep.seed_count} seeds"
+    most = f"{SEED_COUNT_LIMITS[1]} seeds"
     # The legend ("│ true 0.8") follows the title as the torque charts' legends do; a
     # marker at the very end ("true 0.8 at │") read as a title cut off.
     return [
@@ -229,6 +234,7 @@ def sweep_histograms(sweep: SweepResult) -> list[HistogramData]:
             values=sweep.values(parameter.name),
             true_value=float(true),
             marker_label=f"true {true:g}",
+            widest_titles=(f"{parameter.symbol_with_unit}, {most}", parameter.symbol_with_unit, parameter.name),
         )
         for parameter, true in zip(model.parameters, sweep.settings.true_joint.values_for(model))
     ]

@@ -15,6 +15,7 @@ from jointid.studies.sweep import run_sweep
 from jointid.synthetic.settings import DEFAULT_SETTINGS
 from tui.screens.sweep import SweepScreen
 from tui.widgets.plot_guard import MIN_PLOT_SIZE, TOO_SMALL
+from tui.widgets.fitting import FittingLine
 from tui.widgets.small_plots import GuardedPlot, SmallPlot, histogram_bars
 
 
@@ -112,6 +113,39 @@ def test_histogram_headings_give_the_marker_as_a_legend_not_a_cut_off_title():
     headings = [heading.plain for heading in SmallPlot.headings(data)]
     assert headings == ["I (kg m²), 10 seeds  │ true 0.8", "I (kg m²)  │ true 0.8", "I  │ true 0.8"]
     assert not any(heading.endswith("│") for heading in headings)
+
+
+def test_a_histogram_title_is_chosen_by_the_chart_width_alone_not_by_the_seed_count():
+    """The title switched between 'I (kg m²), 1000 seeds' and 'I (kg m²)' as the seed count gained a digit."""
+    data = sweep_histograms(run_sweep(RICH, 5))[0]
+    wider = replace(data, titles=(data.titles[0].replace("5 seeds", "10000 seeds"), *data.titles[1:]))
+    for width in range(8, 60):
+        shown = []
+        for histogram in (data, wider):
+            line = FittingLine()
+            line.show(SmallPlot.headings(histogram), SmallPlot.headings(histogram, histogram.widest_titles))
+            shown.append(SmallPlot.headings(histogram).index(line.pick(width)))
+        assert shown[0] == shown[1], width
+
+
+def test_the_histogram_keeps_its_place_when_the_seed_count_gains_digits():
+    """The count labels ('5' -> '10000') widened and the plot shifted sideways."""
+
+    async def main():
+        app = make_app(RICH)
+        async with app.run_test(size=(80, 24)) as pilot:
+            screen = await open_sweep(pilot)
+            plot = screen.query(SmallPlot).first()
+            axes = []
+            for count in (5, 10000):
+                plot.show(HistogramData(("I",), np.full(count, 0.8) + np.linspace(0, 0.1, count), 0.8))
+                await pilot.pause()
+                lines = plot.query_one(GuardedPlot).render().plain.splitlines()
+                axes.append({line.index("┤") for line in lines if "┤" in line})
+            return axes
+
+    few, many = asyncio.run(main())
+    assert few and few == many and len(few) == 1
 
 
 # --- narrow, tall terminals -------------------------------------------------------------------

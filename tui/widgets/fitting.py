@@ -33,17 +33,27 @@ class FittingLine(RowStrips):
         """
         super().__init__(id=id, classes=classes)
         self.variants: tuple[Content, ...] = (Content(""),)
+        self.sizing: tuple[Content, ...] = self.variants
+        """For each variant, the text whose fit decides whether it is shown (see `show`)."""
         self.min_lines = min_lines
         self._heights: dict[int, int] = {}
         """Rows at each width asked for, for the shown variants (wrapping a long text costs ~50 µs)."""
 
-    def show(self, variants: tuple[Content, ...]) -> None:
-        """Display new variants, longest first."""
-        if variants == self.variants:
+    def show(self, variants: tuple[Content, ...], sizing: tuple[Content, ...] | None = None) -> None:
+        """Display new variants, longest first.
+
+        Args:
+            variants: The texts, longest first.
+            sizing: For each variant, the text whose fit decides whether it is shown (the variant itself by
+                default): a title whose count grows ("1000 seeds") is chosen by its widest form, so the choice
+                depends on the width alone and does not flip as the count widens.
+        """
+        sizing = variants if sizing is None else sizing
+        if (variants, sizing) == (self.variants, self.sizing):
             return
         width = self.content_region.width
         old_height = self.height_at(width)
-        self.variants = variants
+        self.variants, self.sizing = variants, sizing
         self._heights = {}
         # A relayout of the whole screen costs more than the rest of a key press; only ask
         # for one when this widget's height really changed.
@@ -83,8 +93,8 @@ class FittingLine(RowStrips):
 
     def pick(self, width: int) -> Content:
         """The variant shown at a given width: the first that fits in `min_lines` rows, else the last."""
-        for variant in self.variants:
-            if variant.cell_length <= width or (self.min_lines > 1 and len(variant.wrap(width)) <= self.min_lines):
+        for variant, sizing in zip(self.variants, self.sizing):
+            if sizing.cell_length <= width or (self.min_lines > 1 and len(sizing.wrap(width)) <= self.min_lines):
                 return variant
         return self.variants[-1]
 

@@ -55,6 +55,10 @@ def histogram_bars(values: np.ndarray, true_value: float, bins: int = HISTOGRAM_
     return HistogramBars(counts, edges, low, high)
 
 
+COUNT_LABEL_WIDTH = 6
+"""Histogram count labels are padded to this width: the explorer's largest sweep, 100000 seeds in one bar."""
+
+
 def tick_labels(ticks: list[float]) -> list[str]:
     """Three significant digits, or as many more as it takes for different ticks to read differently.
 
@@ -144,12 +148,15 @@ class SmallPlot(Vertical):
     def show(self, data: HistogramData | ScatterData | LinesData | None) -> None:
         """Display new data (None clears the chart)."""
         self.data = data
-        self.query_one(FittingLine).show(self.headings(data))
+        widest = data.widest_titles if isinstance(data, HistogramData) and data.widest_titles else None
+        self.query_one(FittingLine).show(self.headings(data), None if widest is None else self.headings(data, widest))
         self._draw()
 
     @staticmethod
-    def headings(data: HistogramData | ScatterData | LinesData | None) -> tuple[Content, ...]:
-        """Each title in bold, longest first; a histogram's followed by the legend of its marker line."""
+    def headings(data: HistogramData | ScatterData | LinesData | None,
+                 titles: tuple[str, ...] | None = None) -> tuple[Content, ...]:
+        """Each title (the data's, or `titles`) in bold, longest first; a histogram's followed by the legend of its
+        marker line."""
         if data is None:
             return (Content(""),)
         markup = "[b]$title[/b]"
@@ -157,7 +164,7 @@ class SmallPlot(Vertical):
         if legend:
             markup += "  [$accent]$marker[/] $legend"
         return tuple(Content.from_markup(markup, title=title, marker=TRUE_MARKER, legend=legend)
-                     for title in data.titles)
+                     for title in (data.titles if titles is None else titles))
 
     def _draw(self) -> None:
         if self.is_mounted:
@@ -197,7 +204,8 @@ class SmallPlot(Vertical):
         plt.xlim(low, high)
         most = int(bars.counts.max())
         counts = sorted({0, most // 2, most})
-        plt.yticks(counts, [str(count) for count in counts])
+        # Labels of one width, so the plot keeps its place when the seed count gains a digit (5 -> 10000).
+        plt.yticks(counts, [str(count).rjust(COUNT_LABEL_WIDTH) for count in counts])
         plt.ylim(0, max(most, 1))
 
     def _scatter(self, plt, data: ScatterData) -> None:
