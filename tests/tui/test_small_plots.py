@@ -14,8 +14,8 @@ from jointid.present.charts import HistogramData, sweep_histograms
 from jointid.studies.sweep import run_sweep
 from jointid.synthetic.settings import DEFAULT_SETTINGS
 from tui.screens.sweep import SweepScreen
-from tui.widgets.plot_guard import MIN_PLOT_SIZE, TOO_SMALL
 from tui.widgets.fitting import FittingLine
+from tui.widgets.plot_guard import MIN_PLOT_SIZE, TOO_SMALL
 from tui.widgets.small_plots import GuardedPlot, SmallPlot, histogram_bars
 
 

@@ -29,7 +29,12 @@ from jointid.model.terms import PLAIN, G
 from jointid.model.truth import LESSON_JOINT, TrueJoint
 from jointid.present.charts import heldout_chart, log_training_chart, training_chart
 from jointid.present.readouts import precision, readouts
-from jointid.present.status import compact_status, log_sources, log_status, status_message
+from jointid.present.status import (
+    compact_status,
+    log_sources,
+    log_status,
+    status_message,
+)
 from jointid.present.text import format_number
 from jointid.studies.experiment import run_experiment
 from jointid.synthetic.motions import TRAINING_MOTIONS
@@ -702,7 +707,9 @@ class MainScreen(Screen):
             from jointid.present.documents import logs_document
 
             return f"{Path(self.logs.training.path).stem}-fit", logs_document(self.logs)
-        from jointid.present.documents import fit_document  # json and the documents: only when exporting
+        from jointid.present.documents import (
+            fit_document,  # json and the documents: only when exporting
+        )
 
         s = self.settings
         model = "" if s.model == DEFAULT_SETTINGS.model else f"-{s.model}"
