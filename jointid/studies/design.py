@@ -467,12 +467,25 @@ def _seconds(starts: int, harmonics: int, samples: int, parameters: int) -> floa
     return SECONDS_PER_UNIT * starts * parameters * harmonics**2 * (samples + FIXED_SAMPLES)
 
 
+def budget_overrun(spec: DesignSpec, budget: float | None = None) -> str | None:
+    """None when the design's estimated time is within `budget` seconds (DESIGN_BUDGET_SECONDS by default);
+    otherwise how much work it is and the budget, as a clause both faces end with their own advice."""
+    budget = DESIGN_BUDGET_SECONDS if budget is None else budget
+    seconds = design_seconds(spec)
+    if seconds <= budget:
+        return None
+    parameters = spec.experiment.joint_model.size
+    return (f"a design of {spec.starts:,} starts x {spec.harmonics} harmonics x {spec.experiment.samples:,} samples "
+            f"for the {parameters}-parameter {spec.experiment.joint_model.name} model is about {_duration(seconds)} "
+            f"of work here, over the {budget:g} s budget")
+
+
 def over_budget(spec: DesignSpec, budget: float | None = None) -> str | None:
     """None when the design's estimated time is within `budget` seconds (DESIGN_BUDGET_SECONDS by default);
     otherwise one line saying how long, and which of --samples, --harmonics and --starts to lower to what."""
     budget = DESIGN_BUDGET_SECONDS if budget is None else budget
-    seconds = design_seconds(spec)
-    if seconds <= budget:
+    overrun = budget_overrun(spec, budget)
+    if overrun is None:
         return None
     starts, harmonics = spec.starts, spec.harmonics
     samples, parameters = spec.experiment.samples, spec.experiment.joint_model.size
@@ -490,9 +503,7 @@ def over_budget(spec: DesignSpec, budget: float | None = None) -> str | None:
         advice = f"lower --samples, --harmonics or --starts ({how} would fit with the rest as given)"
     else:
         advice = "lower --samples, --harmonics and --starts together"
-    return (f"a design of {starts:,} starts x {harmonics} harmonics x {samples:,} samples for the {parameters}-parameter "
-            f"{spec.experiment.joint_model.name} model is about {_duration(seconds)} of work here, over the "
-            f"{budget:g} s budget; {advice}")
+    return f"{overrun}; {advice}"
 
 
 def _duration(seconds: float) -> str:

@@ -292,3 +292,23 @@ def test_a_design_process_killed_from_outside_is_a_notification(monkeypatch):
     with time_limit(120):
         state, messages = run_app(scenario, NOISY)
     assert state == "no design" and "the optimiser's process stopped (exit status -9)" in messages
+
+
+def test_a_design_over_the_work_budget_is_refused_with_a_notification_and_no_process(monkeypatch):
+    """`jointid design` refuses a design over its work budget; the view ran any design it was given."""
+    from jointid.studies import design
+
+    monkeypatch.setattr(design, "DESIGN_BUDGET_SECONDS", 1e-6)  # the explorer's own designs fit the real one
+
+    async def scenario(pilot, app):
+        screen = await open_design(pilot)
+        await pilot.press("g")
+        await pilot.app.workers.wait_for_complete()
+        await pilot.pause()
+        return screen.designer, screen.result, text_of(screen, "#design-state"), \
+            [n.message for n in app._notifications]
+
+    designer, result, state, messages = run_app(scenario, NOISY)
+    assert designer is None and result is None and not state.startswith("running")
+    assert len(messages) == 1 and "over the 1e-06 s budget" in messages[0] and "lower the samples" in messages[0]
+    assert messages[0].startswith("A design of 8 starts x 3 harmonics x 24 samples for the 3-parameter plain model")

@@ -165,12 +165,19 @@ class DesignScreen(Screen):
 
     def action_run(self) -> None:
         """Start a design with the current fields (an exclusive worker drops one still running)."""
-        from jointid.studies.design import DesignError
+        from jointid.studies.design import DesignError, budget_overrun
 
         try:
             spec = self.spec()
         except DesignError as error:
             self.notify(str(error), title="Cannot design", severity="error")
+            return
+        # The command line's work budget: the explorer's samples and model keep a design well inside it,
+        # and a design it would refuse is refused here too rather than run for minutes.
+        overrun = budget_overrun(spec)
+        if overrun is not None:
+            self.notify(f"{overrun[0].upper()}{overrun[1:]}: lower the samples or choose a model with fewer terms.",
+                        title="Cannot design", severity="error")
             return
         self.query_one(ProgressBar).update(total=spec.starts, progress=0)
         self.query_one("#design-state", Static).update(f"running: 0 of {spec.starts} starts…")
