@@ -193,6 +193,7 @@ def open_bag(path):
     if os.path.isdir(path) and not os.path.exists(os.path.join(path, "metadata.yaml")):
         raise LogError(path, "is a folder without metadata.yaml: not a ROS 2 bag folder")
     _check_bag_files(path)
+    _check_storage_files(path)
     from pathlib import Path
 
     try:
@@ -218,8 +219,53 @@ def _unopenable(path: str, error: BaseException) -> str:
     if os.path.isdir(path):
         if "metadata" in str(error).lower() or "yaml" in str(error).lower():
             return f"cannot be read as {kind}: its metadata.yaml is damaged or not a bag's description"
-        return f"cannot be read as {kind}: its storage file is damaged, truncated or not a bag's"
+        return f"cannot be read as {kind}: {_storage_words(path)} damaged, truncated or not a bag's"
     return f"cannot be read as {kind}: the file is damaged, truncated or not a bag"
+
+
+def storage_files(path: str) -> list[str] | None:
+    """The storage files a ROS 2 bag folder's metadata.yaml names (bare names, as rosbags looks them up in the
+    folder), or None when it cannot say; read with ruamel.yaml, which rosbags itself reads it with."""
+    try:
+        from ruamel.yaml import YAML
+
+        from ..files import read_bytes
+
+        text = read_bytes(os.path.join(path, "metadata.yaml"), 1 << 20).decode("utf-8")
+        names = YAML(typ="safe").load(text)["rosbag2_bagfile_information"]["relative_file_paths"]
+        return [os.path.basename(str(name)) for name in names]
+    except Exception:  # noqa: BLE001 - no or damaged metadata: rosbags' open says so, in jointid's words
+        return None
+
+
+def _storage_words(path: str) -> str:
+    """'its storage file run_0.mcap is' (named, so the user knows which file to look at), or the files in general."""
+    from ..files import shown_path
+
+    names = storage_files(path)
+    if not names:
+        return "its storage file is"
+    if len(names) == 1:
+        return f"its storage file {shown_path(names[0])} is"
+    return f"one of its storage files ({', '.join(shown_path(name) for name in names)}) is"
+
+
+def _check_storage_files(path: str) -> None:
+    """LogError naming a storage file that metadata.yaml lists but the folder lacks, or that is no regular file
+    (a folder in its place): rosbags' own message for these names its internals."""
+    if not os.path.isdir(path):
+        return
+    from ..files import FileRefused, check_readable, shown_path
+
+    for name in storage_files(path) or ():
+        file = os.path.join(path, name)
+        if not os.path.lexists(file):
+            raise LogError(path, f"cannot be read as a ROS 2 bag folder: its storage file {shown_path(name)}, "
+                                 "named in metadata.yaml, is missing")
+        try:
+            check_readable(file)
+        except FileRefused as error:
+            raise LogError(path, error.problem, place=f"storage file {shown_path(name)}") from None
 
 
 def _check_bag_files(path: str) -> None:
@@ -273,6 +319,11 @@ class _Scan:
         self.path, self.reader, self.connections = path, reader, connections
         self.consume, self.progress, self.cancel, self.limit = consume, progress, cancel, limit
         self.ros1 = _is_ros1(reader)
+        self.mismatched = 0
+        """Messages whose position, velocity or effort array is neither empty nor one value per joint name:
+        left out, since no value of theirs can be told to belong to a joint."""
+        self.first_mismatch: tuple[int, str] | None = None
+        """(0-based message number, what is wrong) of the first such message."""
         self.total = sum(c.msgcount for c in connections)
         if limit is not None:
             self.total = min(self.total, limit)
@@ -300,7 +351,9 @@ class _Scan:
         except Exception:  # a damaged chunk or table part-way through; rosbags' text names its internals
             topic = self.connections[0].topic
             where = f"after message {number} on {topic}" if number else f"at the first message on {topic}"
-            raise LogError(self.path, f"cannot be read {where}: the bag is damaged or truncated there") from None
+            damaged = (f"{_storage_words(self.path)} damaged or truncated there" if os.path.isdir(self.path)
+                       else "the bag is damaged or truncated there")
+            raise LogError(self.path, f"cannot be read {where}: {damaged}") from None
         return number
 
     def _flush(self, batch, received, first) -> None:
@@ -311,29 +364,55 @@ class _Scan:
         layout = self._layout(batch[0], first)
         same = (block[:, layout.fixed] == layout.template[layout.fixed]).all(axis=1)
         if same.all():
-            self.consume(layout, block, times, np.arange(first, first + len(batch)))
+            self._consume(layout, block, times, np.arange(first, first + len(batch)))
         else:  # rare: messages of one length but other names or frame_id; read them one by one
             for i in range(len(batch)):
                 own = layout if same[i] else self._layout(batch[i], first + i)
-                self.consume(own, block[i: i + 1], times[i: i + 1], np.array([first + i]))
+                self._consume(own, block[i: i + 1], times[i: i + 1], np.array([first + i]))
         if self.progress is not None:
             self.progress(first + len(batch), self.total)
+
+    def _consume(self, layout: Layout, block, times, numbers) -> None:
+        """Hand messages of a readable layout on; count those whose arrays do not match their names."""
+        problem = mismatch(layout)
+        if problem is None:
+            self.consume(layout, block, times, numbers)
+            return
+        if self.first_mismatch is None:
+            self.first_mismatch = (int(numbers[0]), problem)
+        self.mismatched += len(block)
+        skipped = getattr(self.consume, "skipped", None)
+        if skipped is not None:  # the survey still times them: their stamps are as good as any
+            skipped(layout, block, times)
+
+    def mismatch_text(self, read: int) -> str | None:
+        """'1 of 100 messages on /joint_states (first: message 41, effort has 3 values for 2 joint names)', or
+        None when every message's arrays match its names."""
+        if self.first_mismatch is None:
+            return None
+        number, problem = self.first_mismatch
+        return (f"{self.mismatched:,} of {read:,} messages on {self.connections[0].topic} "
+                f"(first: message {number + 1}, {problem})")
 
     def _layout(self, raw, number: int) -> Layout:
         where = f"message {number + 1} on {self.connections[0].topic}"
         try:
-            layout = parse_layout(raw, self.ros1)
+            return parse_layout(raw, self.ros1)
         except (_Truncated, ValueError, struct.error):
             raise LogError(self.path, f"{where} cannot be read as sensor_msgs/JointState (damaged or truncated)"
                            ) from None
-        joints = len(layout.names)
-        for name, count in zip(FIELDS, layout.counts):
-            # ROS gives one value per joint name or none; any other length cannot say which joint a value is.
-            if count not in (0, joints):
-                raise LogError(self.path, f"{name} has {count} value{'s' if count != 1 else ''} for {joints} "
-                               f"joint name{'s' if joints != 1 else ''} (a JointState gives one per name, or none)",
-                               place=where)
-        return layout
+
+
+def mismatch(layout: Layout) -> str | None:
+    """What is wrong with a message's array lengths ('effort has 3 values for 2 joint names'), or None.
+
+    ROS gives one value per joint name or none; any other length cannot say which joint a value is.
+    """
+    joints = len(layout.names)
+    for name, count in zip(FIELDS, layout.counts):
+        if count not in (0, joints):
+            return f"{name} has {count} value{'s' if count != 1 else ''} for {joints} joint name{'s' if joints != 1 else ''}"
+    return None
 
 
 # ---------------------------------------------------------------------------------------------- bag-info
@@ -377,6 +456,10 @@ class JointStateTopic:
     median_step: float | None
     max_step: float | None
     min_step: float | None
+    mismatched: int = 0
+    """Messages whose arrays have other lengths than their joint names (left out of the joints' counts)."""
+    first_mismatch: tuple[int, str] | None = None
+    """(1-based message number, what is wrong) of the first of them; None when there are none."""
 
     @property
     def rate(self) -> float | None:
@@ -397,6 +480,9 @@ class JointStateTopic:
             "duration_s": self.duration, "rate_hz": self.rate, "median_step_s": self.median_step,
             "max_step_s": self.max_step, "min_step_s": self.min_step, "jitter": self.jitter,
             "joints": [j.to_dict() for j in self.joints],
+            "mismatched_arrays": None if self.first_mismatch is None else {
+                "messages": self.mismatched, "first_message": self.first_mismatch[0],
+                "problem": self.first_mismatch[1]},
         }
 
 
@@ -438,6 +524,11 @@ class _Survey:
         self.stamps.append(stamps(block, layout))
         self.received.append(received)
 
+    def skipped(self, layout, block, received):
+        """Messages left out for their array lengths: their times still count for the topic's timing."""
+        self.stamps.append(stamps(block, layout))
+        self.received.append(received)
+
 
 def bag_info(path, *, limit: int | None = None, progress=None, cancel=None) -> BagInfo:
     """Survey a bag (the first `limit` messages of each JointState topic, or all); LogError if unreadable."""
@@ -448,7 +539,8 @@ def bag_info(path, *, limit: int | None = None, progress=None, cancel=None) -> B
         joint_states = []
         for topic, connections in sorted(joint_state_topics(reader).items()):
             survey = _Survey()
-            count = _Scan(path, reader, connections, survey, progress, cancel, limit).run()
+            scan = _Scan(path, reader, connections, survey, progress, cancel, limit)
+            count = scan.run()
             times, source = _times(np.concatenate(survey.stamps) if survey.stamps else np.zeros(0, np.int64),
                                    np.concatenate(survey.received) if survey.received else np.zeros(0, np.int64))
             times = np.sort(times)
@@ -459,6 +551,8 @@ def bag_info(path, *, limit: int | None = None, progress=None, cancel=None) -> B
                 float(np.median(steps)) if len(steps) else None,
                 float(steps.max()) if len(steps) else None,
                 float(steps.min()) if len(steps) else None,
+                scan.mismatched,
+                None if scan.first_mismatch is None else (scan.first_mismatch[0] + 1, scan.first_mismatch[1]),
             ))
         duration = reader.duration * 1e-9 if reader.message_count else 0.0
         return BagInfo(path, "ROS 1" if _is_ros1(reader) else "ROS 2", duration, topics, joint_states)
@@ -580,9 +674,14 @@ def read_bag_table(path, joint: str, topic: str | None = None, *, progress=None,
     try:
         topic, connections = _choose_topic(path, reader, topic)
         collected = _JointColumns(joint, sum(c.msgcount for c in connections))
-        messages = _Scan(path, reader, connections, collected, progress, cancel).run()
+        scan = _Scan(path, reader, connections, collected, progress, cancel)
+        messages = scan.run()
     finally:
         reader.close()
+    mismatched = scan.mismatch_text(messages)
+    if mismatched is not None:  # values that cannot be told to belong to a joint: refused, not guessed
+        raise LogError(path, f"arrays of other lengths than their joint names in {mismatched}; a JointState gives "
+                       "one value per name, or none (jointid bag-info lists the others)")
     return _table(path, topic, joint, collected, messages)
 
 

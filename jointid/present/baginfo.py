@@ -37,6 +37,10 @@ def bag_info_text(info) -> str:
         lines += ["", "No sensor_msgs/JointState topic: nothing jointid can fit."]
     for topic in info.joint_states:
         lines += ["", f"JointState {topic.name}: {topic_timing_text(topic)}."]
+        if topic.first_mismatch is not None:
+            number, problem = topic.first_mismatch
+            lines.append(f"Left out of the joints below, with arrays of other lengths than their joint names: "
+                         f"{topic.mismatched:,} of {topic.messages:,} messages (first: message {number}, {problem}).")
         rows = [[j.name, str(j.messages), j.fields_text()] for j in topic.joints]
         lines.append(_columns(["joint", "messages", "filled fields"], rows, 1))
     return "\n".join(lines)

@@ -273,13 +273,58 @@ def test_without_rosbags_one_line_names_the_extra(bad_bags, capsys, monkeypatch)
 
 @pytest.mark.parametrize("kind, field, length", [("ros1", "position", 1), ("mcap", "effort", 3),
                                                   ("sqlite3", "velocity", 1)])
-def test_mismatched_array_lengths_name_the_message_and_field(tmp_path, capsys, kind, field, length):
+def test_mismatched_array_lengths_are_refused_for_fitting_naming_the_topic_and_the_count(tmp_path, capsys, kind,
+                                                                                          field, length):
     path = write_mismatched_bag(tmp_path, kind, field, length)
-    expected = (f"{path}, message 41 on /joint_states: {field} has {length} "
-                f"value{'s' if length > 1 else ''} for 2 joint names")
-    for argv in (["fit", "--bag", str(path), "--joint", "shoulder"], ["bag-info", str(path)]):
-        line = refused(capsys, *argv)
-        assert expected in line and "empty" not in line, line
+    line = refused(capsys, "fit", "--bag", str(path), "--joint", "shoulder")
+    assert (f"{path}: arrays of other lengths than their joint names in 1 of 100 messages on /joint_states "
+            f"(first: message 41, {field} has {length} value{'s' if length > 1 else ''} for 2 joint names)") in line
+    assert "empty" not in line
+
+
+@pytest.mark.parametrize("kind, field, length", [("ros1", "position", 1), ("mcap", "effort", 3),
+                                                  ("sqlite3", "velocity", 1)])
+def test_bag_info_lists_a_bag_with_mismatched_arrays_and_says_which_messages(tmp_path, capsys, kind, field, length):
+    """bag-info refused the whole bag over one message whose array lengths did not match its names."""
+    path = write_mismatched_bag(tmp_path, kind, field, length)
+    assert main(["bag-info", str(path)]) == 0
+    text = capsys.readouterr().out
+    values = f"value{'s' if length > 1 else ''}"
+    assert (f"1 of 100 messages (first: message 41, {field} has {length} {values} for 2 joint names)") in text
+    assert "shoulder        99  position, velocity, effort" in text and "elbow           99" in text
+    assert "100 messages over 0.198 s" in text and "max 2 ms (jitter 0.0%)" in text  # its stamp still counts
+    assert main(["bag-info", "--json", str(path)]) == 0
+    (topic,) = json.loads(capsys.readouterr().out)["joint_states"]
+    assert topic["mismatched_arrays"] == {"messages": 1, "first_message": 41,
+                                          "problem": f"{field} has {length} {values} for 2 joint names"}
+    assert [joint["messages"] for joint in topic["joints"]] == [99, 99]
+
+
+@pytest.mark.parametrize("kind", ["sqlite3", "mcap"])
+def test_a_bag_folders_missing_or_unusable_storage_file_is_named(tmp_path, capsys, kind):
+    import shutil
+
+    t = np.arange(200) / 500.0
+    good = write_joint_bag(bag_path(tmp_path, "good", kind), kind, t, two_joints(t))
+    (storage,) = [f.name for f in good.iterdir() if f.name != "metadata.yaml"]
+    cases = {}
+    for how in ("missing", "a folder", "empty"):
+        copy = tmp_path / how.replace(" ", "-")
+        shutil.copytree(good, copy)
+        (copy / storage).unlink()
+        if how == "a folder":
+            (copy / storage).mkdir()
+        elif how == "empty":
+            (copy / storage).write_bytes(b"")
+        cases[how] = copy
+    expected = {"missing": f"its storage file {storage}, named in metadata.yaml, is missing",
+                "a folder": f"storage file {storage}: cannot read: a directory",
+                "empty": f"its storage file {storage} is damaged, truncated or not a bag's"}
+    for how, path in cases.items():
+        for argv in (["fit", "--bag", str(path), "--joint", "shoulder"], ["bag-info", str(path)]):
+            line = refused(capsys, *argv)
+            assert f"{path}" in line and expected[how] in line, (how, line)
+            assert not any(text.lower() in line.lower() for text in ROSBAGS_WORDING), (how, line)
 
 
 def _damaged_copies(folder, good, kind):
@@ -313,7 +358,7 @@ def _damaged_copies(folder, good, kind):
 
 
 # Fragments of rosbags' own exception texts, which must not reach the user.
-ROSBAGS_WORDING = ("magic", "Header could not", "malformed", "not a database", "load YAML", "NoneType", "ssize_t",
+ROSBAGS_WORDING = ("magic", "Header could not", "database files are missing", "malformed", "not a database", "load YAML", "NoneType", "ssize_t",
                    "codec", "offset", "Bag index", "Cannot open")
 
 
