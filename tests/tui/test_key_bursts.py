@@ -142,3 +142,38 @@ async def test_a_survey_failing_under_the_command_palette_closes_the_picker_once
     send_burst(app, "escape", "escape")
     await closed(app, watch, opener)
     assert app.screen_stack == [main_screen(app)]
+
+
+async def typed_in_burst(app, watch, field: Input, keys: tuple[str, ...]) -> str:
+    """The field's text after `keys` arrive as one batch: each key reaches the app once from the terminal, and the
+    ones the field does not type (backspace, arrows) once more, bubbled back up for the app to run as a binding."""
+    from textual import events
+
+    field.value = ""
+    watch.record()
+    send_burst(app, *keys)
+    bubbled = sum(1 for key in keys if len(key) > 1)
+    await watch.until(app, lambda: watch.count(app, events.Key) >= len(keys) + bubbled, "the burst to be handled")
+    return field.value
+
+
+@with_app
+async def test_the_burst_guard_leaves_a_burst_of_typing_as_textual_delivers_it(pilot, app, watch):
+    """Typed characters arrive in order; a bound key (backspace) runs after the characters typed after it in the
+    same burst, with the guard as without it: Textual's order (textual#6605), not the guard's."""
+    from tui.third_party.adapter import BurstGuard
+
+    await pilot.press("ctrl+o")
+    dialog = app.screen
+    assert isinstance(dialog, OpenLogScreen) and BurstGuard._stock  # the guard is installed
+    field = dialog.query_one("#open-path", Input)
+    field.focus()
+    keys = ("a", "b", "backspace", "c")
+    assert await typed_in_burst(app, watch, field, ("x", "y", "z")) == "xyz"
+    guarded = await typed_in_burst(app, watch, field, keys)
+    BurstGuard.uninstall()
+    try:
+        stock = await typed_in_burst(app, watch, field, keys)
+    finally:
+        BurstGuard.install()
+    assert guarded == stock == "ab"  # in order it would be "ac": c is typed before backspace's binding runs
