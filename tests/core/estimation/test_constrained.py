@@ -16,7 +16,7 @@ from jointid.cli import main
 from jointid.estimation.bounded import INERTIA_FLOOR, bounded_least_squares, lower_bounds
 from jointid.estimation.solver import solve_least_squares
 from jointid.model.terms import model_named
-from jointid.present.status import status_message
+from jointid.present.status import compact_status, status_message
 from jointid.studies.experiment import run_experiment
 from jointid.studies.sweep import run_sweep
 from jointid.synthetic.settings import Settings
@@ -49,6 +49,18 @@ def test_an_inactive_constraint_is_the_unconstrained_fit_bit_for_bit():
     held = run_experiment(Settings(noise=0.2, constrained=True))
     assert held.at_bound == () and np.array_equal(held.estimate, free.estimate)
     assert "no bound is active" in status_message(held)
+
+
+def test_the_compact_status_names_what_the_constraint_and_the_verdicts_did():
+    """The explorer's short status on a small screen: the bound held, the sign failures and verdicts, by name."""
+    held = run_experiment(Settings(motion="slow", noise=0.2, constrained=True))
+    free = run_experiment(Settings(motion="slow", noise=0.2))
+    inactive = run_experiment(Settings(noise=0.2, constrained=True))
+    assert compact_status(held).startswith(
+        f"Rank 3 of 3: a unique fit, held-out RMSE {held.heldout_rmse:.6f} N m. Sign rules: I held at the bound.")
+    assert "Fitted I fails its sign rule." in compact_status(free) and free.estimate[0] < 0
+    assert "Sign rules: no bound active." in compact_status(inactive)
+    assert all(len(compact_status(result)) <= 3 * 78 for result in (held, free, inactive))  # three rows at 80
 
 
 @hypothesis_settings(max_examples=60, deadline=None)
