@@ -102,3 +102,13 @@ def test_a_press_repaints_only_the_rows_that_changed():
     assert {region.y for region in regions} == seen["changed"]  # exactly those rows, nothing else
     assert all(region.height == 1 for region in regions)
     assert len(seen["changed"]) < seen["height"]
+
+
+def test_a_line_with_rows_to_fill_picks_a_variant_at_no_width():
+    """The storm resized the status to no width: wrapping a variant to choose one raised ValueError there."""
+    from textual.content import Content
+
+    line = FittingLine(min_lines=3)
+    line.show((Content("a long sentence " * 4), Content("short")))
+    assert line.pick(0).plain == "short" and line.pick(-1).plain == "short"
+    assert line.pick(40).plain.startswith("a long")  # two rows of 40: fits in three

@@ -94,7 +94,7 @@ class FittingLine(RowStrips):
     def pick(self, width: int) -> Content:
         """The variant shown at a given width: the first that fits in `min_lines` rows, else the last."""
         for variant, sizing in zip(self.variants, self.sizing):
-            if sizing.cell_length <= width or (self.min_lines > 1 and len(sizing.wrap(width)) <= self.min_lines):
+            if sizing.cell_length <= width or (self.min_lines > 1 and width > 0 and len(sizing.wrap(width)) <= self.min_lines):
                 return variant
         return self.variants[-1]
 
