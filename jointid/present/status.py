@@ -203,9 +203,10 @@ NOTES_POINTER = "n: the notes (how the log was read, filtered and checked)."
 def compact_status(result: FitResult, untested: str = "untested (no held-out data)") -> str:
     """A fit's status in about three lines of 78 columns, for a side panel that shows the values and errors: the
     rank, what the sign rules did, the parameters that fail their sign rule, and those not or weakly determined,
-    by name. A fit without a unique solution keeps its full sentence (it has no readouts to lean on)."""
+    by name; without a unique fit, what the data still determine and the parameters they do not (each readout
+    says why)."""
     if result.estimate is None:
-        return status_message(result)
+        return compact_subset_status(result)
     tested = untested if result.heldout_rmse is None else f"held-out RMSE {format_number(result.heldout_rmse)} N m"
     parts = [f"Rank {result.rank} of {result.parameter_count}: a unique fit, {tested}."]
     names = result.model.names
@@ -220,6 +221,19 @@ def compact_status(result: FitResult, untested: str = "untested (no held-out dat
                  if verdict in verdicts]
         if found:
             parts.append(f"Unique is not accurate: {'; '.join(found)}.")
+    return " ".join(parts)
+
+
+def compact_subset_status(result: FitResult) -> str:
+    """A rank-deficient fit's status in a few words: the rank, what the data still determine, and which parameters
+    they do not (the readouts beside say why, one by one)."""
+    subset, model = result.identifiable, result.model
+    parts = [f"Rank {result.rank} of {result.parameter_count}: no unique fit."]
+    if subset.values:
+        known = ", ".join(f"{name} = {format_number(value)} {model.term(name).unit}" for name, value in subset.values.items())
+        parts.append(f"The data still determine {known} on {'its' if len(subset.values) == 1 else 'their'} own.")
+    if subset.undetermined:
+        parts.append(f"Not determined: {', '.join(subset.undetermined)}.")
     return " ".join(parts)
 
 

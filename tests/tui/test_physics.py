@@ -191,10 +191,15 @@ DESIGNED_MOTION = FourierMotion(8.0, 0.0, (0.0, 0.0, 1.2), (0.0, 0.0, 0.4))
     ((80, 24), replace(DEFAULT_SETTINGS, motion=DESIGNED_MOTION, noise=0.2), True),
     ((120, 40), replace(DEFAULT_SETTINGS, motion=DESIGNED_MOTION, noise=0.2), True),
     ((80, 24), replace(DEFAULT_SETTINGS, noise=1.0), False),
-], ids=["80x24-designed-five-terms", "120x40-designed-five-terms", "80x24-plain-noise-1"])
+    ((80, 24), replace(DEFAULT_SETTINGS, motion="slow", noise=1.0), False),
+    ((120, 40), replace(DEFAULT_SETTINGS, noise=0.2, constrained=True, true_coulomb=0.3, model="coulomb+bias"), False),
+    ((80, 24), replace(DEFAULT_SETTINGS, motion="holds", noise=0.2, model="coulomb+angle-offset"), False),
+], ids=["80x24-designed-five-terms", "120x40-designed-five-terms", "80x24-plain-noise-1", "80x24-slow-noise-1",
+        "120x40-constrained-five-terms", "80x24-holds-rank-1-of-5"])
 def test_every_readout_fits_the_side_panel_without_scrolling(size, settings, choose_model):
     """A designed motion with the coulomb+bias model gave the side panel a scrollbar at 80x24 and 120x40 (the
-    status took six rows, the fifth parameter's row wrapped beside the bar); so did plain noise 1.0 at 80x24."""
+    status took six rows, the fifth parameter's row wrapped beside the bar); so did plain noise 1.0 at 80x24
+    (slow motion's two sign failures too), a constrained five-term fit at 120x40 and a rank-deficient one at 80x24."""
 
     async def scenario(pilot, app):
         main = app.screen
@@ -209,8 +214,8 @@ def test_every_readout_fits_the_side_panel_without_scrolling(size, settings, cho
         return main.settings.model, side.max_scroll_y, panel.region, side.content_region, lines
 
     model, scroll, panel, side, lines = run(scenario, settings, size=size)
-    assert model == ("coulomb+bias" if choose_model else "plain")
+    assert model == ("coulomb+bias" if choose_model else settings.model)
     assert scroll == 0 and panel.bottom <= side.bottom and panel.right <= side.right
     text = "\n".join(lines)
     assert "Cond" in text and "Held-out RMSE" in text  # the last readouts are in the panel, which is all on screen
-    assert ("tau0" in text or "torque bias" in text) == choose_model
+    assert ("tau0" in text or "torque bias" in text) == (choose_model or settings.model == "coulomb+bias")

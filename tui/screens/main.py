@@ -349,15 +349,13 @@ class MainScreen(Screen):
     def show_status(self) -> None:
         """The status sentence of the fit shown (a log's names its files in full only on roomy screens)."""
         compact = self.has_class("-compact")
+        # The full sentence when it fits the rows, else one that names what the readouts beside show in figures:
+        # a noisy fit's or a five-term model's sentence wrapped to five or six lines at 80 columns (and a
+        # constrained one's at 120) and pushed the readouts off. A log's is the short one on compact screens.
         if self.logs is not None:
             variants = (Content(log_status(self.logs, compact=compact)),)
-        elif compact:
-            # The full sentence when it fits the rows, else one that names what the readouts beside show in
-            # figures: a noisy fit's or a five-term model's sentence wrapped to five or six lines at 80 columns
-            # and pushed the readouts off.
-            variants = (Content(status_message(self.result)), Content(compact_status(self.result)))
         else:
-            variants = (Content(status_message(self.result)),)
+            variants = (Content(status_message(self.result)), Content(compact_status(self.result)))
         line = self.query_one("#status", FittingLine)
         # A model with more terms fills the compact side panel's rows: its status gives one back.
         terse = compact and self.has_class("-extended") and self.logs is None

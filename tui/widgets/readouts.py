@@ -201,9 +201,16 @@ class ReadoutPanel(RowStrips):
         return tuple(item for item in self.items if item.key not in MOTION_RMS_KEYS)
 
     def _build_compact(self, width: int) -> list[Content]:
+        items = self.compact_items()
+        lines = self._compact_lines(items, width)
+        if len(lines) > self.reserved_rows():  # sign failures and long values need more rows: the motion's give way
+            lines = self._compact_lines(tuple(item for item in items if item.key not in MOTION_RMS_KEYS), width)
+        return lines
+
+    def _compact_lines(self, items: tuple[Readout, ...], width: int) -> list[Content]:
         notes = {} if self.precision is None else {note.key: note for note in self.precision.notes}
         lines = []
-        for item in self.compact_items():
+        for item in items:
             note = notes.get(item.key)
             if note is None:  # rank and the RMS readouts keep their labels
                 lines.append(Content(item.label.ljust(COMPACT_LABEL_WIDTH) + item.text))
