@@ -84,6 +84,8 @@ def add_parser(subparsers) -> None:
     parser.add_argument("--from-json", metavar="FIT.json",
                         help="take the parameters from this fit's JSON (`jointid fit ... --json > FIT.json`, one fit "
                         "or several runs) instead of fitting")
+    parser.add_argument("--json", action="store_true",
+                        help="print one JSON object (the parameters, the link, the files) instead of text")
     add_settings_arguments(parser)
     add_model_argument(parser)
     add_log_arguments(parser)
@@ -102,6 +104,7 @@ def run(args: argparse.Namespace) -> int:
     from ..model.rigid_link import LinkError, split_link
     from ..present.simulators import (
         convention_text,
+        export_document,
         export_text,
         mjcf_text,
         undetermined_warning,
@@ -130,8 +133,14 @@ def run(args: argparse.Namespace) -> int:
     undetermined = identified.not_determined(("I", "h", "B", "Fc", "q0"))
     if undetermined:
         print(undetermined_warning(undetermined), file=sys.stderr)
-    print(export_text(link, parameters, identified.model, written, mass_given=args.mass is not None,
-                      convention=convention_text(identified.zero, identified.clockwise)))
+    if args.json:
+        from .output import print_json
+
+        print_json(export_document(link, identified.parameters, identified.model, identified.source, written,
+                                   undetermined))
+    else:
+        print(export_text(link, parameters, identified.model, written, mass_given=args.mass is not None,
+                          convention=convention_text(identified.zero, identified.clockwise)))
     return ExitStatus.SUCCESS
 
 

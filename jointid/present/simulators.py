@@ -58,12 +58,12 @@ def _comment_text(text: str, indent: str) -> str:
 def provenance(link: RigidLink, source: str) -> str:
     """The files' opening comment: where the numbers come from and how the link was derived."""
     x, _, z = link.com_position
-    armature = f" - armature {link.armature:.6g}" if link.armature > 0 else ""
+    armature = f" - armature {link.armature:.6g}" if link.armature > 0 else ""  # the armature stays at the joint
     turning = "-y: counter-clockwise seen from +y" if link.axis_sign > 0 else "+y: clockwise seen from +y"
     return (f"Exported by jointid from {source}.\n"
             f"I = {link.joint_inertia:.6g} kg m^2 and h = {link.mass_moment:.6g} kg m fix the link only with its "
             f"mass m = {link.mass:.6g} kg: the centre of mass lies r = h/m = {link.com_distance:.6g} m from the axis "
-            f"(x = {x:.6g}, z = {z:.6g}), and the inertia about it is I - m r^2{armature} = "
+            f"(x = {x:.6g}, z = {z:.6g}), and the inertia about it is I{armature} - m r^2 = "
             f"{link.inertia_about_com:.6g} kg m^2.\n"
             f"The joint turns about {turning}; gravity {G:g} m/s^2 along -z. Only the moment about the axis is "
             "identified: the other two are a flat plate's in the plane of motion.")
@@ -162,10 +162,10 @@ def export_text(link: RigidLink, parameters: Mapping[str, float], model: str, wr
         where = f"mass {link.mass:.6g} kg (given), centre of mass {link.com_distance:.6g} m from the axis (h/m)"
     else:
         where = f"centre of mass {link.com_distance:.6g} m from the axis (given), mass {link.mass:.6g} kg (h/r)"
-    minus = " - armature" if link.armature > 0 else ""
+    minus = "I - armature - h²/m" if link.armature > 0 else "I - h²/m"
     friction = f"friction {link.friction:.6g} N m" if "Fc" in parameters else "no friction (the model has none)"
     lines = [parameters_line(parameters, model),
-             f"Link: {where}, inertia about the centre of mass {link.inertia_about_com:.6g} kg m² (I - h²/m{minus}).",
+             f"Link: {where}, inertia about the centre of mass {link.inertia_about_com:.6g} kg m² ({minus}).",
              (f"Joint: damping {link.damping:.6g} N m s/rad, {friction}, armature {link.armature:.6g} kg m²; "
               f"{convention}.")]
     if "tau0" in parameters:
@@ -176,6 +176,23 @@ def export_text(link: RigidLink, parameters: Mapping[str, float], model: str, wr
     files = [f"{path} ({FORMATS[kind]})" for kind, path in written.items()]
     lines.append(f"Wrote {join_words(files)}.")
     return "\n".join(lines)
+
+
+def export_document(link: RigidLink, parameters: Mapping[str, float], model: str, source: str,
+                    written: Mapping[str, str], not_determined: tuple[str, ...]) -> dict:
+    """`jointid export --json`: the identified parameters, the link derived from them (SI units: kg, m, kg m², N m
+    s/rad, N m), the files."""
+    return {
+        "source": source,
+        "model": model,
+        "estimate": dict(parameters),
+        "not_determined": list(not_determined),
+        "link": {"mass": link.mass, "com_distance": link.com_distance, "com_position": list(link.com_position),
+                 "inertia_about_com": link.inertia_about_com, "joint_inertia": link.joint_inertia,
+                 "mass_moment": link.mass_moment, "axis": list(link.axis), "damping": link.damping,
+                 "friction": link.friction, "armature": link.armature, "length": link.length},
+        "files": dict(written),
+    }
 
 
 def undetermined_warning(names: tuple[str, ...]) -> str:

@@ -115,6 +115,20 @@ def test_a_fits_json_exports_the_same_files_as_fitting_here(capsys, tmp_path, fi
     assert float(inertial.get("mass")) == pytest.approx(h / 0.3, rel=1e-14)
 
 
+def test_json_gives_the_link_the_files_hold(capsys, tmp_path):
+    status, out, _ = run(capsys, "export", "--com-distance", 0.25, "--length", 0.5, "--mujoco", tmp_path / "a.xml",
+                         "--json")
+    assert status == 0
+    document = json.loads(out)
+    link = document["link"]
+    I, h = document["estimate"]["I"], document["estimate"]["h"]
+    assert link["mass"] == pytest.approx(h / 0.25, rel=1e-15) and link["length"] == 0.5
+    assert link["inertia_about_com"] == pytest.approx(I - 0.25 * h, rel=1e-14)
+    inertial = ET.parse(tmp_path / "a.xml").getroot().find("worldbody/body/inertial")
+    assert float(inertial.get("mass")) == link["mass"] and floats(inertial.get("pos")) == link["com_position"]
+    assert document["files"] == {"mujoco": str(tmp_path / "a.xml")} and document["not_determined"] == []
+
+
 def test_several_runs_export_their_pooled_fit(capsys, tmp_path, fitted_log):
     log, _, document = fitted_log
     other = coulomb_log(tmp_path / "second.csv", seed=4)
