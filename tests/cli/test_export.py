@@ -288,3 +288,18 @@ def test_mujocos_gravity_torque_follows_the_logs_angle_convention(capsys, tmp_pa
         mujoco.mj_forward(model, data)
         # Torque toward increasing logged angle that holds the joint: sign * h g cos q.
         assert data.qfrc_bias[0] == pytest.approx(sign * h * G * math.cos(sign * angle + offset), abs=1e-12)
+
+
+def test_mujoco_reads_the_urdf_as_the_same_joint_with_the_armature_in_the_link(capsys, tmp_path, mujoco):
+    assert run(capsys, "export", "--mass", 2, "--armature", 0.05, "--mujoco", tmp_path / "a.xml",
+               "--urdf", tmp_path / "a.urdf")[0] == 0
+    I, h, B = 0.8, 0.4, 0.15
+    for path in (tmp_path / "a.xml", tmp_path / "a.urdf"):
+        model = mujoco.MjModel.from_xml_path(str(path))
+        data = mujoco.MjData(model)
+        assert model.dof_damping[0] == pytest.approx(B, rel=1e-12)
+        for q in (0.0, 0.7, -2.0):
+            data.qpos[0], data.qvel[0] = q, 0.0
+            mujoco.mj_forward(model, data)
+            assert data.qfrc_bias[0] == pytest.approx(h * G * math.cos(q), abs=1e-12)
+            assert data.qacc[0] == pytest.approx(-h * G * math.cos(q) / I, abs=1e-12)
