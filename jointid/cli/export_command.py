@@ -10,6 +10,7 @@ body can be is refused in one line (jointid.model.rigid_link).
 from __future__ import annotations
 
 import argparse
+import os
 import re
 import sys
 
@@ -96,7 +97,7 @@ def run(args: argparse.Namespace) -> int:
     written = {kind: getattr(args, kind) for kind in FORMAT_FLAGS if getattr(args, kind) is not None}
     if not written:
         raise UserError("give --mujoco FILE.xml, --urdf FILE.urdf or both: the files to write")
-    if len(set(written.values())) < len(written):
+    if len({os.path.abspath(path) for path in written.values()}) < len(written):
         raise UserError("--mujoco and --urdf name the same file; give each its own")
     identified = _identified(args)
     from ..files import ExportError, write_texts

@@ -96,6 +96,34 @@ def split_link(inertia: float, mass_moment: float, damping: float, friction: flo
     `axis_sign` are the log's angle convention (q = axis_sign * angle + zero_offset): the joint's 0 is then where
     the log's angle was 0.
     """
+    _check_inputs(inertia, mass_moment, damping, friction, angle_offset, mass, com_distance, length, armature)
+    moment = abs(mass_moment)
+    given_mass = mass is not None
+    if mass is None:
+        if moment == 0:
+            raise LinkError("h = 0: the centre of mass is on the axis, so --com-distance cannot give the mass; "
+                            "give --mass")
+        mass = moment / com_distance
+    else:
+        com_distance = moment / mass
+    if length is not None and com_distance > length:
+        hint = f"; the mass must be at least h/length = {moment / length:.6g} kg" if given_mass else ""
+        raise LinkError(f"the centre of mass would lie {com_distance:.6g} m from the axis, beyond --length "
+                        f"{length:.6g} m{hint}")
+    body_inertia = inertia - armature
+    inertia_about_com = body_inertia - moment * com_distance  # I - m r² = I - h r, without squaring a large r
+    if not inertia_about_com > 0:
+        raise LinkError(_no_body(inertia, mass_moment, armature, mass if given_mass else None, com_distance,
+                                 inertia_about_com))
+    direction = zero_offset + angle_offset + (math.pi if mass_moment < 0 else 0.0)
+    return RigidLink(mass=mass, com_distance=com_distance, com_angle=_wrapped(direction),
+                     inertia_about_com=inertia_about_com, damping=damping, friction=friction, armature=armature,
+                     axis_sign=1 if axis_sign >= 0 else -1, length=length)
+
+
+def _check_inputs(inertia, mass_moment, damping, friction, angle_offset, mass, com_distance, length, armature) -> None:
+    """LinkError for a value no simulator takes, whatever the split: not finite, I not positive, negative damping
+    or friction, an armature beyond I, neither or both of the mass and the distance."""
     values = {"I": inertia, "h": mass_moment, "B": damping, "Fc": friction, "q0": angle_offset,
               "--mass": mass, "--com-distance": com_distance, "--length": length, "--armature": armature}
     for name, value in values.items():
@@ -115,38 +143,23 @@ def split_link(inertia: float, mass_moment: float, damping: float, friction: flo
     for name, value in (("--mass", mass), ("--com-distance", com_distance), ("--length", length)):
         if value is not None and not value > 0:
             raise LinkError(f"{name} {value:.6g} must be greater than 0")
-    moment = abs(mass_moment)
-    given_mass = mass is not None
-    if mass is None:
-        if moment == 0:
-            raise LinkError("h = 0: the centre of mass is on the axis, so --com-distance cannot give the mass; "
-                            "give --mass")
-        mass = moment / com_distance
-    else:
-        com_distance = moment / mass
-    if length is not None and com_distance > length:
-        hint = f"; the mass must be at least h/length = {moment / length:.6g} kg" if given_mass else ""
-        raise LinkError(f"the centre of mass would lie {com_distance:.6g} m from the axis, beyond --length "
-                        f"{length:.6g} m{hint}")
-    body_inertia = inertia - armature
-    inertia_about_com = body_inertia - moment * com_distance  # I - m r² = I - h r, without squaring a large r
-    if not inertia_about_com > 0:
-        inertia_name = "I - armature" if armature > 0 else "I"
-        divisor = f"({inertia_name})" if armature > 0 else inertia_name
-        given = f"I = {inertia:.6g} kg m²" + (f", armature {armature:.6g} kg m²" if armature > 0 else "")
-        if given_mass:
-            raise LinkError(f"--mass {mass:.6g} kg is too small for {given} and h = {mass_moment:.6g} kg m: the "
-                            f"inertia about the centre of mass, {inertia_name} - h²/m, would be "
-                            f"{inertia_about_com:.6g} kg m², which no body has; the mass must exceed "
-                            f"h²/{divisor} = {moment**2 / body_inertia:.6g} kg")
-        raise LinkError(f"--com-distance {com_distance:.6g} m is too far for {given} and h = {mass_moment:.6g} kg m: "
-                        f"the inertia about the centre of mass, {inertia_name} - h r, would be "
-                        f"{inertia_about_com:.6g} kg m², which no body has; the centre of mass must lie within "
-                        f"{divisor}/h = {body_inertia / moment:.6g} m")
-    direction = zero_offset + angle_offset + (math.pi if mass_moment < 0 else 0.0)
-    return RigidLink(mass=mass, com_distance=com_distance, com_angle=_wrapped(direction),
-                     inertia_about_com=inertia_about_com, damping=damping, friction=friction, armature=armature,
-                     axis_sign=1 if axis_sign >= 0 else -1, length=length)
+
+
+def _no_body(inertia: float, mass_moment: float, armature: float, mass: float | None, com_distance: float,
+             inertia_about_com: float) -> str:
+    """The one line refusing a split whose inertia about the centre of mass is not positive (`mass` None: the
+    distance was given)."""
+    moment, body_inertia = abs(mass_moment), inertia - armature
+    inertia_name = "I - armature" if armature > 0 else "I"
+    divisor = f"({inertia_name})" if armature > 0 else inertia_name
+    given = f"I = {inertia:.6g} kg m²" + (f", armature {armature:.6g} kg m²" if armature > 0 else "")
+    if mass is not None:
+        return (f"--mass {mass:.6g} kg is too small for {given} and h = {mass_moment:.6g} kg m: the inertia about "
+                f"the centre of mass, {inertia_name} - h²/m, would be {inertia_about_com:.6g} kg m², which no body "
+                f"has; the mass must exceed h²/{divisor} = {moment**2 / body_inertia:.6g} kg")
+    return (f"--com-distance {com_distance:.6g} m is too far for {given} and h = {mass_moment:.6g} kg m: the inertia "
+            f"about the centre of mass, {inertia_name} - h r, would be {inertia_about_com:.6g} kg m², which no body "
+            f"has; the centre of mass must lie within {divisor}/h = {body_inertia / moment:.6g} m")
 
 
 def _wrapped(angle: float) -> float:

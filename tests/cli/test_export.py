@@ -5,9 +5,11 @@ loads the MJCF, and its joint swings with the period the identified model has (s
 from __future__ import annotations
 
 import contextlib
+import errno
 import io
 import json
 import math
+import os
 import xml.etree.ElementTree as ET
 
 import numpy as np
@@ -165,9 +167,40 @@ def test_an_existing_file_is_refused_without_force_and_replaced_with_it(capsys, 
     assert ET.parse(xml).getroot().tag == "mujoco" and ET.parse(urdf).getroot().tag == "robot"
 
 
+def test_export_never_replaces_anything_but_a_regular_file_even_with_force(capsys, tmp_path):
+    folder, target = tmp_path / "folder.xml", tmp_path / "target.xml"
+    folder.mkdir()
+    target.write_text("theirs")
+    (tmp_path / "link.xml").symlink_to(target)
+    os.mkfifo(tmp_path / "pipe.xml")
+    kinds = {folder: "a directory", tmp_path / "link.xml": "a symbolic link", tmp_path / "pipe.xml": "a named pipe (FIFO)"}
+    for path, kind in kinds.items():
+        line = refused(capsys, "export", "--mass", 2, "--mujoco", path, "--force")
+        assert line == f"jointid: {path}: {kind}, not a regular file; not replacing it"
+    assert target.read_text() == "theirs" and not any(name.startswith(".") for name in os.listdir(tmp_path))
+
+
+def test_a_full_disk_leaves_neither_file(capsys, tmp_path, monkeypatch):
+    real_fdopen = os.fdopen
+
+    def fdopen(descriptor, *args, **kwargs):  # the URDF's temporary finds the disk full
+        handle = real_fdopen(descriptor, *args, **kwargs)
+        if ".b.urdf." in os.readlink(f"/proc/self/fd/{descriptor}"):
+            handle.write = disk_full
+        return handle
+
+    def disk_full(_text):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(os, "fdopen", fdopen)
+    line = refused(capsys, "export", "--mass", 2, "--mujoco", tmp_path / "a.xml", "--urdf", tmp_path / "b.urdf")
+    assert line.endswith("cannot write: No space left on device")
+    assert os.listdir(tmp_path) == []
+
+
 @pytest.mark.parametrize("argv, expected", [
     (["--mass", "2"], "jointid: give --mujoco FILE.xml, --urdf FILE.urdf or both: the files to write"),
-    (["--mass", "2", "--mujoco", "same", "--urdf", "same"], "jointid: --mujoco and --urdf name the same file"),
+    (["--mass", "2", "--mujoco", "same", "--urdf", "./same"], "jointid: --mujoco and --urdf name the same file"),
     (["--mujoco", "a.xml"], "jointid export: one of the arguments --mass --com-distance is required"),
     (["--mass", "0", "--mujoco", "a.xml"], "jointid export: argument --mass: must be a finite number greater than 0"),
     (["--mass", "2", "--motion", "holds", "--mujoco", "a.xml"], "has no unique estimate (rank 1 of 3)"),
