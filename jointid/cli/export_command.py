@@ -87,6 +87,9 @@ def add_parser(subparsers) -> None:
                         "or several runs) instead of fitting")
     parser.add_argument("--json", action="store_true",
                         help="print one JSON object (the parameters, the link, the files) instead of text")
+    parser.add_argument("--check", action="store_true",
+                        help="load the written MJCF in MuJoCo and confirm its joint inertia and gravity torque are "
+                        "the identified I and h g (needs pip install 'jointid[mujoco]')")
     add_settings_arguments(parser)
     add_model_argument(parser)
     add_log_arguments(parser)
@@ -99,6 +102,15 @@ def run(args: argparse.Namespace) -> int:
         raise UserError("give --mujoco FILE.xml, --urdf FILE.urdf or both: the files to write")
     if len({os.path.abspath(path) for path in written.values()}) < len(written):
         raise UserError("--mujoco and --urdf name the same file; give each its own")
+    if args.check:
+        if "mujoco" not in written:
+            raise UserError("--check loads the MJCF in MuJoCo: add --mujoco FILE.xml")
+        from ..studies.mujoco_check import MujocoMissing, import_mujoco
+
+        try:
+            import_mujoco()  # before fitting and writing: a missing extra leaves nothing behind
+        except MujocoMissing as error:
+            raise UserError(str(error)) from None
     identified = _identified(args)
     from ..files import ExportError, write_texts
     from ..logs.conventions import AngleConvention
@@ -108,6 +120,7 @@ def run(args: argparse.Namespace) -> int:
         export_document,
         export_text,
         mjcf_text,
+        mujoco_check_text,
         undetermined_warning,
         urdf_text,
     )
@@ -134,15 +147,31 @@ def run(args: argparse.Namespace) -> int:
     undetermined = identified.not_determined(("I", "h", "B", "Fc", "q0"))
     if undetermined:
         print(undetermined_warning(undetermined), file=sys.stderr)
+    check = _mujoco_check(written["mujoco"], link) if args.check else None
     if args.json:
         from .output import print_json
 
-        print_json(export_document(link, identified.parameters, identified.model, identified.source, written,
-                                   undetermined))
+        extra = {} if check is None else {"mujoco_check": {
+            "version": check.version, "joint_inertia": check.joint_inertia, "gravity_torque": check.gravity_torque,
+            "agrees": check.agrees}}
+        print_json({**export_document(link, identified.parameters, identified.model, identified.source, written,
+                                      undetermined), **extra})
     else:
         print(export_text(link, parameters, identified.model, written, mass_given=args.mass is not None,
                           convention=convention_text(identified.zero, identified.clockwise)))
-    return ExitStatus.SUCCESS
+        if check is not None:
+            print(mujoco_check_text(check, written["mujoco"]))
+    return ExitStatus.ERROR if check is not None and not check.agrees else ExitStatus.SUCCESS
+
+
+def _mujoco_check(path: str, link):
+    """MuJoCo's reading of the written MJCF (studies.mujoco_check); UserError when MuJoCo refuses the file."""
+    from ..studies.mujoco_check import check_mujoco
+
+    try:
+        return check_mujoco(path, link)
+    except ValueError as error:
+        raise UserError(str(error)) from None
 
 
 def _identified(args: argparse.Namespace):

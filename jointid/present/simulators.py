@@ -195,6 +195,16 @@ def export_document(link: RigidLink, parameters: Mapping[str, float], model: str
     }
 
 
+def mujoco_check_text(check, path: str) -> str:
+    """The line `jointid export --check` prints: what MuJoCo reads back from the MJCF, beside the identified."""
+    read = (f"MuJoCo {check.version} loads {path}: inertia about the joint {check.joint_inertia:.6g} kg m², torque "
+            f"to hold the link level {check.gravity_torque:.6g} N m")
+    if check.agrees:
+        return f"{read}, as identified (I and h g)."
+    return (f"{read}, not the identified I {check.expected_inertia:.6g} kg m² and h g {check.expected_torque:.6g} "
+            "N m: the exported file is wrong; please report it.")
+
+
 def undetermined_warning(names: tuple[str, ...]) -> str:
     """The one stderr line when exported parameters are not determined by the fit."""
     verb = "is" if len(names) == 1 else "are"

@@ -10,6 +10,7 @@ import io
 import json
 import math
 import os
+import sys
 import xml.etree.ElementTree as ET
 
 import numpy as np
@@ -336,3 +337,27 @@ def test_mujoco_reads_the_urdf_as_the_same_joint_with_the_armature_in_the_link(c
             mujoco.mj_forward(model, data)
             assert data.qfrc_bias[0] == pytest.approx(h * G * math.cos(q), abs=1e-12)
             assert data.qacc[0] == pytest.approx(-h * G * math.cos(q) / I, abs=1e-12)
+
+
+@pytest.mark.parametrize("zero, clockwise", [("right", False), ("up", True)])
+def test_check_reads_the_identified_inertia_and_gravity_torque_back_from_mujoco(capsys, tmp_path, fitted_log, mujoco,
+                                                                                zero, clockwise):
+    _, fit_json, document = fitted_log
+    logged = json.loads(fit_json.read_text())
+    logged["conventions"] = {"training": {"zero": zero, "clockwise": clockwise}, "heldout": None}
+    (tmp_path / "fit.json").write_text(json.dumps(logged))
+    status, out, _ = run(capsys, "export", "--from-json", tmp_path / "fit.json", "--mass", 2, "--armature", 0.1,
+                         "--mujoco", tmp_path / "a.xml", "--check", "--json")
+    assert status == 0
+    check = json.loads(out)["mujoco_check"]
+    assert check["agrees"] and check["version"] == mujoco.__version__
+    assert check["joint_inertia"] == pytest.approx(document["estimate"]["I"], rel=1e-12)
+    assert check["gravity_torque"] == pytest.approx(document["estimate"]["h"] * G, rel=1e-12)
+
+
+def test_check_without_mujoco_is_one_line_naming_the_extra_and_writes_nothing(capsys, tmp_path, monkeypatch):
+    monkeypatch.setitem(sys.modules, "mujoco", None)  # `import mujoco` then raises ImportError
+    line = refused(capsys, "export", "--mass", 2, "--mujoco", tmp_path / "a.xml", "--check")
+    assert line == "jointid: --check loads the model in MuJoCo, which is optional: pip install 'jointid[mujoco]'"
+    assert os.listdir(tmp_path) == []
+    assert "add --mujoco FILE.xml" in refused(capsys, "export", "--mass", 2, "--urdf", tmp_path / "a.urdf", "--check")
