@@ -27,7 +27,7 @@ from ..logs.derivatives import MAX_WINDOW, smooth
 from ..logs.pipeline import JointLog
 from ..logs.request import HELDOUT, TRAINING, LoadRequest, load_joint_log
 from ..logs.table import LoadCancelled, LogError
-from ..model.terms import CANDIDATE_TERMS, PLAIN, JointModel, model_argument
+from ..model.terms import CANDIDATE_TERMS, PLAIN, JointModel, in_effort, model_argument
 from ..norms import rms
 from ..options import DEFAULT_ORDER, LOG_MODEL
 from ..samples import JointData
@@ -163,6 +163,10 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
     numbers leave double precision (an estimate or an RMSE that overflows would
     otherwise be shown as if it were a result) or the filter cannot apply.
     """
+    model = model.in_effort(training.effort)
+    if heldout is not None and heldout.effort != training.effort:
+        raise LogError(heldout.path, f"holds {heldout.effort.name} ({heldout.effort.unit}) but the training log "
+                       f"{training.effort.name} ({training.effort.unit}); read both alike (--effort)")
     chosen = low_pass_for(training, filtering)
     check_work(training, chosen)
     others = _cutoff_variants(training, chosen) if sensitivity else []
@@ -187,7 +191,8 @@ def _omitted_terms(training: JointLog, model: JointModel, chosen: ParallelFilter
                    exclusions: Exclusions | None) -> OmittedTerms | None:
     """The test of the candidate terms the model lacks against the fit's filtered, kept samples; None without a
     unique low-passed fit on times, or when the model has every candidate."""
-    candidates = tuple(term for term in CANDIDATE_TERMS if term.name not in model.column_names)
+    kinds = {term.kind for term in model.terms}
+    candidates = in_effort(tuple(term for term in CANDIDATE_TERMS if term.name not in kinds), model.effort)
     if (exclusions is None or exclusions.regressor is None or result.estimate is None
             or result.correlation is None or not candidates):
         return None
@@ -342,11 +347,11 @@ def _exclusions(training: JointLog, model: JointModel, chosen: ParallelFilter, X
     origin = None if training.source is None else training.source.table.start_time
     since = t - (training.data.t[0] if origin is None else origin)
     support = 0 if not chosen.active else max(1, math.ceil(chosen.support * chosen.rate / chosen.decimation))
-    coulomb = model.column_names.index("Fc") if "Fc" in model.column_names else None
+    coulomb = model.index_of("Fc")
     still = rest = np.zeros(len(t), dtype=bool)
     threshold = None
     if coulomb is not None:
-        speed = X[:, model.column_names.index("B")]
+        speed = X[:, model.index_of("B")]
         still, rest, threshold = standstill(speed, _speed_resolution(training, chosen), support)
         if (~still).sum() <= 4 * X.shape[1]:  # hardly ever moving: too little left to leave standstill out
             still = rest = np.zeros(len(t), dtype=bool)

@@ -122,7 +122,7 @@ def pool_runs(runs: tuple[LoadedLogs, ...]) -> PooledRuns:
     triangles = _triangles(runs)
     estimate, std_error, weights = _pool(runs, everyone, triangles)
     others = tuple(_predicted_by_others(runs, triangles, index) for index in everyone)
-    shared = tuple(name for name in model.column_names if name != BIAS)
+    shared = tuple(term.name for term in model.terms if term.kind != BIAS)
     return PooledRuns(runs, shared, estimate, std_error, weights, others)
 
 
@@ -131,10 +131,9 @@ def _blocks(runs: tuple[LoadedLogs, ...], chosen: tuple[int, ...]):
     weight)."""
     for index in chosen:
         result = runs[index].result
-        names = result.model.column_names
         X = result.training_regressor
-        shared = [j for j, name in enumerate(names) if name != BIAS]
-        bias = names.index(BIAS) if BIAS in names else None
+        shared = [j for j, term in enumerate(result.model.terms) if term.kind != BIAS]
+        bias = result.model.index_of(BIAS)
         residuals = result.training.tau - result.training_predictions
         weight = 1.0 / max(float(np.mean(residuals**2)), 1e-300)
         positions, lag = result.correlation if result.correlation is not None else (np.arange(len(X)), 0)
