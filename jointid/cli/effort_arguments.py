@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import argparse
 
-from .arguments import UserError, finite_float, positive_number, whole_number
+from .arguments import UserError, positive_number, whole_number
 
 EFFORT_FLAGS = ("effort", "gear", "kt", "efficiency", "motor", "motor_r", "motor_kt", "motor_kv", "motor_count",
                 "motor_inertia", "gains")

@@ -14,7 +14,14 @@ from typing import TYPE_CHECKING
 
 from ..options import DEFAULT_ORDER, LOG_MODEL, SETTING_DEFAULTS, VOLTAGE_LOG_MODEL
 from .arguments import UserError, finite_float, whole_number
-from .effort_arguments import EFFORT_FLAGS, add_effort_arguments, check_gains_request, effort_extras, effort_reading
+from .effort_arguments import (
+    EFFORT_FLAGS,
+    add_effort_arguments,
+    check_gains_request,
+    effort_extras,
+    effort_reading,
+    motor_drive,
+)
 from .exit_status import ExitStatus
 from .output import print_json
 
@@ -242,6 +249,7 @@ def log_requests(args: argparse.Namespace):
 
     window, order = derivative_options(args)
     effort = effort_reading(args)
+    motor_drive(args)  # an unknown motor or a bad mix is refused before any log is read
     check_gains_request(args)
     common = dict(effort=effort, degrees=args.degrees, window=window, order=order, joint=args.joint, topic=args.topic,
                   effort_scale=1.0 if args.effort_scale is None else args.effort_scale, filtering=filter_options(args),

@@ -12,7 +12,13 @@ from __future__ import annotations
 import argparse
 import math
 
-from ..options import ALL_MOTION_NAMES, DURATION, SETTING_DEFAULTS, SettingsError, check_setting
+from ..options import (
+    ALL_MOTION_NAMES,
+    DURATION,
+    SETTING_DEFAULTS,
+    SettingsError,
+    check_setting,
+)
 from .arguments import (
     UserError,
     add_motion_file_argument,

@@ -10,7 +10,6 @@ resampling and differentiation.
 from __future__ import annotations
 
 import dataclasses
-import math
 from dataclasses import dataclass
 
 from ..estimation.low_pass import FilterRequest

@@ -27,12 +27,12 @@ from functools import cached_property
 import numpy as np
 
 from ..checks import checked, real_array, text
-from .effort import TORQUE, VOLTAGE, Effort
 from ..options import (
     EXTRA_TERM_NAMES,
     TRUE_VALUES,
     model_extras,
 )
+from .effort import TORQUE, Effort
 
 G = 9.81
 """Gravitational acceleration (m/s^2)."""

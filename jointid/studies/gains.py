@@ -194,7 +194,7 @@ def motor_parameters(logs: LoadedLogs, drive: MotorDrive) -> MotorParameters:
     """I, h, B, Fc (and tau0, q0) behind a voltage log's fitted gains, with standard errors and verdicts;
     GainsError for a torque log or a fit that is not unique."""
     from ..model.motors import physical_from_gains
-    from ..model.terms import TORQUE_TERMS, ANGLE_OFFSET, MASS_MOMENT
+    from ..model.terms import ANGLE_OFFSET, MASS_MOMENT, TORQUE_TERMS
 
     result = logs.result
     if result.model.effort.is_torque:
