@@ -187,15 +187,20 @@ def exclusion_options(args: argparse.Namespace):
 
 
 def convention_options(args: argparse.Namespace):
-    """The column map and angle convention of --columns, --zero and --clockwise: a conventions.LogConventions, or
-    None when none is given (the explorer then starts without importing them)."""
+    """The column map, angle convention, effort and motor of --columns, --zero, --clockwise, --effort (and its
+    gearing) and --motor: a conventions.LogConventions, or None when none is given (the explorer then starts
+    without importing them); UserError on a bad mix of the effort and motor options."""
+    efforts = any(getattr(args, name, None) is not None for name in EFFORT_FLAGS)
     if getattr(args, "columns", None) is None and getattr(args, "zero", None) is None \
-            and not getattr(args, "clockwise", False):
+            and not getattr(args, "clockwise", False) and not efforts:
         return None
     from ..logs.conventions import AngleConvention, LogConventions
 
+    effort = effort_reading(args) if efforts else None
     return LogConventions(getattr(args, "columns", None),
-                          AngleConvention(getattr(args, "zero", None) or "right", bool(getattr(args, "clockwise", False))))
+                          AngleConvention(getattr(args, "zero", None) or "right", bool(getattr(args, "clockwise", False))),
+                          None if effort is None or effort.kind == "torque" else effort,
+                          motor_drive(args) if efforts else None)
 
 
 def _conventions_or_defaults(args: argparse.Namespace):
@@ -248,10 +253,8 @@ def log_requests(args: argparse.Namespace):
     from ..logs.request import HELDOUT, TRAINING, LoadRequest
 
     window, order = derivative_options(args)
-    effort = effort_reading(args)
-    motor_drive(args)  # an unknown motor or a bad mix is refused before any log is read
     check_gains_request(args)
-    common = dict(effort=effort, degrees=args.degrees, window=window, order=order, joint=args.joint, topic=args.topic,
+    common = dict(degrees=args.degrees, window=window, order=order, joint=args.joint, topic=args.topic,
                   effort_scale=1.0 if args.effort_scale is None else args.effort_scale, filtering=filter_options(args),
                   **_conventions_or_defaults(args).request_fields())
     path = args.bag if args.bag is not None else args.csv

@@ -128,8 +128,7 @@ def add_parser(subparsers) -> None:
             ("--gear", positive_number, "G", "motor turns per joint turn; default 1"),
             ("--kt", positive_number, "N_M_PER_A", "torque constant of the current, for --effort current"),
             ("--efficiency", efficiency_number, "E", "the gearbox's efficiency, 0 < E <= 1; default 1"),
-            ("--motor", str, "NAME", "one of WPILib's DCMotor (NEO, Falcon 500, Kraken X60, ...), for --effort "
-             "voltage"),
+            ("--motor", str, "NAME", "one of WPILib's DCMotor (NEO, Kraken X60, ...), for --effort voltage"),
             ("--motor-count", whole_number(1), "N", "motors driving the joint; default 1"),
             ("--motor-r", positive_number, "OHM", "a motor of your own: resistance"),
             ("--motor-kt", positive_number, "N_M_PER_A", "a motor of your own: torque constant"),

@@ -23,11 +23,10 @@ def _number(value: float) -> str:
 def constructor_lines(gains: ArmGains) -> tuple[str, str, str]:
     """One line each of Java, C++ and Python constructing WPILib's ArmFeedforward with the gains (per radian)."""
     ks, kg, kv, ka = (_number(gains.value(name)) for name in ("kS", "kG", "kV", "kA"))
-    return (f"new ArmFeedforward({ks}, {kg}, {kv}, {ka});",
-            f"frc::ArmFeedforward{{units::volt_t{{{ks}}}, units::volt_t{{{kg}}}, "
-            f"units::unit_t<frc::ArmFeedforward::kv_unit>{{{kv}}}, "
-            f"units::unit_t<frc::ArmFeedforward::ka_unit>{{{ka}}}}};",
-            f"wpimath.controller.ArmFeedforward({ks}, {kg}, {kv}, {ka})")
+    cpp = (f"frc::ArmFeedforward{{units::volt_t{{{ks}}}, units::volt_t{{{kg}}}, "
+           f"units::unit_t<frc::ArmFeedforward::kv_unit>{{{kv}}}, "
+           f"units::unit_t<frc::ArmFeedforward::ka_unit>{{{ka}}}}};")
+    return (f"new ArmFeedforward({ks}, {kg}, {kv}, {ka});", cpp, f"wpimath.controller.ArmFeedforward({ks}, {kg}, {kv}, {ka})")
 
 
 def gains_text(gains: ArmGains) -> str:
@@ -44,9 +43,9 @@ def gains_text(gains: ArmGains) -> str:
     source = ("the voltage log's fit" if gains.drive is None
               else f"the torque fit through {gains.drive.description()}")
     java, cpp, python = constructor_lines(gains)
-    lines = [f"WPILib ArmFeedforward gains from {source} (angle in radians from horizontal; per rotation as SysId "
-             "shows a log in rotations: kV and kA times 2 pi):", text_table(header, rows),
-             f"Java:   {java}", f"C++:    {cpp}", f"Python: {python}"]
+    heading = (f"WPILib ArmFeedforward gains from {source} (angle in radians from horizontal; per rotation as "
+               "SysId shows a log in rotations: kV and kA times 2 pi):")
+    lines = [heading, text_table(header, rows), f"Java:   {java}", f"C++:    {cpp}", f"Python: {python}"]
     if gains.missing:
         lines.append(f"The model has no {', '.join(gains.missing)}: 0 in the constructor (add its term to the "
                      "model to fit it).")
@@ -116,9 +115,10 @@ def motor_text(motor: MotorParameters) -> str:
     drive = motor.drive
     rows = [[f"{p.name} ({p.unit})", format_number(p.value), format_number(p.std_error), p.verdict]
             for p in motor.parameters]
-    lines = [f"Physical parameters behind the gains, through {drive.description()}: joint torque = "
-             f"{format_number(drive.torque_per_volt, 4)} N m/V x (V - {format_number(drive.back_emf, 4)} V s/rad x qd):",
-             text_table(["parameter", "value", "±", "verdict"], rows)]
+    heading = (f"Physical parameters behind the gains, through {drive.description()}: joint torque = "
+               f"{format_number(drive.torque_per_volt, 4)} N m/V x (V - {format_number(drive.back_emf, 4)} V s/rad "
+               "x qd):")
+    lines = [heading, text_table(["parameter", "value", "±", "verdict"], rows)]
     reflected = drive.reflected_inertia
     if reflected is None:
         lines.append("I includes the rotors' inertia reflected through the gear (motors x gear² x rotor inertia): "
