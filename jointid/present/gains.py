@@ -49,9 +49,12 @@ def gains_text(gains: ArmGains) -> str:
     if gains.missing:
         lines.append(f"The model has no {', '.join(gains.missing)}: 0 in the constructor (add its term to the "
                      "model to fit it).")
-    if "q0" in gains.names:
+    if "q0" in gains.names and gains["q0"].determined:
         lines.append(f"ArmFeedforward takes the angle from horizontal: pass the measured angle + q0 "
                      f"({format_number(gains['q0'].value)} rad).")
+    elif "q0" in gains.names:
+        lines.append("q0 is not determined (its error is about as large as itself): the angle as measured is as "
+                     "good as any, or fit without the offset (--model coulomb).")
     if "V0" in gains.names:
         lines.append("ArmFeedforward has no voltage bias: V0 is left out of the constructor.")
     undetermined = [gain for gain in gains.gains if not gain.determined and gain.name in ("kS", "kG", "kV", "kA")]
