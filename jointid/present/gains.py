@@ -32,6 +32,12 @@ def constructor_lines(gains: ArmGains) -> tuple[str, str, str]:
 def gains_text(gains: ArmGains) -> str:
     """The gains per radian and per rotation with errors and verdicts, SysId's direction beside them, the
     constructors, and what not to trust."""
+    return "\n".join(part for part in gains_parts(gains) if part)
+
+
+def gains_parts(gains: ArmGains) -> tuple[str, str, str, str]:
+    """gains_text in its parts: the heading, the table, the constructor lines, the sentences (a narrow screen
+    scrolls the table and the code sideways and wraps the sentences)."""
     from ..studies.gains import PER_ROTATION_UNITS
 
     rows = []
@@ -45,7 +51,8 @@ def gains_text(gains: ArmGains) -> str:
     java, cpp, python = constructor_lines(gains)
     heading = (f"WPILib ArmFeedforward gains from {source} (angle in radians from horizontal; per rotation as "
                "SysId shows a log in rotations: kV and kA times 2 pi):")
-    lines = [heading, text_table(header, rows), f"Java:   {java}", f"C++:    {cpp}", f"Python: {python}"]
+    code = f"Java:   {java}\nC++:    {cpp}\nPython: {python}"
+    lines = []
     if gains.missing:
         lines.append(f"The model has no {', '.join(gains.missing)}: 0 in the constructor (add its term to the "
                      "model to fit it).")
@@ -73,7 +80,7 @@ def gains_text(gains: ArmGains) -> str:
                      f"{worst[1]:.2g} standard errors ({worst[0]}): noise in the differentiated acceleration biases "
                      "jointid's kA low (a regressor here) but not SysId's (its dependent variable); noise in the "
                      "voltage does the reverse.")
-    return "\n".join(lines)
+    return heading, text_table(header, rows), code, "\n".join(lines)
 
 
 def _direction_gaps(gains: ArmGains) -> list[tuple[str, float]]:
@@ -115,13 +122,19 @@ def drive_object(drive: MotorDrive) -> dict:
 
 def motor_text(motor: MotorParameters) -> str:
     """The physical parameters behind a voltage log's gains, with the motor's share named apart."""
+    return "\n".join(motor_parts(motor))
+
+
+def motor_parts(motor: MotorParameters) -> tuple[str, str, str]:
+    """motor_text in its parts: the heading, the table, the sentences."""
     drive = motor.drive
     rows = [[f"{p.name} ({p.unit})", format_number(p.value), format_number(p.std_error), p.verdict]
             for p in motor.parameters]
     heading = (f"Physical parameters behind the gains, through {drive.description()}: joint torque = "
                f"{format_number(drive.torque_per_volt, 4)} N m/V x (V - {format_number(drive.back_emf, 4)} V s/rad "
                "x qd):")
-    lines = [heading, text_table(["parameter", "value", "±", "verdict"], rows)]
+    table = text_table(["parameter", "value", "±", "verdict"], rows)
+    lines = []
     reflected = drive.reflected_inertia
     if reflected is None:
         lines.append("I includes the rotors' inertia reflected through the gear (motors x gear² x rotor inertia): "
@@ -133,7 +146,7 @@ def motor_text(motor: MotorParameters) -> str:
                      f"{format_number(motor.load_inertia)} kg m².")
     lines.append(f"B is the mechanical damping: the back-EMF adds {format_number(drive.electrical_damping)} N m s/rad "
                  f"more when the motor is driven by a voltage ({format_number(drive.back_emf)} V s/rad of kV).")
-    return "\n".join(lines)
+    return heading, table, "\n".join(lines)
 
 
 def motor_object(motor: MotorParameters) -> dict:

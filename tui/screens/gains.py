@@ -7,7 +7,7 @@ from pathlib import Path
 
 from textual.app import ComposeResult
 from textual.binding import Binding
-from textual.containers import VerticalScroll
+from textual.containers import HorizontalScroll, VerticalScroll
 from textual.screen import Screen
 from textual.widgets import Static
 
@@ -25,22 +25,35 @@ class GainsScreen(Screen):
         Binding("q", "close", "Close gains", show=False),
     ]
 
-    def __init__(self, logs, text: str) -> None:
+    def __init__(self, logs, sections: list[tuple[str, ...]]) -> None:
         """Create the view.
 
         Args:
             logs: The LoadedLogs whose gains are shown.
-            text: The gains' text (jointid.present.gains), computed by the owner.
+            sections: Each section's parts (jointid.present.gains' gains_parts, motor_parts): a heading, then
+                tables and code kept whole (scrolled sideways on a narrow screen), the last part its sentences.
         """
         super().__init__()
         self.logs = logs
-        self.text = text
+        self.sections = sections
+
+    @property
+    def text(self) -> str:
+        """Everything the view shows, as plain text."""
+        return "\n\n".join("\n".join(part for part in section if part) for section in self.sections)
 
     def compose(self) -> ComposeResult:
-        """The gains, one paragraph each, in a focused scroll view; the footer."""
+        """Each section's heading, its wide parts in sideways scrolls, its sentences; the footer."""
         with VerticalScroll() as scroll:
             scroll.border_title = f"Gains: {self.logs.name}"
-            yield Static(self.text, markup=False, id="gains-text")
+            scroll.border_subtitle = "Tab: the tables, ←/→ their columns"
+            for heading, *wide, sentences in self.sections:
+                yield Static(heading, markup=False)
+                for part in wide:
+                    with HorizontalScroll(classes="gains--wide"):  # tables and code keep their lines whole
+                        yield Static(part, markup=False)
+                if sentences:
+                    yield Static(sentences + "\n", markup=False)
         yield KeyFooter()
 
     def on_mount(self) -> None:

@@ -578,7 +578,7 @@ class MainScreen(Screen):
     def action_gains(self) -> None:
         """Open the gains view: WPILib's ArmFeedforward gains of the log shown (and the motor's physical parameters
         behind a voltage log's); a notification when the fit gives none (a torque log without a motor)."""
-        from jointid.present.gains import gains_text, motor_text
+        from jointid.present.gains import gains_parts, motor_parts
         from jointid.studies.gains import GainsError, arm_gains, motor_parameters
 
         from .gains import GainsScreen  # only a log's fit has gains
@@ -586,14 +586,13 @@ class MainScreen(Screen):
         conventions = self.app.conventions
         drive = None if conventions is None else conventions.motor
         try:
-            parts = []
+            sections = [gains_parts(arm_gains(self.logs, drive))]
             if drive is not None and not self.logs.result.model.effort.is_torque:
-                parts.append(motor_text(motor_parameters(self.logs, drive)))
-            parts.insert(0, gains_text(arm_gains(self.logs, drive)))
+                sections.append(motor_parts(motor_parameters(self.logs, drive)))
         except GainsError as error:
             self.notify(str(error), title="No gains", severity="warning")
             return
-        self.app.push_screen(GainsScreen(self.logs, "\n\n".join(parts)))
+        self.app.push_screen(GainsScreen(self.logs, sections))
 
     def action_runs(self) -> None:
         """Open the runs view: each run's fit beside the pooled one."""
