@@ -476,14 +476,15 @@ def load_request(
                     exclusion=exclusion)
 
 
-@checked(model=model_argument, degrees=flag, window=optional(whole(3)), order=whole(2), cutoff=optional(real(0.0)),
-         decimate=optional(whole(1)), constrained=flag, joint=optional(text), zero=text, clockwise=flag,
-         sensitivity=flag, robust=flag, exclude=pairs)
+@checked(model=optional(model_argument), degrees=flag, window=optional(whole(3)), order=whole(2),
+         cutoff=optional(real(0.0)), decimate=optional(whole(1)), constrained=flag, joint=optional(text), zero=text,
+         clockwise=flag, sensitivity=flag, robust=flag, exclude=pairs, effort=text, gear=real(0.0, above=True),
+         kt=optional(real(0.0, above=True)), efficiency=real(0.0, 1.0, above=True))
 def fit_log(
     source,
     heldout=None,
     *,
-    model: str | JointModel = LOG_MODEL,
+    model: str | JointModel | None = None,
     degrees: bool = False,
     window: int | None = None,
     order: int = DEFAULT_ORDER,
@@ -497,6 +498,10 @@ def fit_log(
     sensitivity: bool = True,
     robust: bool = True,
     exclude: tuple[tuple[float, float], ...] = (),
+    effort: str = "torque",
+    gear: float = 1.0,
+    kt: float | None = None,
+    efficiency: float = 1.0,
 ) -> LoadedLogs:
     """Fit a joint log as `jointid fit --csv` does: the same time checks, resampling, derivatives, low-pass and
     sensitivity check.
@@ -508,8 +513,9 @@ def fit_log(
         with q and tau and any of t, qd, qdd (missing derivatives are estimated from q, which needs t).
     heldout : same kinds as `source`, optional
         A log the fit never sees, to predict.
-    model : str or JointModel
-        'coulomb+bias' by default (real joints have friction, sensors a bias); 'plain' is the lesson's I, h, B.
+    model : str or JointModel, optional
+        'coulomb+bias' by default (real joints have friction, sensors a bias), 'coulomb+angle-offset' (WPILib
+        SysId's arm) for a voltage log; 'plain' is the lesson's I, h, B.
     degrees : bool
         q (and qd, qdd) given in degrees rather than radians.
     window, order : int
@@ -534,6 +540,12 @@ def fit_log(
         Find and leave out stretches where an outside torque acts (pushes, collisions).
     exclude : tuple of (start, end)
         Seconds from the log's start to leave out as well.
+    effort : {'torque', 'current', 'voltage'}
+        What the effort (tau) column holds: joint torque (N m), motor current (A; torque = gear x kt x efficiency x
+        current) or motor voltage (V; fitted as WPILib's arm gains kA, kG, kV, kS).
+    gear, kt, efficiency : float
+        A current log's reduction (motor turns per joint turn), torque constant (N m/A, required) and gearbox
+        efficiency.
 
     Returns
     -------
@@ -562,6 +574,15 @@ def fit_log(
     from ..logs.pipeline import check_finite, joint_log_from_table
     from ..model.terms import model_named
 
+    from ..logs.effort import EffortReading, read_effort
+    from ..options import VOLTAGE_LOG_MODEL
+
+    try:
+        reading = EffortReading(effort, 1.0, gear, kt, efficiency)
+    except ValueError as error:
+        raise ValueError(f"fit_log(): {error}") from None
+    if model is None:
+        model = VOLTAGE_LOG_MODEL if effort == "voltage" else LOG_MODEL
     fitted_model = model_named(model) if isinstance(model, str) else model
     if not isinstance(fitted_model, JointModel):
         raise TypeError(f"model must be a model name or a JointModel; got {type(model).__name__}")
@@ -573,9 +594,11 @@ def fit_log(
     def load(given, role: str) -> JointLog:
         if isinstance(given, (str, os.PathLike)):
             return load_joint_log(LoadRequest(os.fspath(given), role, degrees=degrees, window=window, order=order,
-                                              filtering=filtering, joint=joint, columns=column_map, angle=angle))
+                                              filtering=filtering, joint=joint, columns=column_map, angle=angle,
+                                              effort=reading))
         table = read_arrays(given, "arrays" if role == TRAINING else "held-out arrays", column_map)
         check_finite(table)
+        table = read_effort(table, reading, bag=False)
         table = read_angle(table, angle, degrees)
         return joint_log_from_table(table, degrees=degrees, window=window, order=order, cutoff=cutoff)
 

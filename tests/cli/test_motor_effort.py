@@ -223,3 +223,20 @@ def test_a_held_out_log_in_other_units_is_refused(tmp_path):
     torque = load_joint_log(LoadRequest(log, HELDOUT))
     with pytest.raises(LogError, match="holds torque"):
         fit_logs(volts, torque)
+
+
+def test_the_library_fits_voltage_arrays_as_the_command_line_does(times):
+    import jointid
+    from jointid.studies.gains import arm_gains
+
+    q, qd, qdd = motion(times)
+    volts = (GAINS["kS"] * np.sign(qd) + GAINS["kG"] * np.cos(q + OFFSET) + GAINS["kV"] * qd
+             + GAINS["kA"] * qdd)
+    fit = jointid.fit_log({"t": times, "q": q, "qd": qd, "qdd": qdd, "tau": volts}, effort="voltage", robust=False)
+    assert fit.result.model.names == ("kA", "kG", "kV", "kS", "q0")  # SysId's arm by default
+    gains = arm_gains(fit)
+    for name, value in GAINS.items():
+        assert gains[name].value == pytest.approx(value, rel=1e-6)
+        assert gains[name].per_rotation == pytest.approx(value * (2 * math.pi if name in ("kV", "kA") else 1.0))
+    with pytest.raises(ValueError, match="torque constant"):
+        jointid.fit_log({"t": times, "q": q, "tau": volts}, effort="current")
