@@ -134,14 +134,15 @@ def check_gains_request(args: argparse.Namespace) -> None:
 
 
 def effort_extras(args: argparse.Namespace, logs):
-    """(text paragraphs, JSON fields) the motor and --gains add to a log fit's output; UserError when the fit
-    gives none."""
+    """(text paragraphs, JSON fields) the motor and --gains add to the output of a log's fit (or of several runs
+    pooled); UserError when the fit gives none."""
     from ..studies.gains import GainsError, arm_gains, motor_parameters
 
     drive = motor_drive(args)
     paragraphs, fields = [], {}
+    model = (logs.runs[0] if hasattr(logs, "runs") else logs).result.model
     try:
-        if drive is not None and not logs.result.model.effort.is_torque:
+        if drive is not None and not model.effort.is_torque:
             from ..present.gains import motor_object, motor_text
 
             motor = motor_parameters(logs, drive)

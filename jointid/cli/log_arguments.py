@@ -337,8 +337,6 @@ def fit_pooled_runs(args: argparse.Namespace):
     if args.heldout is not None or args.heldout_window is not None:
         raise UserError("--heldout and --heldout-window: with several runs each run is predicted by the others "
                         "instead; drop them")
-    if args.gains is not None:
-        raise UserError("--gains: for one log; fit each run alone for its gains")
     import dataclasses
 
     from ..logs.request import load_joint_log
@@ -363,13 +361,14 @@ def several_runs(args: argparse.Namespace) -> bool:
 def run_several(args: argparse.Namespace) -> int:
     """Several runs of one joint: the per-run table and the pooled fit, as text or JSON; exit status 0."""
     pooled = fit_pooled_runs(args)
+    paragraphs, fields = effort_extras(args, pooled)
     if args.json:
         from ..present.runs import runs_document
 
-        print_json(runs_document(pooled))
+        print_json({**runs_document(pooled), **fields})
     else:
         from ..present.runs import runs_text
 
-        print(runs_text(pooled))
+        print("\n\n".join([runs_text(pooled), *paragraphs]))
     return ExitStatus.SUCCESS
 

@@ -59,8 +59,8 @@ def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
             + ". The runs do not share one joint within their errors: read the scatter, not the ±.")
     else:
         lines.append("Every run agrees with the pooled fit within its errors.")
-    lines.append("Others predict: the RMS error of each run's filtered torque predicted by the pooled fit of the "
-                 "other runs (its own offset).")
+    lines.append(f"Others predict: the RMS error of each run's filtered {model.effort.name} predicted by the pooled "
+                 "fit of the other runs (its own offset).")
     return tuple(lines)
 
 

@@ -14,6 +14,7 @@ on the same filtered, kept samples and their difference reported.
 
 from __future__ import annotations
 
+import itertools
 import math
 from dataclasses import dataclass
 
@@ -21,7 +22,6 @@ import numpy as np
 
 from ..estimation.uncertainty import WEAK, WELL_DETERMINED, verdict
 from ..model.motors import MotorDrive, error_scale, gains_from_physical
-from .log_fit import LoadedLogs
 
 WPILIB_ORDER = ("kS", "kG", "kV", "kA")
 """ArmFeedforward's constructor order."""
@@ -76,6 +76,8 @@ class ArmGains:
     drive: MotorDrive | None
     """The motor drive a torque log's parameters were converted through, or None for a voltage log."""
     model_name: str
+    runs: int = 1
+    """How many runs were pooled into the gains (1: one log's fit)."""
 
     def __getitem__(self, name: str) -> Gain:
         return next(gain for gain in self.gains if gain.name == name)
@@ -100,63 +102,111 @@ class ArmGains:
         return self[name].value if name in self.names else 0.0
 
 
-def arm_gains(logs: LoadedLogs, drive: MotorDrive | None = None) -> ArmGains:
-    """The ArmFeedforward gains of a fit of logs: as fitted for a voltage log, through `drive` for a torque log;
-    GainsError when the fit is not unique or a torque log has no drive."""
-    result = logs.result
+@dataclass(frozen=True)
+class FittedParameters:
+    """What gains are made from: a fit's reported parameters, errors and verdicts by name, and the same parameters
+    by SysId's direction of regression."""
+
+    model: object
+    """The fitted model.JointModel."""
+    values: dict[str, float]
+    errors: dict[str, float]
+    verdicts: dict[str, str]
+    sysid: dict[str, float] | None
+
+
+def fitted_parameters(fit) -> FittedParameters:
+    """The FittedParameters of one fit of logs (a LoadedLogs) or of several runs pooled (a studies.runs.PooledRuns);
+    GainsError without a unique fit."""
+    if hasattr(fit, "runs"):
+        return _pooled_parameters(fit)
+    result = fit.result
     model = result.model
     if result.estimate is None or result.uncertainty is None:
         raise GainsError(f"no gains: rank {result.rank} of {result.parameter_count}, the fit is not unique")
+    # The verdicts the fit's text gives: a parameter another check moved is never called well determined.
+    unsettled = fit.unsettled
+    verdicts = {name: WEAK if name in unsettled and judged == WELL_DETERMINED else judged
+                for name, judged in zip(model.names, result.uncertainty.verdicts)}
+    sysid = _sysid_direction(model, [(result.training_regressor, result.training.tau)])
+    return FittedParameters(model, dict(result.params), dict(result.bse), verdicts, sysid)
+
+
+def _pooled_parameters(pooled) -> FittedParameters:
+    """Several runs' pooled parameters as the model reports them (each run's own bias left out: ArmFeedforward has
+    none), their verdicts, and SysId's direction over every run's samples."""
+    model = pooled.runs[0].result.model
+    if pooled.covariance is None or not np.all(np.isfinite(pooled.estimate)):
+        raise GainsError("no gains: the runs pooled have no unique fit")
+    values, errors = dict(pooled.params), dict(pooled.bse)
+    verdicts = {name: verdict(100 * errors[name] / abs(values[name]) if values[name] else math.inf)
+                for name in values}
+    for run in pooled.runs:  # a parameter another check moved in any run is never called well determined
+        for name in run.unsettled:
+            if verdicts.get(name) == WELL_DETERMINED:
+                verdicts[name] = WEAK
+    blocks = [(run.result.training_regressor, run.result.training.tau) for run in pooled.runs]
+    sysid = _sysid_direction(model, blocks)
+    return FittedParameters(model, values, errors, verdicts,
+                            None if sysid is None else {name: sysid[name] for name in values})
+
+
+def arm_gains(fit, drive: MotorDrive | None = None) -> ArmGains:
+    """The ArmFeedforward gains of a fit of logs (a LoadedLogs, or several runs pooled): as fitted for a voltage
+    log, through `drive` for a torque log; GainsError when the fit is not unique or a torque log has no drive."""
+    fitted = fitted_parameters(fit)
+    model = fitted.model
     if model.index_of("I") is None or model.index_of("B") is None:
         raise GainsError("no gains: the model lacks acceleration or velocity")
     volts = not model.effort.is_torque
     if not volts and drive is None:
         raise GainsError("--gains wpilib needs volts: fit a voltage log (--effort voltage), or give the motor "
                          "(--motor NAME --gear G, or --motor-r/--motor-kt/--motor-kv) to convert this torque log")
-    # The verdicts the fit's text gives: a parameter another check moved is never called well determined.
-    unsettled = logs.unsettled
-    verdicts = {name: WEAK if name in unsettled and judged == WELL_DETERMINED else judged
-                for name, judged in zip(model.names, result.uncertainty.verdicts)}
-    fitted = dict(result.params)
-    errors = dict(result.bse)
-    sysid = _sysid_direction(result)
     if volts:
-        values, sysid_values = fitted, sysid
-        gain_errors = errors
-        gain_verdicts = verdicts
+        values, sysid_values = fitted.values, fitted.sysid
+        gain_errors, gain_verdicts = fitted.errors, fitted.verdicts
     else:
-        values = gains_from_physical(drive, fitted)
-        sysid_values = None if sysid is None else gains_from_physical(drive, sysid)
-        back = {gain: name for name, gain in zip(fitted, gains_from_physical(drive, fitted))}
-        gain_errors = {gain: errors[name] * error_scale(drive, name, to_physical=False) for gain, name in back.items()}
+        values = gains_from_physical(drive, fitted.values)
+        sysid_values = None if fitted.sysid is None else gains_from_physical(drive, fitted.sysid)
+        back = {gain: name for name, gain in zip(fitted.values, gains_from_physical(drive, fitted.values))}
+        gain_errors = {gain: fitted.errors[name] * error_scale(drive, name, to_physical=False)
+                       for gain, name in back.items()}
         gain_verdicts = {}
         for gain, name in back.items():
             relative = 100 * gain_errors[gain] / abs(values[gain]) if values[gain] else math.inf
             judged = verdict(relative)
             # A parameter another check moved stays no better than weak in any units.
-            gain_verdicts[gain] = WEAK if judged == WELL_DETERMINED and verdicts[name] != WELL_DETERMINED else judged
+            gain_verdicts[gain] = (WEAK if judged == WELL_DETERMINED and fitted.verdicts[name] != WELL_DETERMINED
+                                   else judged)
     order = [name for name in (*WPILIB_ORDER, "q0", "V0") if name in values]
     gains = tuple(Gain(name, float(values[name]), float(gain_errors[name]), gain_verdicts[name],
                        None if sysid_values is None else float(sysid_values[name])) for name in order)
-    return ArmGains(gains, None if volts else drive, model.name)
+    return ArmGains(gains, None if volts else drive, model.name, len(fit.runs) if hasattr(fit, "runs") else 1)
 
 
-def _sysid_direction(result) -> dict[str, float] | None:
-    """The model's parameters by regressing the acceleration column on the effort and the other columns, on the
-    fit's own (filtered, kept) samples; None when that regression is singular."""
-    model = result.model
-    X = result.training_regressor
-    effort = result.training.tau
-    a = model.index_of("I")
-    others = [j for j in range(model.size) if j != a]
-    Z = np.column_stack([effort, X[:, others]])
+def _sysid_direction(model, blocks) -> dict[str, float] | None:
+    """The model's parameters by regressing the acceleration column on the effort and the other columns, over the
+    fits' own (filtered, kept) samples of every block (regressor, effort), stacked unweighted as SysId stacks its
+    tests, each block with its own bias when the model has one; None when that regression is singular."""
+    X = np.concatenate([regressor for regressor, _ in blocks])
+    effort = np.concatenate([values for _, values in blocks])
+    a, bias = model.index_of("I"), model.index_of("tau0")
+    others = [j for j in range(model.size) if j not in (a, bias)]
+    columns = [effort, *(X[:, j] for j in others)]
+    if bias is not None:  # one offset per block, as the pooled fit has
+        edges = np.cumsum([0, *(len(values) for _, values in blocks)])
+        for start, end in itertools.pairwise(edges):
+            columns.append(np.where((np.arange(len(X)) >= start) & (np.arange(len(X)) < end), 1.0, 0.0))
+    Z = np.column_stack(columns)
     coefficients, _, rank, _ = np.linalg.lstsq(Z, X[:, a], rcond=None)
     beta = coefficients[0]
     if rank < Z.shape[1] or not beta or not np.all(np.isfinite(coefficients)):
         return None
-    theta = np.empty(model.size)
+    theta = np.zeros(model.size)
     theta[a] = 1.0 / beta
-    theta[others] = -coefficients[1:] / beta
+    theta[others] = -coefficients[1:1 + len(others)] / beta
+    if bias is not None:
+        theta[bias] = -coefficients[1 + len(others)] / beta  # the first block's, as a single fit has one
     return dict(zip(model.names, map(float, model.report(theta))))
 
 
@@ -190,34 +240,26 @@ class MotorParameters:
         return self["I"].value - reflected
 
 
-def motor_parameters(logs: LoadedLogs, drive: MotorDrive) -> MotorParameters:
-    """I, h, B, Fc (and tau0, q0) behind a voltage log's fitted gains, with standard errors and verdicts;
-    GainsError for a torque log or a fit that is not unique."""
-    from ..model.motors import physical_from_gains
+def motor_parameters(fit, drive: MotorDrive) -> MotorParameters:
+    """I, h, B, Fc (and tau0, q0) behind a voltage log's fitted gains (one fit, or several runs pooled), with
+    standard errors and verdicts; GainsError for a torque log or a fit that is not unique."""
+    from ..model.motors import PHYSICAL_FROM_GAIN, physical_from_gains
     from ..model.terms import ANGLE_OFFSET, MASS_MOMENT, TORQUE_TERMS
 
-    result = logs.result
-    if result.model.effort.is_torque:
+    fitted = fitted_parameters(fit)
+    if fitted.model.effort.is_torque:
         raise GainsError("the physical parameters of a torque log are its fit; a motor converts them to gains "
                          "(--gains wpilib)")
-    if result.estimate is None or result.uncertainty is None:
-        raise GainsError(f"no physical parameters: rank {result.rank} of {result.parameter_count}, the fit is not "
-                         "unique")
-    unsettled = logs.unsettled
-    gains = dict(result.params)
-    errors = dict(result.bse)
-    values = physical_from_gains(drive, gains)
+    values = physical_from_gains(drive, fitted.values)
     units = {**{name: term.unit for name, term in TORQUE_TERMS.items()}, "h": MASS_MOMENT.unit,
              "q0": ANGLE_OFFSET.unit}
-    from ..model.motors import PHYSICAL_FROM_GAIN
-
     parameters = []
     for name, value in values.items():
         gain = PHYSICAL_FROM_GAIN[name]
-        error = errors[gain] * error_scale(drive, gain, to_physical=True)
+        error = fitted.errors[gain] * error_scale(drive, gain, to_physical=True)
         relative = 100 * error / abs(value) if value else math.inf
         judged = verdict(relative)
-        if judged == WELL_DETERMINED and gain in unsettled:
-            judged = WEAK
+        if judged == WELL_DETERMINED and fitted.verdicts[gain] != WELL_DETERMINED:
+            judged = WEAK  # another check moved the gain: the parameter behind it is no better
         parameters.append(PhysicalParameter(name, units[name], float(value), float(error), judged))
     return MotorParameters(drive, tuple(parameters))

@@ -240,3 +240,33 @@ def test_the_library_fits_voltage_arrays_as_the_command_line_does(times):
         assert gains[name].per_rotation == pytest.approx(value * (2 * math.pi if name in ("kV", "kA") else 1.0))
     with pytest.raises(ValueError, match="torque constant"):
         jointid.fit_log({"t": times, "q": q, "tau": volts}, effort="current")
+
+
+def test_several_voltage_runs_pool_into_one_set_of_gains(tmp_path, capsys):
+    """Two runs of other motions (as SysId's quasistatic and dynamic tests are): the pooled fit reports kG and q0
+    (not their cosine and sine columns), and its gains are the arm's."""
+    logs = []
+    for k, (start, end) in enumerate(((0.0, 12.0), (3.0, 9.0))):
+        t = np.linspace(start, end, 1201)
+        logs += ["--csv", voltage_log(tmp_path / f"run{k}.csv", t)]
+    document = fit_json(capsys, *logs, "--effort", "voltage", "--gains", "wpilib", "--no-robust")
+    assert set(document["pooled"]["estimate"]) == {"kA", "kG", "kV", "kS", "q0"}
+    assert document["pooled"]["estimate"]["q0"] == pytest.approx(OFFSET, abs=1e-7)
+    for name, value in GAINS.items():
+        assert document["gains"]["gains"][name]["value"] == pytest.approx(value, rel=1e-6)
+        assert document["gains"]["gains"][name]["sysid_direction"] == pytest.approx(value, rel=1e-6)
+    status, out, err = run(capsys, "fit", *logs, "--effort", "voltage", "--gains", "wpilib")
+    assert status == 0, err
+    assert "pooled fit of 2 runs" in out and "filtered voltage predicted" in out
+
+
+def test_several_torque_runs_with_an_angle_offset_report_h_and_q0(tmp_path, capsys, times):
+    """The pooled fit of an angle-offset model used to look its columns (h_c, h_s) up among the reported names."""
+    logs = []
+    for k, shift in enumerate((0.0, 2.0)):
+        q, qd, qdd = motion(times + shift)
+        tau = PHYSICAL["I"] * qdd + PHYSICAL["h"] * G * np.cos(q + OFFSET) + PHYSICAL["B"] * qd
+        logs += ["--csv", write(tmp_path / f"run{k}.csv", times, q, qd, qdd, tau)]
+    pooled = fit_json(capsys, *logs, "--model", "angle-offset", "--no-robust")["pooled"]
+    assert pooled["estimate"]["h"] == pytest.approx(PHYSICAL["h"], rel=1e-6)
+    assert pooled["estimate"]["q0"] == pytest.approx(OFFSET, abs=1e-7)
