@@ -46,9 +46,10 @@ def gains_parts(gains: ArmGains) -> tuple[str, str, str, str]:
         rows.append([f"{gain.name} ({gain.unit})", format_number(gain.value), format_number(gain.std_error),
                      f"{format_number(gain.per_rotation)} {PER_ROTATION_UNITS[gain.name]}", gain.verdict, sysid])
     header = ["gain", "value", "±", "per rotation", "verdict", "SysId's direction"]
-    fit = "fit" if gains.runs == 1 else f"pooled fit of {gains.runs} runs"
-    source = (f"the voltage log's {fit}" if gains.drive is None
-              else f"the torque {fit} through {gains.drive.description()}")
+    kind = "voltage" if gains.drive is None else "torque"
+    source = f"the {kind} log's fit" if gains.runs == 1 else f"the pooled fit of {gains.runs} {kind} runs"
+    if gains.drive is not None:
+        source += f" through {gains.drive.description()}"
     java, cpp, python = constructor_lines(gains)
     heading = (f"WPILib ArmFeedforward gains from {source} (angle in radians from horizontal; per rotation as "
                "SysId shows a log in rotations: kV and kA times 2 pi):")

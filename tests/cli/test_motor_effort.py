@@ -257,7 +257,7 @@ def test_several_voltage_runs_pool_into_one_set_of_gains(tmp_path, capsys):
         assert document["gains"]["gains"][name]["sysid_direction"] == pytest.approx(value, rel=1e-6)
     status, out, err = run(capsys, "fit", *logs, "--effort", "voltage", "--gains", "wpilib")
     assert status == 0, err
-    assert "pooled fit of 2 runs" in out and "filtered voltage predicted" in out
+    assert "pooled fit of 2 voltage runs" in out and "filtered voltage predicted" in out
 
 
 def test_several_torque_runs_with_an_angle_offset_report_h_and_q0(tmp_path, capsys, times):

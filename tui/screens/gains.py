@@ -25,16 +25,16 @@ class GainsScreen(Screen):
         Binding("q", "close", "Close gains", show=False),
     ]
 
-    def __init__(self, logs, sections: list[tuple[str, ...]]) -> None:
+    def __init__(self, title: str, sections: list[tuple[str, ...]]) -> None:
         """Create the view.
 
         Args:
-            logs: The LoadedLogs whose gains are shown.
+            title: What the gains are of: the log's name, or the runs pooled.
             sections: Each section's parts (jointid.present.gains' gains_parts, motor_parts): a heading, then
                 tables and code kept whole (scrolled sideways on a narrow screen), the last part its sentences.
         """
         super().__init__()
-        self.logs = logs
+        self.title_text = title
         self.sections = sections
 
     @property
@@ -45,7 +45,7 @@ class GainsScreen(Screen):
     def compose(self) -> ComposeResult:
         """Each section's heading, its wide parts in sideways scrolls, its sentences; the footer."""
         with VerticalScroll() as scroll:
-            scroll.border_title = f"Gains: {self.logs.name}"
+            scroll.border_title = f"Gains: {self.title_text}"
             scroll.border_subtitle = "Tab: the tables, ←/→ their columns"
             for heading, *wide, sentences in self.sections:
                 yield Static(heading, markup=False)

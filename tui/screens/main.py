@@ -585,14 +585,16 @@ class MainScreen(Screen):
 
         conventions = self.app.conventions
         drive = None if conventions is None else conventions.motor
+        fit = self.logs if self.runs is None else self.runs  # several runs: their pooled fit's gains
         try:
-            sections = [gains_parts(arm_gains(self.logs, drive))]
+            sections = [gains_parts(arm_gains(fit, drive))]
             if drive is not None and not self.logs.result.model.effort.is_torque:
-                sections.append(motor_parts(motor_parameters(self.logs, drive)))
+                sections.append(motor_parts(motor_parameters(fit, drive)))
         except GainsError as error:
             self.notify(str(error), title="No gains", severity="warning")
             return
-        self.app.push_screen(GainsScreen(self.logs, sections))
+        title = self.logs.name if self.runs is None else f"{len(self.runs.runs)} runs pooled"
+        self.app.push_screen(GainsScreen(title, sections))
 
     def action_runs(self) -> None:
         """Open the runs view: each run's fit beside the pooled one."""
