@@ -270,3 +270,11 @@ def test_several_torque_runs_with_an_angle_offset_report_h_and_q0(tmp_path, caps
     pooled = fit_json(capsys, *logs, "--model", "angle-offset", "--no-robust")["pooled"]
     assert pooled["estimate"]["h"] == pytest.approx(PHYSICAL["h"], rel=1e-6)
     assert pooled["estimate"]["q0"] == pytest.approx(OFFSET, abs=1e-7)
+
+
+def test_compare_fits_the_ladder_of_a_voltage_log_in_volts(tmp_path, capsys, times):
+    status, out, err = run(capsys, "compare", "--csv", voltage_log(tmp_path / "arm.csv", times), "--effort",
+                           "voltage", "--no-robust")
+    assert status == 0, err
+    assert "coulomb+angle-offset  kA, kG, kV, kS, q0" in out and "voltage and regressor low-passed" in out
+    assert "I, h, B" not in out
