@@ -70,3 +70,21 @@ async def test_a_torque_log_without_a_motor_has_no_gains_and_says_why(tmp_path):
         await pilot.pause()
         assert isinstance(app.screen, MainScreen)
         assert any("needs volts" in notice.message for notice in app._notifications)
+
+
+@synchronous
+async def test_the_ladder_of_a_voltage_log_is_in_volts(tmp_path):
+    from tui.screens.ladder import LadderScreen
+
+    app = make_app()
+    app.conventions = LogConventions(effort=EffortReading("voltage"))
+    async with app.run_test(size=SIZE) as pilot:
+        pilot.app.screen.start_loading(LoadRequest(voltage_log(tmp_path / "arm.csv"),
+                                                   **app.conventions.request_fields()))
+        await pilot.app.workers.wait_for_complete()
+        await pilot.pause()
+        await pilot.press("l")
+        await pilot.pause()
+        assert isinstance(app.screen, LadderScreen)
+        assert all(row.model.effort.unit == "V" for row in app.screen.comparison.rows)
+        assert app.screen.comparison.row("coulomb").model.names == ("kA", "kG", "kV", "kS")

@@ -509,7 +509,7 @@ class MainScreen(Screen):
         else:
             self.app.push_screen(LadderScreen(f"log {self.logs.name}", self.logs.training.data,
                                               None if self.logs.heldout is None else self.logs.heldout.data,
-                                              low_pass=self.logs.filter))
+                                              low_pass=self.logs.filter, effort=self.logs.training.effort))
 
     def action_help(self) -> None:
         """Open the help screen."""
