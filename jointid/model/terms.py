@@ -15,6 +15,12 @@ A model fits its *columns* (`terms`) and reports its *parameters*. They are the
 same except for the angle offset: its model fits h_c*g*cos(q) + h_s*g*sin(q),
 which is h*g*cos(q + q0) with h = hypot(h_c, h_s) and q0 = atan2(-h_s, h_c),
 and it reports h and q0 (with standard errors by the delta method).
+
+A model fitted to a voltage log (`JointModel.in_effort(VOLTAGE)`) has the same
+terms with the effort in volts, named as WPILib's arm feedforward names them:
+kA (qdd), kG (cos q), kV (qd), kS (sign qd), V0 (a voltage bias). Each keeps
+the torque term it stands for as its `role`, so code that needs "the velocity
+column" asks `model.index_of("B")` whatever the effort.
 """
 
 from __future__ import annotations
