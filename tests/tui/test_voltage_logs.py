@@ -88,3 +88,22 @@ async def test_the_ladder_of_a_voltage_log_is_in_volts(tmp_path):
         assert isinstance(app.screen, LadderScreen)
         assert all(row.model.effort.unit == "V" for row in app.screen.comparison.rows)
         assert app.screen.comparison.row("coulomb").model.names == ("kA", "kG", "kV", "kS")
+
+
+@synchronous
+async def test_the_open_dialog_reads_a_log_as_voltage_when_asked(tmp_path):
+    from textual.widgets import RadioSet
+
+    from tui.screens.open_log import OpenLogScreen
+
+    app = make_app()
+    async with app.run_test(size=SIZE) as pilot:
+        await pilot.press("ctrl+o")
+        dialog = app.screen
+        assert isinstance(dialog, OpenLogScreen)
+        assert dialog.request(str(tmp_path / "x.csv")).effort.kind == "torque"
+        assert dialog.query_one("#effort-current").disabled  # a current needs --kt from the command line
+        dialog.query_one("#effort-voltage").value = True
+        await pilot.pause()
+        assert dialog.query_one("#open-effort", RadioSet).pressed_button.id == "effort-voltage"
+        assert dialog.request(str(tmp_path / "x.csv")).effort.kind == "voltage"
