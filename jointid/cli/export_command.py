@@ -133,7 +133,7 @@ def run(args: argparse.Namespace) -> int:
     try:
         link = split_link(parameters["I"], parameters["h"], parameters["B"], parameters.get("Fc", 0.0),
                           parameters.get("q0", 0.0), mass=args.mass, com_distance=args.com_distance,
-                          length=args.length, armature=args.armature, zero_offset=convention.offset,
+                          length=args.length, armature=_armature(args, identified), zero_offset=convention.offset,
                           axis_sign=convention.sign)
     except LinkError as error:
         raise UserError(str(error)) from None
@@ -162,6 +162,13 @@ def run(args: argparse.Namespace) -> int:
         if check is not None:
             print(mujoco_check_text(check, written["mujoco"]))
     return ExitStatus.ERROR if check is not None and not check.agrees else ExitStatus.SUCCESS
+
+
+def _armature(args: argparse.Namespace, identified) -> float:
+    """--armature, or else the motor's reflected rotor inertia a voltage fit's --motor-inertia gave (kg m²)."""
+    if args.armature == 0.0 and identified.reflected_inertia is not None:
+        return identified.reflected_inertia
+    return args.armature
 
 
 def _mujoco_check(path: str, link):

@@ -12,7 +12,7 @@ import argparse
 import json
 import math
 import os
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from .arguments import UserError, settings_from
 from .log_arguments import (
@@ -43,6 +43,8 @@ class Identified:
     """Where the log's angle 0 pointed (--zero): the exported joint's 0 points there."""
     clockwise: bool = False
     """Whether the log's angle grew clockwise (--clockwise): the exported joint turns that way."""
+    reflected_inertia: float | None = None
+    """The motors' rotor inertia reflected through the gear (kg m²), part of I, when a voltage fit's motor gave it."""
 
     def not_determined(self, names) -> tuple[str, ...]:
         """Those of `names` the fit did not determine, in the model's order."""
@@ -65,9 +67,36 @@ def identified_from_fit(args: argparse.Namespace) -> Identified:
                             f"noise {settings.noise:g} N m, {settings.samples} samples, seed {settings.seed}; ")
     zero, clockwise = getattr(args, "zero", None) or "right", bool(getattr(args, "clockwise", False))
     if several_runs(args):
-        return _from_pooled(fit_pooled_runs(args), zero, clockwise)
+        pooled = fit_pooled_runs(args)
+        return _through_motor(_from_pooled(pooled, zero, clockwise), pooled, pooled.runs[0].result.model, args)
     logs = fit_loaded_logs(args)
-    return _from_result(logs.result, f"a fit of {logs.name}", zero=zero, clockwise=clockwise)
+    identified = _from_result(logs.result, f"a fit of {logs.name}", zero=zero, clockwise=clockwise)
+    return _through_motor(identified, logs, logs.result.model, args)
+
+
+VOLTS_NEED_A_MOTOR = ("gives gains in volts (kA, kG, kV, kS), not a body's I, h, B: give the motor behind them "
+                      "(--motor NAME --gear G, or --motor-r/--motor-kt/--motor-kv) to export the physical parameters")
+
+
+def _through_motor(identified: Identified, fit, model, args: argparse.Namespace) -> Identified:
+    """A torque fit as it is; a voltage fit's gains turned into the physical I, h, B, Fc (q0) through the motor
+    given (studies.gains.motor_parameters), with their verdicts; UserError without a motor."""
+    if model.effort.is_torque:
+        return identified
+    from ..studies.gains import GainsError, motor_parameters
+    from .effort_arguments import motor_drive
+
+    drive = motor_drive(args)
+    if drive is None:
+        raise UserError(f"{identified.source} {VOLTS_NEED_A_MOTOR}")
+    try:
+        physical = motor_parameters(fit, drive)
+    except GainsError as error:
+        raise UserError(str(error)) from None
+    return replace(identified, parameters={p.name: p.value for p in physical.parameters},
+                   verdicts={p.name: p.verdict for p in physical.parameters},
+                   source=f"{identified.source} through {drive.description()}",
+                   reflected_inertia=drive.reflected_inertia)
 
 
 def _from_result(result, described: str, details: str = "", *, zero: str = "right",
@@ -136,6 +165,16 @@ def _from_fit_document(document: dict, shown: str, name: str) -> Identified:
     parameters = _numbers(estimate, shown, "estimate")
     verdicts = document.get("verdicts") if isinstance(document.get("verdicts"), dict) else {}
     zero, clockwise = _conventions(document, shown)
+    if (document.get("effort") or {}).get("name") == "voltage":  # the physical parameters its --motor gave
+        motor = document.get("motor") if isinstance(document.get("motor"), dict) else {}
+        physical = motor.get("parameters")
+        if not isinstance(physical, dict):
+            raise UserError(f"{shown}: a voltage log's fit {VOLTS_NEED_A_MOTOR.split(': give')[0]}: fit it with "
+                            "its motor (--motor NAME --gear G) and export that JSON")
+        parameters = _numbers({k: v.get("value") if isinstance(v, dict) else v for k, v in physical.items()},
+                              shown, "motor.parameters")
+        verdicts = {k: v.get("verdict") for k, v in physical.items() if isinstance(v, dict)}
+        model = f"{model} through {motor.get('motor', 'a motor')}"
     return Identified(parameters, model, f"the fit in {name} (model {model})",
                       {key: value if isinstance(value, str) else None for key, value in verdicts.items()},
                       zero, clockwise)

@@ -4,8 +4,8 @@ wpilib), checked against models written here: closed forms from the motor's cons
 from __future__ import annotations
 
 import json
-import re
 import math
+import re
 
 import numpy as np
 import pytest
@@ -279,3 +279,33 @@ def test_compare_fits_the_ladder_of_a_voltage_log_in_volts(tmp_path, capsys, tim
     assert status == 0, err
     assert re.search(r"coulomb\+angle-offset \S* *kA, kG, kV, kS, q0", out) and "voltage and regressor low-passed" in out
     assert "I, h, B" not in out
+
+
+def test_export_of_a_voltage_log_writes_the_physical_joint_behind_the_gains(tmp_path, capsys, times):
+    """2 NEOs at 50:1 as above: the MJCF holds B and Fc of the closed form, a link whose I and h are the physical
+    ones, and the rotors' reflected inertia as the joint's armature; without a motor the export is refused."""
+    import xml.etree.ElementTree as ET
+
+    q, qd, qdd = motion(times)
+    fc = 0.3
+    tau = PHYSICAL["I"] * qdd + PHYSICAL["h"] * G * np.cos(q) + PHYSICAL["B"] * qd + fc * np.sign(qd)
+    c = 50 * 2 * NEO_KT / NEO_R
+    log = write(tmp_path / "arm.csv", times, q, qd, qdd, tau / c + 50 / NEO_KV * qd, "effort")
+    drive = ("--effort", "voltage", "--motor", "NEO", "--motor-count", "2", "--gear", "50", "--no-robust")
+    assert "gives gains in volts" in refused(capsys, "export", "--csv", log, *drive[:2], "--mass", "2",
+                                             "--mujoco", str(tmp_path / "no.xml"))
+    assert not (tmp_path / "no.xml").exists()
+    mjcf = tmp_path / "arm.xml"
+    status, _, err = run(capsys, "export", "--csv", log, *drive, "--motor-inertia", "1e-5", "--mass", "2",
+                           "--mujoco", str(mjcf))
+    assert status == 0, err
+    joint = ET.parse(mjcf).find(".//joint")
+    inertial = ET.parse(mjcf).find(".//inertial")
+    armature = 2 * 50**2 * 1e-5
+    assert float(joint.get("damping")) == pytest.approx(PHYSICAL["B"], rel=1e-5)
+    assert float(joint.get("frictionloss")) == pytest.approx(fc, rel=1e-5)
+    assert float(joint.get("armature")) == pytest.approx(armature, rel=1e-9)
+    mass, com = float(inertial.get("mass")), float(inertial.get("pos").split()[0])
+    assert mass * com == pytest.approx(PHYSICAL["h"], rel=1e-5)  # h = m r
+    about_axis = float(inertial.get("diaginertia").split()[1]) + mass * com**2 + armature
+    assert about_axis == pytest.approx(PHYSICAL["I"], rel=1e-5)
