@@ -13,7 +13,7 @@ jointid` still makes (tui/command.py has the figure).
 
 from __future__ import annotations
 
-from ..options import LOG_MODEL, SettingsError
+from ..options import SettingsError
 from .arguments import UserError, settings_from
 from .floating_point import strict_arithmetic
 from .log_arguments import (
@@ -24,6 +24,7 @@ from .log_arguments import (
     fit_loaded_logs,
     fit_pooled_runs,
     has_log,
+    log_model,
     several_runs,
     with_default_settings,
 )
@@ -66,8 +67,9 @@ def run(args, explore=None) -> int:
 
 def _defaults(args):
     """The synthetic defaults behind a log (load_logs has refused any setting flag already)."""
+    model = log_model(args)  # before the log flags (--effort) are cleared
     for name in LOG_ONLY_FLAGS:
         setattr(args, name, None)
     if args.model is None:  # the explorer refits the log with its model setting: the log's default
-        args.model = LOG_MODEL
+        args.model = model
     return with_default_settings(args)

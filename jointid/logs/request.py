@@ -1,5 +1,5 @@
 """Which joint log to load and how: a CSV file or one joint of a ROS bag, its columns and angle convention, cut to
-a time window, torque scaled.
+a time window, its effort read as torque (scaled, or converted from current) or volts.
 
 Every source is read into a checked table (csvlog.read_table or
 bag.read_bag_table), cut and scaled here, and then goes through
@@ -10,12 +10,12 @@ resampling and differentiation.
 from __future__ import annotations
 
 import dataclasses
-import math
 from dataclasses import dataclass
 
 from ..estimation.low_pass import FilterRequest
 from ..options import DEFAULT_ORDER, DEFAULT_WINDOW
 from .conventions import AngleConvention, ColumnMap
+from .effort import EffortReading
 from .timewindow import TimeWindow
 
 TRAINING, HELDOUT, RUN = "training", "heldout", "run"
@@ -50,6 +50,8 @@ class LoadRequest:
     """Which CSV column gives which quantity (`--columns`); None: recognised by name."""
     angle: AngleConvention = AngleConvention()
     """Where the logged angle's 0 points and which way it grows (`--zero`, `--clockwise`)."""
+    effort: EffortReading = EffortReading()
+    """What the effort column measured (`--effort`, `--gear`, `--kt`, `--efficiency`); its scale is effort_scale."""
 
     @property
     def is_bag(self) -> bool:
@@ -62,6 +64,7 @@ def load_joint_log(request: LoadRequest, progress=None, cancel=None):
     from .angles import read_angle
     from .csv_reader import read_table
     from .derivatives import check_filter
+    from .effort import read_effort
     from .pipeline import joint_log_from_table
 
     check_filter(request.window, request.order)
@@ -79,7 +82,7 @@ def load_joint_log(request: LoadRequest, progress=None, cancel=None):
     table = read_angle(table, request.angle, request.degrees)
     if request.time_window is not None:
         table = cut_time_window(table, request.time_window, request.role)
-    table = scale_torque(table, request.effort_scale, request.is_bag)
+    table = read_effort(table, dataclasses.replace(request.effort, scale=request.effort_scale), request.is_bag)
     return joint_log_from_table(table, degrees=request.degrees, window=request.window, order=request.order,
                                 cutoff=request.filtering.cutoff)
 
@@ -103,20 +106,3 @@ def cut_time_window(table, window: TimeWindow, role: str = TRAINING):
     note = (f"{ROLE_WORDS[role]} window {window.text} s from the log's start: {kept} of {table.count} samples "
             f"(t = {float(since[rows.start]):.6g} to {float(since[rows.stop - 1]):.6g} s).")
     return dataclasses.replace(table.sliced(rows, note), time_window=window, time_origin=table.start_time)
-
-
-def scale_torque(table, scale: float, bag: bool):
-    """The table with tau multiplied by `scale`, and a note saying which scale was used (always for a bag)."""
-    if not math.isfinite(scale) or scale == 0:
-        from .table import LogError
-
-        raise LogError(table.path, f"effort scale {scale!r} must be a finite number other than 0")
-    source = "effort" if bag else "tau"
-    if scale == 1.0:
-        if not bag:
-            return table
-        note = "effort read as torque in N m (--effort-scale 1)."
-        return dataclasses.replace(table, notes=(*table.notes, note))
-    note = f"torque = {scale:g} × {source}, in N m (--effort-scale {scale:g})."
-    columns = {**table.columns, "tau": table.columns["tau"] * scale}
-    return dataclasses.replace(table, columns=columns, notes=(*table.notes, note), effort_scale=scale)

@@ -21,8 +21,11 @@ def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
     table sideways and wraps the sentences)."""
     shared = pooled.shared
     model = pooled.runs[0].result.model
-    bias = "tau0" in model.column_names
-    header = ["run", "samples", "cutoff", "left out", *shared, *(["tau0"] if bias else []), "others predict"]
+    bias_index = model.index_of("tau0")
+    bias = bias_index is not None
+    bias_name = None if bias_index is None else model.column_names[bias_index]
+    unit = model.effort.unit
+    header = ["run", "samples", "cutoff", "left out", *shared, *([bias_name] if bias else []), "others predict"]
     rows = []
     for k, run in enumerate(pooled.runs):
         left = run.exclusions
@@ -31,8 +34,8 @@ def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
         other = pooled.predicted_by_others[k]
         rows.append([run.name, str(run.result.training.count), cutoff, share,
                      *(format_number(run.params[name]) for name in shared),
-                     *([format_number(run.params["tau0"])] if bias else []),
-                     "-" if other is None else f"{format_number(other)} N m"])
+                     *([format_number(run.params[bias_name])] if bias else []),
+                     "-" if other is None else f"{format_number(other)} {unit}"])
     offsets = pooled.estimate[len(shared):]
     rows.append(["pooled", str(sum(run.result.training.count for run in pooled.runs)), "", "",
                  *(format_number(pooled.params[name]) for name in shared), *(["own"] if bias else []), ""])
@@ -40,11 +43,11 @@ def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
                  *([""] if bias else []), ""])
     lines = [f"{len(pooled.runs)} runs of one joint, each prepared and fitted alone, then together (model "
              f"{model.name}; weights 1/σ² of each run's residuals"
-             + ("; each run keeps its own torque bias" if bias else "") + "):",
+             + (f"; each run keeps its own {model.effort.name} bias" if bias else "") + "):",
              text_table(header, rows)]
     if bias:
-        lines.append("Pooled torque bias of each run: " + ", ".join(
-            f"{name} {format_number(value)}" for name, value in zip(pooled.names, offsets)) + " N m.")
+        lines.append(f"Pooled {model.effort.name} bias of each run: " + ", ".join(
+            f"{name} {format_number(value)}" for name, value in zip(pooled.names, offsets)) + f" {unit}.")
     lines.append("Scatter between the runs in their standard errors (about 1 when the errors are honest): "
                  + ", ".join(f"{name} {value:.1f}" for name, value in pooled.scatter.items()) + ".")
     if pooled.disagreements:
@@ -56,8 +59,8 @@ def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
             + ". The runs do not share one joint within their errors: read the scatter, not the ±.")
     else:
         lines.append("Every run agrees with the pooled fit within its errors.")
-    lines.append("Others predict: the RMS error of each run's filtered torque predicted by the pooled fit of the "
-                 "other runs (its own offset).")
+    lines.append(f"Others predict: the RMS error of each run's filtered {model.effort.name} predicted by the pooled "
+                 "fit of the other runs (its own offset).")
     return tuple(lines)
 
 

@@ -43,7 +43,8 @@ class PooledRuns:
     runs: tuple[LoadedLogs, ...]
     """Each run prepared and fitted on its own, in the order given."""
     shared: tuple[str, ...]
-    """The parameters every run shares (the model's, less its torque bias)."""
+    """The parameters every run shares (the model's reported ones, less its torque bias: an angle offset's h and q0
+    rather than its columns)."""
     estimate: np.ndarray
     """(s + b,) The pooled fit: the shared parameters, then each run's own bias when the model has one."""
     std_error: np.ndarray
@@ -53,6 +54,9 @@ class PooledRuns:
     predicted_by_others: tuple[float | None, ...]
     """RMS (N m) of each run's filtered torque less the other runs' pooled prediction (its offset its own), or
     None when the other runs have no unique fit together."""
+    covariance: np.ndarray | None = None
+    """(s + b, s + b) The covariance behind `std_error`, for parameters derived from several (an angle offset's
+    h and q0, a controller's gains); None without a unique pooled fit."""
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -60,14 +64,32 @@ class PooledRuns:
         return tuple(run.name for run in self.runs)
 
     @cached_property
+    def _reported(self) -> tuple[np.ndarray, np.ndarray]:
+        """(s,) The pooled shared parameters as the model reports them, and their standard errors (the delta method
+        on the pooled covariance for an angle offset's h and q0)."""
+        model = self.runs[0].result.model
+        count = len(self.shared)
+        columns = [j for j, term in enumerate(model.terms) if term.kind != BIAS]
+        theta = np.zeros(model.size)
+        theta[columns] = self.estimate[:count]
+        jacobian = model.report_jacobian(theta) if np.all(np.isfinite(theta)) else None
+        if jacobian is None:
+            return np.asarray(self.estimate[:count], dtype=float), np.asarray(self.std_error[:count], dtype=float)
+        reported = model.report(theta)[columns]
+        if self.covariance is None:
+            return reported, np.full(count, np.nan)
+        block = jacobian[np.ix_(columns, columns)]
+        return reported, np.sqrt(np.diag(block @ self.covariance[:count, :count] @ block.T))
+
+    @cached_property
     def params(self) -> MappingProxyType:
         """The pooled shared parameters by name."""
-        return MappingProxyType(dict(zip(self.shared, map(float, self.estimate[: len(self.shared)]))))
+        return MappingProxyType(dict(zip(self.shared, map(float, self._reported[0]))))
 
     @cached_property
     def bse(self) -> MappingProxyType:
         """Their standard errors by name."""
-        return MappingProxyType(dict(zip(self.shared, map(float, self.std_error[: len(self.shared)]))))
+        return MappingProxyType(dict(zip(self.shared, map(float, self._reported[1]))))
 
     @cached_property
     def scatter(self) -> dict[str, float]:
@@ -120,10 +142,10 @@ def pool_runs(runs: tuple[LoadedLogs, ...]) -> PooledRuns:
     model = runs[0].result.model
     everyone = tuple(range(len(runs)))
     triangles = _triangles(runs)
-    estimate, std_error, weights = _pool(runs, everyone, triangles)
+    estimate, std_error, weights, covariance = _pool(runs, everyone, triangles)
     others = tuple(_predicted_by_others(runs, triangles, index) for index in everyone)
-    shared = tuple(name for name in model.column_names if name != BIAS)
-    return PooledRuns(runs, shared, estimate, std_error, weights, others)
+    shared = tuple(name for name, term in zip(model.names, model.terms) if term.kind != BIAS)
+    return PooledRuns(runs, shared, estimate, std_error, weights, others, covariance)
 
 
 def _blocks(runs: tuple[LoadedLogs, ...], chosen: tuple[int, ...]):
@@ -131,10 +153,9 @@ def _blocks(runs: tuple[LoadedLogs, ...], chosen: tuple[int, ...]):
     weight)."""
     for index in chosen:
         result = runs[index].result
-        names = result.model.column_names
         X = result.training_regressor
-        shared = [j for j, name in enumerate(names) if name != BIAS]
-        bias = names.index(BIAS) if BIAS in names else None
+        shared = [j for j, term in enumerate(result.model.terms) if term.kind != BIAS]
+        bias = result.model.index_of(BIAS)
         residuals = result.training.tau - result.training_predictions
         weight = 1.0 / max(float(np.mean(residuals**2)), 1e-300)
         positions, lag = result.correlation if result.correlation is not None else (np.arange(len(X)), 0)
@@ -142,14 +163,14 @@ def _blocks(runs: tuple[LoadedLogs, ...], chosen: tuple[int, ...]):
 
 
 def _pool(runs: tuple[LoadedLogs, ...], chosen: tuple[int, ...], triangles: list[np.ndarray]):
-    """(estimate, standard errors, weights) of the weighted fit of the chosen runs together, solved from their
-    `triangles` (see `_triangles`)."""
+    """(estimate, standard errors, weights, covariance) of the weighted fit of the chosen runs together, solved
+    from their `triangles` (see `_triangles`); the covariance is None without a unique fit."""
     blocks = list(_blocks(runs, chosen))
     shared, has_bias = blocks[0][0].shape[1], blocks[0][1] is not None
     solution = solve_least_squares(*_stacked([triangles[index] for index in chosen], shared, has_bias))
     if solution.estimate is None:
         size = solution.column_count
-        return np.full(size, np.nan), np.full(size, np.nan), tuple(block[-1] for block in blocks)
+        return np.full(size, np.nan), np.full(size, np.nan), tuple(block[-1] for block in blocks), None
     factor = covariance_factor(solution)
     meat = np.zeros_like(factor)
     for k, (X, bias, tau, positions, lag, weight) in enumerate(blocks):
@@ -161,7 +182,7 @@ def _pool(runs: tuple[LoadedLogs, ...], chosen: tuple[int, ...], triangles: list
         meat[np.ix_(columns, columns)] += newey_west_sum(own, tau * scale - own @ solution.estimate[columns],
                                                          positions, lag)[0]
     covariance = factor @ meat @ factor
-    return solution.estimate, np.sqrt(np.diag(covariance)), tuple(block[-1] for block in blocks)
+    return solution.estimate, np.sqrt(np.diag(covariance)), tuple(block[-1] for block in blocks), covariance
 
 
 def _stacked(triangles: list[np.ndarray], shared: int, has_bias: bool) -> tuple[np.ndarray, np.ndarray]:
