@@ -53,3 +53,35 @@ def test_a_thinned_chart_says_so_down_to_its_narrow_summaries():
     assert len(chart.t) == 72
     assert all("3rd" in summary or "1 in 3" in summary for summary in chart.summaries[:-1])
     assert chart.summaries[-2].endswith("1 in 3 shown")
+
+
+def test_the_residual_and_design_charts_have_round_even_ticks_too():
+    """They kept plotext's own labels (0.00110, 0.00073, 0.00037; 0.97, 0.64, 0.32); a round step of 1 then left
+    only '0' on the design chart's ±0.97 axis."""
+    import asyncio
+
+    from support.tui_support import make_app
+
+    from tui.widgets.small_plots import GuardedPlot
+
+    async def main():
+        app = make_app()
+        labels = {}
+        async with app.run_test(size=(80, 24)) as pilot:
+            for key in ("e", "escape", "d"):
+                await pilot.press(key)
+                await pilot.pause()
+                if key != "escape":
+                    plot = app.screen.query(GuardedPlot).first()
+                    lines = plot.render().plain.splitlines()
+                    # '├' where the residuals' zero line meets the axis
+                    labels[key] = [re.split("[┤├]", line)[0].strip() for line in lines if re.search("[┤├]", line)]
+        return labels
+
+    for key, found in asyncio.run(main()).items():
+        values = [float(label) for label in found]
+        steps = np.diff(values)
+        assert len(values) >= 3 and np.allclose(steps, steps[0]), (key, found)
+        mantissa = abs(steps[0]) / 10 ** np.floor(np.log10(abs(steps[0])))
+        assert any(np.isclose(mantissa, m) for m in (1, 2, 2.5, 5)), (key, found)  # a round step
+        assert not any(label.startswith("-0") and float(label) == 0 for label in found), (key, found)

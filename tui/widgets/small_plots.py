@@ -11,7 +11,7 @@ from textual.containers import Vertical
 from textual.content import Content
 from textual_plotext import PlotextPlot
 
-from jointid.present.charts import TRUE_MARKER, HistogramData, ScatterData
+from jointid.present.charts import TRUE_MARKER, HistogramData, ScatterData, axis_ticks
 from jointid.present.design import LinesData
 
 from .fitting import FittingLine
@@ -53,6 +53,16 @@ def histogram_bars(values: np.ndarray, true_value: float, bins: int = HISTOGRAM_
         low, high = middle - 0.5 * scale, middle + 0.5 * scale
     counts, edges = np.histogram(np.clip(values, low, high), bins=bins, range=(low, high))
     return HistogramBars(counts, edges, low, high)
+
+
+def at_least_three_ticks(low: float, high: float, target: int) -> tuple[tuple[float, ...], tuple[str, ...]]:
+    """`axis_ticks`, asking for more when a round step leaves fewer than three inside the range (±0.97 at a step
+    of 1 had only 0)."""
+    for wanted in range(target, target + 8):
+        ticks, labels = axis_ticks(low, high, wanted)
+        if len(ticks) >= 3:
+            break
+    return ticks, labels
 
 
 COUNT_LABEL_WIDTH = 6
@@ -145,6 +155,11 @@ class SmallPlot(Vertical):
         """Redraw with the new colours whenever the theme changes."""
         self.app.theme_changed_signal.subscribe(self, lambda _theme: self._draw())
 
+    def on_resize(self) -> None:
+        """Draw again for the new size: the round ticks' count follows the plot's rows and columns."""
+        if self.data is not None:
+            self._draw()
+
     def show(self, data: HistogramData | ScatterData | LinesData | None) -> None:
         """Display new data (None clears the chart)."""
         self.data = data
@@ -215,16 +230,29 @@ class SmallPlot(Vertical):
         bound = max(float(np.abs(data.y).max()), 1e-3) * 1.1
         plt.xlim(x_low, x_high)
         plt.ylim(-bound, bound)
+        self._round_ticks(plt, (x_low, x_high), (-bound, bound))
         plt.hline(0.0, color=theme_rgb(self.app, "foreground-muted"))
         plt.scatter(data.x, data.y, marker="●", color=theme_rgb(self.app, "primary"))
         plt.xlabel(data.x_label)
         plt.ylabel(data.y_label)
+
+    def _round_ticks(self, plt, x_range: tuple[float, float], y_range: tuple[float, float]) -> None:
+        """Round ticks at even steps, as the torque charts have: plotext's own split the range into labels such as
+        0.00110, 0.00073, 0.00037 (and could print -0.0). Sized for the plot as laid out, or a few before that."""
+        width, height = self.query_one(GuardedPlot).size
+        y_ticks, y_labels = at_least_three_ticks(*y_range, max(2, (height - 2) // 3) if height else 5)
+        x_ticks, x_labels = at_least_three_ticks(*x_range, max(2, width // 10) if width else 5)
+        if y_ticks:
+            plt.yticks(y_ticks, y_labels)
+        if x_ticks:
+            plt.xticks(x_ticks, x_labels)
 
     def _lines(self, plt, data: LinesData) -> None:
         colours = (theme_rgb(self.app, "primary"), theme_rgb(self.app, "accent"))
         bound = max(max(float(np.abs(values).max()) for _, values in data.lines), 1e-3) * 1.1
         plt.xlim(float(data.x[0]), float(data.x[-1]))
         plt.ylim(-bound, bound)
+        self._round_ticks(plt, (float(data.x[0]), float(data.x[-1])), (-bound, bound))
         for (label, values), colour in zip(data.lines, colours):
             plt.plot(data.x, values, label=label, color=colour, marker="braille")
         plt.xlabel(data.x_label)
