@@ -209,3 +209,24 @@ async def test_escape_after_the_reading_starts_no_fit(bags, monkeypatch):
         await settle(pilot)
         assert fits == [] and app.screen.logs is None
         assert [n.message for n in app._notifications] == ["Loading cancelled; nothing changed."]
+
+
+@synchronous
+async def test_the_picker_lists_a_bag_with_mismatched_arrays_and_loading_it_names_the_topic_and_count(bags):
+    """The picker refused the whole bag over one message whose effort array did not match its names."""
+    app = make_app()
+    async with app.run_test(size=SIZE) as pilot:
+        await pilot.press("ctrl+o")
+        app.screen.query_one("#open-path", Input).value = str(bags["mismatched"])
+        await pilot.press("enter")
+        await settle(pilot, lambda: isinstance(app.screen, BagJointScreen)
+                     and app.screen.query_one(OptionList).option_count)
+        options = app.screen.query_one(OptionList)
+        lines = [str(options.get_option_at_index(i).prompt) for i in range(options.option_count)]
+        assert lines == ["shoulder: position, velocity, effort (99 messages)",
+                         "elbow: position, velocity, effort (99 messages)"]
+        await pilot.press("enter")
+        await settle(pilot, lambda: any(n.severity == "error" for n in app._notifications))
+        (note,) = [n for n in app._notifications if n.severity == "error"]
+        assert "1 of 100 messages on /joint_states (first: message 41, effort has 1 value" in note.message
+        assert main_screen(app).logs is None
