@@ -38,6 +38,8 @@ class FittingLine(RowStrips):
         self.min_lines = min_lines
         self._heights: dict[int, int] = {}
         """Rows at each width asked for, for the shown variants (wrapping a long text costs ~50 µs)."""
+        self._picked: dict[int, Content] = {}
+        """The variant shown at each width asked for (choosing by rows wraps the variants)."""
 
     def show(self, variants: tuple[Content, ...], sizing: tuple[Content, ...] | None = None) -> None:
         """Display new variants, longest first.
@@ -54,7 +56,7 @@ class FittingLine(RowStrips):
         width = self.content_region.width
         old_height = self.height_at(width)
         self.variants, self.sizing = variants, sizing
-        self._heights = {}
+        self._heights, self._picked = {}, {}
         # A relayout of the whole screen costs more than the rest of a key press; only ask
         # for one when this widget's height really changed.
         if not width or self.height_at(width) != old_height:
@@ -67,7 +69,7 @@ class FittingLine(RowStrips):
         if min_lines != self.min_lines:
             width = self.content_region.width
             old_height = self.height_at(width)
-            self.min_lines, self._heights = min_lines, {}
+            self.min_lines, self._heights, self._picked = min_lines, {}, {}
             if not width or self.height_at(width) != old_height:
                 self.refresh(layout=True)
 
@@ -93,10 +95,16 @@ class FittingLine(RowStrips):
 
     def pick(self, width: int) -> Content:
         """The variant shown at a given width: the first that fits in `min_lines` rows, else the last."""
-        for variant, sizing in zip(self.variants, self.sizing):
-            if sizing.cell_length <= width or (self.min_lines > 1 and width > 0 and len(sizing.wrap(width)) <= self.min_lines):
-                return variant
-        return self.variants[-1]
+        picked = self._picked.get(width)
+        if picked is None:
+            picked = self.variants[-1]
+            for variant, sizing in zip(self.variants, self.sizing):
+                if sizing.cell_length <= width or (
+                        self.min_lines > 1 and width > 0 and len(sizing.wrap(width)) <= self.min_lines):
+                    picked = variant
+                    break
+            self._picked[width] = picked
+        return picked
 
     @property
     def shown(self) -> Content:
