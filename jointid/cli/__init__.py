@@ -25,7 +25,8 @@ from .version import VersionAction
 
 SUBCOMMANDS = {"fit": "fit_command", "compare": "compare_command", "torque": "torque_command",
                "sweep": "sweep_command", "matrix": "matrix_command", "simulate": "simulate_command",
-               "design": "design_command", "bag-info": "bag_info_command"}
+               "design": "design_command", "bag-info": "bag_info_command",
+               "log-info": "log_info_command"}
 """Each subcommand's name and the module that defines it (its NAME), in help order."""
 
 
@@ -43,7 +44,8 @@ def build_parser() -> OneLineParser:
         description=(
             "Identify a rotating joint's inertia I, gravity mass moment h and viscous damping B "
             "from motion and torque: tau = I*qdd + h*g*cos(q) + B*qd. "
-            "With no subcommand, open the terminal explorer at the given settings, or on a --csv or --bag log."
+            "With no subcommand, open the terminal explorer at the given settings, or on a --csv, --bag or --wpilog "
+            "log."
         ),
     )
     parser.add_argument("--version", action=VersionAction,

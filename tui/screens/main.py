@@ -394,7 +394,7 @@ class MainScreen(Screen):
         first = runs.runs[0]
         try:
             refitted = fit_runs([run.training for run in runs.runs], settings.joint_model, first.filtering,
-                                first.exclusion, settings.constrained)
+                                first.exclusion, settings.constrained, weighting=runs.weighting)
         except ValueError as error:  # LogError: numbers beyond double precision
             self.app.call_from_thread(self.notify, str(error).splitlines()[0], title="Runs not refitted",
                                       severity="error")
