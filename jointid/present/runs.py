@@ -40,8 +40,9 @@ def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
     rows.append(["± (Newey-West)", "", "", "", *(format_number(pooled.bse[name]) for name in shared),
                  *([""] if bias else []), ""])
     against = " against an equally weighted pooled fit" if pooled.weighting == POOLED_FIT else ""
-    sysid = _sysid_routine(pooled)
-    what = f"SysId tests of routine {sysid!r}" if sysid else "runs of one joint"
+    sysid = _is_sysid(pooled)
+    routine = _sysid_routine(pooled)
+    what = (f"SysId tests of routine {routine!r}" if routine else "SysId tests") if sysid else "runs of one joint"
     lines = [f"{len(pooled.runs)} {what}, each prepared and fitted alone, then together (model "
              f"{model.name}; weights 1/σ² of each run's residuals{against}"
              + ("; each run keeps its own torque bias" if bias else "") + "):",
@@ -70,6 +71,12 @@ def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
     lines.append("Others predict: the RMS error of each run's filtered torque predicted by the pooled fit of the "
                  "other runs (its own offset).")
     return tuple(lines)
+
+
+def _is_sysid(pooled: PooledRuns) -> bool:
+    """True when the runs are the tests of a SysId routine log."""
+    source = pooled.runs[0].training.source
+    return getattr(None if source is None else source.table, "run", None) is not None
 
 
 def _sysid_routine(pooled: PooledRuns) -> str | None:

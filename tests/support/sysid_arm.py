@@ -142,21 +142,35 @@ UNIT_NAMES = {
 """Metadata of the position and velocity entries, as Java's units name them, and the values' scale from radians."""
 
 
+ADVANTAGEKIT_NAMES = {"state": "/RealOutputs/SysIdTestState", "voltage": "/RealOutputs/Arm/AppliedVolts",
+                      "position": "/RealOutputs/Arm/PositionRad", "velocity": "/RealOutputs/Arm/VelocityRadPerSec"}
+"""Entry names as an AdvantageKit robot logs the same routine (no unit metadata)."""
+
+
+def sysid_names(routine: Routine = Routine()) -> dict:
+    """Entry names as SysIdRoutineLog writes them."""
+    suffix = f"{routine.motor}-{routine.routine}"
+    return {"state": f"sysid-test-state-{routine.routine}", "voltage": f"voltage-{suffix}",
+            "position": f"position-{suffix}", "velocity": f"velocity-{suffix}"}
+
+
 def write_routine_log(path: Path, samples: list[Samples], routine: Routine = Routine(), units: str = "rotations",
-                      extra_entries: bool = True) -> Path:
-    """Write the samples as SysIdRoutineLog would (plus, with `extra_entries`, a battery voltage and a joystick
-    logged alongside, as a robot's log has); the path."""
+                      extra_entries: bool = True, names: dict | None = None, metadata: bool = True) -> Path:
+    """Write the samples as SysIdRoutineLog would (plus, with `extra_entries`, a battery voltage logged alongside,
+    as a robot's log has), under `names` (default sysid_names) and with the units as metadata; the path."""
     import wpiutil
     from wpiutil.log import DoubleLogEntry, StringLogEntry
 
     position_unit, velocity_unit, scale = UNIT_NAMES[units]
+    if not metadata:
+        position_unit = velocity_unit = ""
+    names = names or sysid_names(routine)
     writer = wpiutil.DataLogWriter(str(path))
     start = 1_000_000  # the tests begin a second after the log does
-    suffix = f"{routine.motor}-{routine.routine}"
-    state = StringLogEntry(writer, f"sysid-test-state-{routine.routine}", start)
-    volts = DoubleLogEntry(writer, f"voltage-{suffix}", "Volt", start)
-    position = DoubleLogEntry(writer, f"position-{suffix}", position_unit, start)
-    velocity = DoubleLogEntry(writer, f"velocity-{suffix}", velocity_unit, start)
+    state = StringLogEntry(writer, names["state"], start)
+    volts = DoubleLogEntry(writer, names["voltage"], "Volt" if metadata else "", start)
+    position = DoubleLogEntry(writer, names["position"], position_unit, start)
+    velocity = DoubleLogEntry(writer, names["velocity"], velocity_unit, start)
     battery = DoubleLogEntry(writer, "/SystemStats/BatteryVoltage", start) if extra_entries else None
     offset = start
     written = 0
