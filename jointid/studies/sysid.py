@@ -46,3 +46,20 @@ def fit_sysid_runs(logs: list[JointLog], model: JointModel | None = None, filter
     """Fit a SysId log's tests alone and together (SYSID_MODEL unless another is given)."""
     return fit_runs(logs, model or model_named(SYSID_MODEL), sysid_filtering(filtering), exclusion, constrained,
                     sensitivity, weighting=POOLED_FIT)
+
+
+def load_training_request(request, model: JointModel, constrained: bool = False, progress=None, cancel=None):
+    """A training log request fitted as the explorer's Ctrl+O fits it: a SysId data log's tests as pooled runs (with
+    SYSID_MODEL), anything else as log_fit.load_request; LogError/LoadCancelled as load_joint_log."""
+    from ..logs.request import load_joint_logs
+    from ..logs.table import LoadCancelled
+    from .log_fit import fit_logs, load_request
+
+    if not request.wpilog:
+        return load_request(request, None, model, constrained, progress, cancel)
+    logs = load_joint_logs(request, progress, cancel)
+    if cancel is not None and cancel():  # the fit cannot stop part-way: no fit is started after an Escape
+        raise LoadCancelled(request.path)
+    if len(logs) == 1:
+        return fit_logs(logs[0], None, model, constrained, request.filtering)
+    return fit_sysid_runs(logs, None, request.filtering, constrained=constrained)

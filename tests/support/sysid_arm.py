@@ -193,3 +193,9 @@ def write_routine_log(path: Path, samples: list[Samples], routine: Routine = Rou
     writer.flush()
     writer.stop()
     return path
+
+
+if __name__ == "__main__":  # docs/examples/sysid_arm.wpilog: python tests/support/sysid_arm.py PATH
+    import sys
+
+    write_routine_log(Path(sys.argv[1]), routine_samples())

@@ -637,6 +637,11 @@ class MainScreen(Screen):
                 if dialog.cancelled.is_set():  # as load_request: no refit is started after an Escape
                     raise LoadCancelled(request.path)
                 logs = add_run(current, log, self.settings.joint_model, self.settings.constrained)
+            elif request.wpilog and request.role != HELDOUT:  # a SysId data log opens as its tests, pooled
+                from jointid.studies.sysid import load_training_request
+
+                logs = load_training_request(request, self.settings.joint_model, self.settings.constrained,
+                                             progress, dialog.cancelled.is_set)
             elif hasattr(current, "runs"):  # several runs: each is predicted by the others; a new log replaces them
                 if request.role == HELDOUT:
                     raise ValueError(f"{request.path}: with several runs each run is predicted by the others; "
@@ -667,6 +672,15 @@ class MainScreen(Screen):
             return
         if dialog.chooser is not None and dialog.chooser.is_attached:
             dialog.chooser.dismiss()
+        if hasattr(logs, "runs") and logs.runs[0].training.name != os.path.basename(logs.runs[0].training.path) \
+                and all(run.training.path == dialog.path for run in logs.runs):
+            # A SysId data log's tests (no other runs come from one file): shown from the first, in the model
+            # they were fitted with.
+            self.settings = replace(self.settings, model=logs.runs[0].result.model.name)
+            self.set_runs(logs, 0)
+            self.notify(f"{len(logs.runs)} SysId tests of {dialog.path}, fitted alone and pooled; u: every test",
+                        title="SysId log loaded")
+            return
         if hasattr(logs, "runs"):
             self.set_runs(logs, len(logs.runs) - 1)
             self.notify(f"{logs.runs[-1].training.source_text()}; u: every run and the pooled fit",
