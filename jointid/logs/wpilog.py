@@ -518,7 +518,7 @@ def read_wpilog_table(path, entry_map=None, units: str | None = None, *, progres
         raise LogError(path, f"unknown unit {units!r}; --units takes {', '.join(UNITS)}")
     if entry_map is not None:
         names = {name for _, name in entry_map.pairs}
-        wanted = lambda name, kind: name in names
+        wanted = lambda name, kind: name in names  # noqa: E731
     else:
         wanted = _is_sysid_name
     entries, series = read_entries(path, wanted, progress=progress, cancel=cancel)
@@ -680,7 +680,8 @@ def _to_radians(path: str, entry: Entry, quantity: str, units: str | None, posit
     factor = UNITS[unit] * per
     note = None
     if unit != "radians" or per != 1.0:
-        note = f"{entry.name!r} is in {text!r} (its metadata): {quantity} = {factor:.6g} × the logged value, in radians."
+        note = (f"{entry.name!r} is in {text!r} (its metadata): {quantity} = {factor:.6g} × the logged value, "
+                "in radians.")
     return factor, unit, note
 
 

@@ -63,7 +63,7 @@ def simulate_test(test: str, direction: int, times: np.ndarray, gains: dict = GA
 
     kS, kG, kV, kA, offset = (gains[k] for k in ("kS", "kG", "kV", "kA", "offset"))
     end = float(times[-1])
-    net = lambda t, q: float(voltage(test, direction, t)) - kG * math.cos(q + offset)
+    net = lambda t, q: float(voltage(test, direction, t)) - kG * math.cos(q + offset)  # noqa: E731
     t, q, qd, moving = 0.0, -math.pi / 2 - offset, 0.0, 0
     pieces = []  # (start, stop, function of t -> (q, qd))
     while t < end:
