@@ -502,7 +502,8 @@ class WpilogTable(LogTable):
             end = self.stamps[rows.stop - 1] * 1e-6
             cut = self.sliced(rows, f"SysId test {name}: {rows.stop - rows.start} samples, t = {start:.6g} to "
                               f"{end:.6g} s of the log.")
-            tables.append(dataclasses.replace(cut, run=name, runs=()))
+            # Exclusions and windows still count from the log's start, as its times do.
+            tables.append(dataclasses.replace(cut, run=name, runs=(), time_origin=self.start_time))
         return tables
 
 

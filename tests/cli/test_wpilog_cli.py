@@ -125,3 +125,21 @@ def test_a_sysid_log_with_renamed_entries_fits_through_an_entry_map(capsys, tmp_
                            f"q=/Arm/Position,tau={names['voltage']},state={names['state']}")
     assert (status, err) == (0, "")
     assert [r["name"] for r in json.loads(out)["runs"]] == [test for test, _ in TESTS]
+
+
+def test_a_log_without_tests_is_one_log_for_fit_and_compare(capsys, tmp_path):
+    from support.sysid_arm import ADVANTAGEKIT_NAMES, Routine
+
+    routine = Routine(quasistatic=2.5, dynamic=1.0)
+    samples = routine_samples(routine)[2:3]  # the dynamic-forward test alone: one stretch, no gaps
+    path = write_routine_log(tmp_path / "one.wpilog", samples, routine, units="radians", names=ADVANTAGEKIT_NAMES,
+                             metadata=False, extra_entries=False)
+    entries = f"q={ADVANTAGEKIT_NAMES['position']},tau={ADVANTAGEKIT_NAMES['voltage']}"
+    status, out, err = run(capsys, "fit", "--wpilog", path, "--entry", entries, "--units", "radians", "--json")
+    assert (status, err) == (0, "")
+    document = json.loads(out)
+    assert document["model"] == "coulomb+bias" and document["logs"]["training"]["format"] == "wpilog"
+    assert document["logs"]["training"]["entries"] == {"q": ADVANTAGEKIT_NAMES["position"],
+                                                       "tau": ADVANTAGEKIT_NAMES["voltage"]}
+    status, out, err = run(capsys, "compare", "--wpilog", path, "--entry", entries, "--units", "radians")
+    assert (status, err) == (0, "") and "coulomb+angle-offset" in out
