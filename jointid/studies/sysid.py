@@ -10,8 +10,9 @@ constant, which its Coulomb column fits exactly; a quasistatic test barely
 accelerates), so the runs are weighted by their residuals against a first,
 equally weighted pooled fit rather than against their own. And each dynamic
 test starts with a voltage step from rest, with no record before it for a
-low-pass to start from: filtering across that edge biased kA by 5-17 % on the
-simulated routine of tests/support/sysid_arm.py, so the low-pass is off unless
+low-pass to start from: filtering across that edge biased kA high by 17 % (the
+automatic 4.7 Hz) and 4 % (10 Hz) on the simulated routine of
+tests/support/sysid_arm.py, against 0.5 % without, so the low-pass is off unless
 --cutoff asks for it (the derivatives' own smoothing stays).
 """
 
