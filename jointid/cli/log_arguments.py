@@ -43,8 +43,8 @@ SYNTHETIC_ONLY_FLAGS = ("simulate", "horizon")
 def add_log_arguments(parser: argparse.ArgumentParser) -> None:
     """Add --csv, --bag and the options of a log fit, and make setting flags detectable."""
     group = parser.add_argument_group(
-        "joint logs (CSV: t, q, qd, qdd, tau by header name or --columns; or one joint of a ROS bag's "
-        "sensor_msgs/JointState)",
+        "joint logs (CSV: t, q, qd, qdd, tau by header name or --columns; one joint of a ROS bag's "
+        "sensor_msgs/JointState; or a WPILib data log's entries)",
         "Fit a logged joint instead of a synthetic experiment; --motion, --noise, --samples, --seed and "
         "--true-* describe synthetic data and are refused with a log.",
     )
