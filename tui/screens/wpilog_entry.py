@@ -9,6 +9,7 @@ names no angle unit, a third list asks for it.
 from __future__ import annotations
 
 import os
+import threading
 
 from textual import work
 from textual.app import ComposeResult
@@ -61,6 +62,8 @@ class WpilogEntryScreen(ModalScreen[tuple | None]):
         """
         super().__init__()
         self.path = path
+        self.closed = threading.Event()
+        """Set when the picker closes, so a survey of a long log stops at its next progress check."""
         self.entries: list = []
         self.chosen: list[str] = []
         self.stage = "q"
@@ -83,14 +86,25 @@ class WpilogEntryScreen(ModalScreen[tuple | None]):
     @work(thread=True, exclusive=True, group="wpilog-survey")
     def survey(self) -> None:
         """Read every entry's name, type, count and unit."""
+        from jointid.logs.table import LoadCancelled
         from jointid.logs.wpilog import wpilog_info
 
+        def progress(done: int, total: int) -> None:
+            self.app.call_from_thread(self.show_progress, min(done / max(total, 1), 1.0))
+
         try:
-            info = wpilog_info(self.path)
+            info = wpilog_info(self.path, progress=progress, cancel=self.closed.is_set)
+        except LoadCancelled:
+            return
         except (ValueError, OSError) as error:  # LogError: one line
             self.app.call_from_thread(self.fail, str(error).splitlines()[0])
             return
         self.app.call_from_thread(self.show, info)
+
+    def show_progress(self, share: float) -> None:
+        """Say how much of a long log has been read."""
+        if not self.chosen and self.stage == "q":
+            self.query_one("#wpilog-status", Label).update(f"Reading the log's entries… {share:.0%}")
 
     def show(self, info) -> None:
         """Open a SysId routine log at once; otherwise list the numeric entries for the angle."""
@@ -153,6 +167,11 @@ class WpilogEntryScreen(ModalScreen[tuple | None]):
         self.query_one("#wpilog-status", Label).update(f"{angle.name} names no angle unit; choose it:")
         options.highlighted = 0
 
+    def on_unmount(self) -> None:
+        """Stop a survey still reading."""
+        self.closed.set()
+
     def action_cancel(self) -> None:
         """Close without loading."""
+        self.closed.set()
         self.dismiss(None)
