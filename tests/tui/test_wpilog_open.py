@@ -81,7 +81,10 @@ async def test_ctrl_o_on_a_sysid_log_shows_its_four_tests_as_runs(logs):
 
 
 @synchronous
-async def test_another_log_asks_for_the_angle_the_effort_and_the_unit(logs):
+async def test_another_log_asks_for_the_angle_the_effort_and_the_unit(logs, monkeypatch):
+    import jointid.logs.wpilog as wpilog
+
+    monkeypatch.setattr(wpilog, "PROGRESS_RECORDS", 64)  # the survey reports its progress to the picker often
     app = make_app()
     async with app.run_test(size=SIZE) as pilot:
         await open_path(pilot, logs["plain"])
