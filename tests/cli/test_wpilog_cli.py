@@ -143,3 +143,15 @@ def test_a_log_without_tests_is_one_log_for_fit_and_compare(capsys, tmp_path):
                                                        "tau": ADVANTAGEKIT_NAMES["voltage"]}
     status, out, err = run(capsys, "compare", "--wpilog", path, "--entry", entries, "--units", "radians")
     assert (status, err) == (0, "") and "coulomb+angle-offset" in out
+
+
+def test_the_explorer_opens_on_a_sysid_logs_tests_in_their_model(arm_log):
+    opened = {}
+
+    def explore(settings, loaded, derivatives, filtering, conventions):
+        opened.update(settings=settings, loaded=loaded)
+        return 0
+
+    assert main(["--wpilog", str(arm_log)], explorer=explore) == 0
+    assert opened["settings"].model == "coulomb+angle-offset"
+    assert [run.name for run in opened["loaded"].runs] == [test for test, _ in TESTS]
