@@ -165,7 +165,8 @@ def test_flags_need_a_log_and_columns_need_a_csv(capsys):
     assert refused(capsys, "fit", "--zero", "down") == (
         "jointid: --zero: only for fitting a log; add --csv TRAIN.csv, --bag BAG --joint NAME or --wpilog LOG.wpilog")
     assert refused(capsys, "fit", "--columns", "q=a") == (
-        "jointid: --columns: only for fitting a log; add --csv TRAIN.csv, --bag BAG --joint NAME or --wpilog LOG.wpilog")
+        "jointid: --columns: only for fitting a log; add --csv TRAIN.csv, --bag BAG --joint NAME "
+        "or --wpilog LOG.wpilog")
     assert refused(capsys, "fit", "--bag", "x.bag", "--joint", "j", "--columns", "q=a") == (
         "jointid: --columns: only for a CSV log; a bag's JointState gives position, velocity and effort by name")
 
