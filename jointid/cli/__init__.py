@@ -25,7 +25,7 @@ from .version import VersionAction
 
 SUBCOMMANDS = {"fit": "fit_command", "compare": "compare_command", "torque": "torque_command",
                "sweep": "sweep_command", "matrix": "matrix_command", "simulate": "simulate_command",
-               "design": "design_command", "bag-info": "bag_info_command",
+               "design": "design_command", "export": "export_command", "bag-info": "bag_info_command",
                "log-info": "log_info_command"}
 """Each subcommand's name and the module that defines it (its NAME), in help order."""
 

@@ -13,7 +13,7 @@ jointid` still makes (tui/command.py has the figure).
 
 from __future__ import annotations
 
-from ..options import LOG_MODEL, SettingsError
+from ..options import SettingsError
 from .arguments import UserError, settings_from
 from .floating_point import strict_arithmetic
 from .log_arguments import (
@@ -23,6 +23,7 @@ from .log_arguments import (
     filter_options,
     fit_any_logs,
     has_log,
+    log_model,
     with_default_settings,
 )
 from .version import ENTRY_POINT_GROUP
@@ -64,9 +65,10 @@ def run(args, explore=None) -> int:
 
 def _defaults(args, loaded):
     """The synthetic defaults behind a log (load_logs has refused any setting flag already)."""
+    model = log_model(args)  # before the log flags (--effort) are cleared
     for name in LOG_ONLY_FLAGS:
         setattr(args, name, None)
     if args.model is None:  # the explorer refits the log with its model setting: the model it was fitted with
         runs = getattr(loaded, "runs", None)
-        args.model = (runs[0] if runs else loaded).result.model.name if loaded is not None else LOG_MODEL
+        args.model = (runs[0] if runs else loaded).result.model.name if loaded is not None else model
     return with_default_settings(args)

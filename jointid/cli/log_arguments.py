@@ -13,8 +13,16 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
-from ..options import DEFAULT_ORDER, LOG_MODEL, SETTING_DEFAULTS
+from ..options import DEFAULT_ORDER, LOG_MODEL, SETTING_DEFAULTS, VOLTAGE_LOG_MODEL
 from .arguments import UserError, finite_float, whole_number
+from .effort_arguments import (
+    EFFORT_FLAGS,
+    add_effort_arguments,
+    check_gains_request,
+    effort_extras,
+    effort_reading,
+    motor_drive,
+)
 from .exit_status import ExitStatus
 from .output import print_json
 
@@ -27,7 +35,7 @@ SETTING_FLAGS = ("motion", "noise", "samples", "seed", "true_coulomb", "true_bia
 
 LOG_ONLY_FLAGS = ("heldout", "degrees", "window", "order", "cutoff", "decimate", "exclude", "no_robust", "joint",
                   "topic", "train_window", "heldout_window", "effort_scale", "columns", "zero", "clockwise", "entry",
-                  "units")
+                  "units", *EFFORT_FLAGS)
 """Options that mean something only with --csv or --bag."""
 
 BAG_ONLY_FLAGS = ("joint", "topic")
@@ -76,8 +84,8 @@ def add_log_arguments(parser: argparse.ArgumentParser) -> None:
                        help="predict the samples from START to END seconds after the start of the held-out log "
                        "(without --heldout: of the training log itself)")
     group.add_argument("--effort-scale", type=_effort_scale, metavar="K",
-                       help="torque in N m per unit of the logged effort or tau, e.g. torque constant x gear "
-                       "ratio for a motor current; default 1")
+                       help="the effort's unit (N m, or V with --effort voltage) per unit of the logged effort or "
+                       "tau, e.g. 12 for a duty cycle; default 1 (a current's is --gear x --kt x --efficiency)")
     group.add_argument("--columns", type=_column_map, metavar="MAP",
                        help="which CSV column gives which quantity, e.g. t=time,q=posn,tau=effort (quantities: t, q, "
                        "qd, qdd, tau); default: by name, t/time/timestamp, q/position/pos/angle, qd/velocity/vel, "
@@ -105,6 +113,7 @@ def add_log_arguments(parser: argparse.ArgumentParser) -> None:
                        "e.g. where you know an outside torque acted")
     group.add_argument("--no-robust", action="store_true",
                        help="keep every sample: do not look for outside torques (pushes, collisions) to leave out")
+    add_effort_arguments(group)
     parser.set_defaults(**dict.fromkeys(SETTING_FLAGS))
 
 
@@ -205,15 +214,20 @@ def exclusion_options(args: argparse.Namespace):
 
 
 def convention_options(args: argparse.Namespace):
-    """The column map and angle convention of --columns, --zero and --clockwise: a conventions.LogConventions, or
-    None when none is given (the explorer then starts without importing them)."""
+    """The column map, angle convention, effort and motor of --columns, --zero, --clockwise, --effort (and its
+    gearing) and --motor: a conventions.LogConventions, or None when none is given (the explorer then starts
+    without importing them); UserError on a bad mix of the effort and motor options."""
+    efforts = any(getattr(args, name, None) is not None for name in EFFORT_FLAGS)
     if getattr(args, "columns", None) is None and getattr(args, "zero", None) is None \
-            and not getattr(args, "clockwise", False):
+            and not getattr(args, "clockwise", False) and not efforts:
         return None
     from ..logs.conventions import AngleConvention, LogConventions
 
+    effort = effort_reading(args) if efforts else None
     return LogConventions(getattr(args, "columns", None),
-                          AngleConvention(getattr(args, "zero", None) or "right", bool(getattr(args, "clockwise", False))))
+                          AngleConvention(getattr(args, "zero", None) or "right", bool(getattr(args, "clockwise", False))),
+                          None if effort is None or effort.kind == "torque" else effort,
+                          motor_drive(args) if efforts else None)
 
 
 def _conventions_or_defaults(args: argparse.Namespace):
@@ -273,6 +287,8 @@ def log_requests(args: argparse.Namespace):
     from ..logs.request import HELDOUT, TRAINING, LoadRequest
 
     window, order = derivative_options(args)
+    if wpilog is None:  # a SysId data log is in volts whatever --effort says: its fit's model decides (effort_extras)
+        check_gains_request(args)
     common = dict(degrees=args.degrees, window=window, order=order, joint=args.joint, topic=args.topic,
                   effort_scale=1.0 if args.effort_scale is None else args.effort_scale, filtering=filter_options(args),
                   **_conventions_or_defaults(args).request_fields())
@@ -322,11 +338,16 @@ def fit_loaded_logs(args: argparse.Namespace) -> LoadedLogs:
     from ..studies.log_fit import fit_logs
 
     try:
-        return fit_logs(training, heldout, model=model_named(args.model or LOG_MODEL),
+        return fit_logs(training, heldout, model=model_named(args.model or log_model(args)),
                         constrained=getattr(args, "constrained", False), filtering=filter_options(args),
                         exclusion=exclusion_options(args))
     except LogError as error:  # numbers beyond double precision
         raise UserError(str(error)) from None
+
+
+def log_model(args: argparse.Namespace) -> str:
+    """The model a log is fitted with when --model is not given: SysId's arm for a voltage log, else LOG_MODEL."""
+    return VOLTAGE_LOG_MODEL if getattr(args, "effort", None) == "voltage" else LOG_MODEL
 
 
 def fit_any_logs(args: argparse.Namespace):
@@ -352,7 +373,7 @@ def fit_any_logs(args: argparse.Namespace):
 
         try:
             other = None if heldout is None else load_joint_log(heldout)
-            return fit_logs(logs[0], other, model=model_named(args.model or LOG_MODEL),
+            return fit_logs(logs[0], other, model=model_named(args.model or log_model(args)),
                             constrained=getattr(args, "constrained", False), filtering=filter_options(args),
                             exclusion=exclusion_options(args))
         except LogError as error:
@@ -370,18 +391,20 @@ def fit_any_logs(args: argparse.Namespace):
 
 
 def run_log_fit(args: argparse.Namespace) -> int:
-    """Load the training (and held-out) log, fit, and print text or JSON; exit status 0."""
+    """Load the training (and held-out) log(s), fit, and print text or JSON (with the motor and gains asked for);
+    exit status 0."""
     logs = fit_any_logs(args)
     if hasattr(logs, "shared"):
-        return print_runs(logs, args.json)
+        return print_runs(args, logs)
+    paragraphs, fields = effort_extras(args, logs)
     if args.json:
         from ..present.documents import logs_document
 
-        print_json(logs_document(logs))
+        print_json({**logs_document(logs), **fields})
     else:
         from ..present.summary import log_fit_summary
 
-        print(log_fit_summary(logs))
+        print("\n\n".join([log_fit_summary(logs), *paragraphs]))
     return ExitStatus.SUCCESS
 
 
@@ -401,7 +424,7 @@ def fit_pooled_runs(args: argparse.Namespace):
     training, _ = log_requests(args)
     try:
         logs = [load_joint_log(dataclasses.replace(training, path=path)) for path in args.runs]
-        return fit_runs(logs, model_named(args.model or LOG_MODEL), filter_options(args), exclusion_options(args),
+        return fit_runs(logs, model_named(args.model or log_model(args)), filter_options(args), exclusion_options(args),
                         getattr(args, "constrained", False))
     except LogError as error:
         raise UserError(str(error)) from None
@@ -414,18 +437,19 @@ def several_runs(args: argparse.Namespace) -> bool:
 
 def run_several(args: argparse.Namespace) -> int:
     """Several runs of one joint: the per-run table and the pooled fit, as text or JSON; exit status 0."""
-    return print_runs(fit_pooled_runs(args), args.json)
+    return print_runs(args, fit_pooled_runs(args))
 
 
-def print_runs(pooled, json: bool) -> int:
-    """Print pooled runs as text or JSON; exit status 0."""
-    if json:
+def print_runs(args: argparse.Namespace, pooled) -> int:
+    """Print pooled runs (with the motor and gains asked for) as text or JSON; exit status 0."""
+    paragraphs, fields = effort_extras(args, pooled)
+    if args.json:
         from ..present.runs import runs_document
 
-        print_json(runs_document(pooled))
+        print_json({**runs_document(pooled), **fields})
     else:
         from ..present.runs import runs_text
 
-        print(runs_text(pooled))
+        print("\n\n".join([runs_text(pooled), *paragraphs]))
     return ExitStatus.SUCCESS
 

@@ -238,10 +238,18 @@ class LogConventions:
     """The CSV column map (`--columns`), or None: by name. A bag's fields have fixed names and take no map."""
     angle: AngleConvention = field(default_factory=lambda: AngleConvention())
     """Where the logged angle's 0 points and which way it grows (`--zero`, `--clockwise`)."""
+    effort: object = None
+    """What the effort column measured, an effort.EffortReading (`--effort`, `--gear`, `--kt`, `--efficiency`), or
+    None: torque."""
+    motor: object = None
+    """The motors driving the joint, a model.motors.MotorDrive (`--motor`...), or None: for a voltage log's
+    physical parameters and a torque log's gains."""
 
     def request_fields(self, bag: bool = False) -> dict:
-        """LoadRequest's `columns` and `angle` for a CSV log, or for a bag (no column map)."""
-        return {"columns": None if bag else self.columns, "angle": self.angle}
+        """LoadRequest's `columns`, `angle` (and `effort`, when one is given) for a CSV log, or for a bag (no column
+        map)."""
+        fields = {"columns": None if bag else self.columns, "angle": self.angle}
+        return fields if self.effort is None else {**fields, "effort": self.effort}
 
 
 # ---------------------------------------------------------------------------------------------- angles

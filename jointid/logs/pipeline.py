@@ -9,6 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..model.effort import Effort, effort_named
 from ..norms import all_finite
 from ..options import DEFAULT_ORDER, DEFAULT_WINDOW
 from ..samples import JointData
@@ -97,6 +98,11 @@ class JointLog:
         pairs = () if table is None else table.read_as
         reading = AngleReading() if table is None or table.angle is None else table.angle
         return {"columns": dict(pairs), **reading.to_dict(logged_angle_name(pairs))}
+
+    @property
+    def effort(self) -> Effort:
+        """What the log's effort column holds once read: torque (N m; a current log's converted), or voltage (V)."""
+        return effort_named("torque" if self.source is None else self.source.table.effort)
 
     def source_text(self) -> str:
         """One line describing what was read, e.g. for the line above the readouts."""

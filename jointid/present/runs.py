@@ -22,8 +22,11 @@ def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
     table sideways and wraps the sentences)."""
     shared = pooled.shared
     model = pooled.runs[0].result.model
-    bias = "tau0" in model.column_names
-    header = ["run", "samples", "cutoff", "left out", *shared, *(["tau0"] if bias else []), "others predict"]
+    bias_index = model.index_of("tau0")
+    bias = bias_index is not None
+    bias_name = None if bias_index is None else model.column_names[bias_index]
+    unit = model.effort.unit
+    header = ["run", "samples", "cutoff", "left out", *shared, *([bias_name] if bias else []), "others predict"]
     rows = []
     for k, run in enumerate(pooled.runs):
         left = run.exclusions
@@ -32,8 +35,8 @@ def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
         other = pooled.predicted_by_others[k]
         rows.append([run.name, str(run.result.training.count), cutoff, share,
                      *(format_number(run.params[name]) for name in shared),
-                     *([format_number(run.params["tau0"])] if bias else []),
-                     "-" if other is None else f"{format_number(other)} N m"])
+                     *([format_number(run.params[bias_name])] if bias else []),
+                     "-" if other is None else f"{format_number(other)} {unit}"])
     offsets = pooled.estimate[len(shared):]
     rows.append(["pooled", str(sum(run.result.training.count for run in pooled.runs)), "", "",
                  *(format_number(pooled.params[name]) for name in shared), *(["own"] if bias else []), ""])
@@ -45,11 +48,11 @@ def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
     what = (f"SysId tests of routine {routine!r}" if routine else "SysId tests") if sysid else "runs of one joint"
     lines = [f"{len(pooled.runs)} {what}, each prepared and fitted alone, then together (model "
              f"{model.name}; weights 1/σ² of each run's residuals{against}"
-             + ("; each run keeps its own torque bias" if bias else "") + "):",
+             + (f"; each run keeps its own {model.effort.name} bias" if bias else "") + "):",
              text_table(header, rows)]
     if bias:
-        lines.append("Pooled torque bias of each run: " + ", ".join(
-            f"{name} {format_number(value)}" for name, value in zip(pooled.names, offsets)) + " N m.")
+        lines.append(f"Pooled {model.effort.name} bias of each run: " + ", ".join(
+            f"{name} {format_number(value)}" for name, value in zip(pooled.names, offsets)) + f" {unit}.")
     if sysid:
         lines.append("No SysId test alone separates the gains (a dynamic test's voltage is constant, which its "
                      "Coulomb term fits exactly; a quasistatic test barely accelerates): read the pooled fit. The "
@@ -68,8 +71,8 @@ def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
             + ". The runs do not share one joint within their errors: read the scatter, not the ±.")
     else:
         lines.append("Every run agrees with the pooled fit within its errors.")
-    lines.append("Others predict: the RMS error of each run's filtered torque predicted by the pooled fit of the "
-                 "other runs (its own offset).")
+    lines.append(f"Others predict: the RMS error of each run's filtered {model.effort.name} predicted by the pooled "
+                 "fit of the other runs (its own offset).")
     return tuple(lines)
 
 

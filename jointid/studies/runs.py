@@ -47,7 +47,8 @@ class PooledRuns:
     runs: tuple[LoadedLogs, ...]
     """Each run prepared and fitted on its own, in the order given."""
     shared: tuple[str, ...]
-    """The parameters every run shares (the model's, less its torque bias)."""
+    """The parameters every run shares (the model's reported ones, less its torque bias: an angle offset's h and q0
+    rather than its columns)."""
     estimate: np.ndarray
     """(s + b,) The pooled fit: the shared parameters, then each run's own bias when the model has one."""
     std_error: np.ndarray
@@ -57,6 +58,9 @@ class PooledRuns:
     predicted_by_others: tuple[float | None, ...]
     """RMS (N m) of each run's filtered torque less the other runs' pooled prediction (its offset its own), or
     None when the other runs have no unique fit together."""
+    covariance: np.ndarray | None = None
+    """(s + b, s + b) The covariance behind `std_error`, for parameters derived from several (an angle offset's
+    h and q0, a controller's gains); None without a unique pooled fit."""
     weighting: str = OWN_FIT
     """OWN_FIT or POOLED_FIT: what the weights come from."""
 
@@ -66,14 +70,32 @@ class PooledRuns:
         return tuple(run.name for run in self.runs)
 
     @cached_property
+    def _reported(self) -> tuple[np.ndarray, np.ndarray]:
+        """(s,) The pooled shared parameters as the model reports them, and their standard errors (the delta method
+        on the pooled covariance for an angle offset's h and q0)."""
+        model = self.runs[0].result.model
+        count = len(self.shared)
+        columns = [j for j, term in enumerate(model.terms) if term.kind != BIAS]
+        theta = np.zeros(model.size)
+        theta[columns] = self.estimate[:count]
+        jacobian = model.report_jacobian(theta) if np.all(np.isfinite(theta)) else None
+        if jacobian is None:
+            return np.asarray(self.estimate[:count], dtype=float), np.asarray(self.std_error[:count], dtype=float)
+        reported = model.report(theta)[columns]
+        if self.covariance is None:
+            return reported, np.full(count, np.nan)
+        block = jacobian[np.ix_(columns, columns)]
+        return reported, np.sqrt(np.diag(block @ self.covariance[:count, :count] @ block.T))
+
+    @cached_property
     def params(self) -> MappingProxyType:
         """The pooled shared parameters by name."""
-        return MappingProxyType(dict(zip(self.shared, map(float, self.estimate[: len(self.shared)]))))
+        return MappingProxyType(dict(zip(self.shared, map(float, self._reported[0]))))
 
     @cached_property
     def bse(self) -> MappingProxyType:
         """Their standard errors by name."""
-        return MappingProxyType(dict(zip(self.shared, map(float, self.std_error[: len(self.shared)]))))
+        return MappingProxyType(dict(zip(self.shared, map(float, self._reported[1]))))
 
     @cached_property
     def scatter(self) -> dict[str, float]:
@@ -129,11 +151,10 @@ def pool_runs(runs: tuple[LoadedLogs, ...], weighting: str = OWN_FIT) -> PooledR
     everyone = tuple(range(len(runs)))
     weights = _own_weights(runs) if weighting == OWN_FIT else _pooled_weights(runs)
     triangles = _triangles(runs, weights)
-    estimate, covariance = _pool(runs, everyone, triangles, weights)
+    estimate, std_error, covariance = _pool(runs, everyone, triangles, weights)
     others = tuple(_predicted_by_others(runs, triangles, index, weights) for index in everyone)
-    shared = tuple(name for name in model.names if name != BIAS)
-    estimate, covariance = _reported(model, estimate, covariance)
-    return PooledRuns(runs, shared, estimate, np.sqrt(np.diag(covariance)), weights, others, weighting)
+    shared = tuple(name for name, term in zip(model.names, model.terms) if term.kind != BIAS)
+    return PooledRuns(runs, shared, estimate, std_error, weights, others, covariance, weighting)
 
 
 def _own_weights(runs: tuple[LoadedLogs, ...]) -> tuple[float, ...]:
@@ -150,7 +171,7 @@ def _pooled_weights(runs: tuple[LoadedLogs, ...]) -> tuple[float, ...]:
     """1 / each run's residual variance against the runs' equally weighted pooled fit (its own bias fitted)."""
     equal = (1.0,) * len(runs)
     triangles = _triangles(runs, equal)
-    estimate, _ = _pool(runs, tuple(range(len(runs))), triangles, equal)
+    estimate, _, _ = _pool(runs, tuple(range(len(runs))), triangles, equal)
     if not np.all(np.isfinite(estimate)):
         return _own_weights(runs)
     weights = []
@@ -162,30 +183,14 @@ def _pooled_weights(runs: tuple[LoadedLogs, ...]) -> tuple[float, ...]:
     return tuple(weights)
 
 
-def _reported(model: JointModel, estimate: np.ndarray, covariance: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The pooled column estimate and covariance as the model reports them: h and q0 in place of an angle offset's
-    h_c and h_s (delta method), the runs' biases unchanged."""
-    if model.angle_offset is None or not np.all(np.isfinite(estimate)):
-        return estimate, covariance
-    columns = [j for j, name in enumerate(model.column_names) if name != BIAS]
-    theta = np.zeros(model.size)
-    theta[columns] = estimate[: len(columns)]
-    jacobian = np.eye(len(estimate))
-    jacobian[: len(columns), : len(columns)] = model.report_jacobian(theta)[np.ix_(columns, columns)]
-    reported = np.array(estimate, dtype=float)
-    reported[: len(columns)] = model.report(theta)[columns]
-    return reported, jacobian @ covariance @ jacobian.T
-
-
 def _blocks(runs: tuple[LoadedLogs, ...], chosen: tuple[int, ...], weights: tuple[float, ...]):
     """Each chosen run's kept, filtered rows: (shared columns, bias column or None, torque, positions, lag,
     weight)."""
     for index in chosen:
         result = runs[index].result
-        names = result.model.column_names
         X = result.training_regressor
-        shared = [j for j, name in enumerate(names) if name != BIAS]
-        bias = names.index(BIAS) if BIAS in names else None
+        shared = [j for j, term in enumerate(result.model.terms) if term.kind != BIAS]
+        bias = result.model.index_of(BIAS)
         weight = weights[index]
         positions, lag = result.correlation if result.correlation is not None else (np.arange(len(X)), 0)
         yield X[:, shared], None if bias is None else X[:, bias], result.training.tau, positions, lag, weight
@@ -193,14 +198,14 @@ def _blocks(runs: tuple[LoadedLogs, ...], chosen: tuple[int, ...], weights: tupl
 
 def _pool(runs: tuple[LoadedLogs, ...], chosen: tuple[int, ...], triangles: list[np.ndarray],
           weights: tuple[float, ...]):
-    """(estimate, covariance) of the weighted fit of the chosen runs together, solved from their `triangles`
-    (see `_triangles`)."""
+    """(estimate, standard errors, covariance) of the fit of the chosen runs together with their `weights`,
+    solved from their `triangles` (see `_triangles`); the covariance is None without a unique fit."""
     blocks = list(_blocks(runs, chosen, weights))
     shared, has_bias = blocks[0][0].shape[1], blocks[0][1] is not None
     solution = solve_least_squares(*_stacked([triangles[index] for index in chosen], shared, has_bias))
     if solution.estimate is None:
         size = solution.column_count
-        return np.full(size, np.nan), np.full((size, size), np.nan)
+        return np.full(size, np.nan), np.full(size, np.nan), None
     factor = covariance_factor(solution)
     meat = np.zeros_like(factor)
     for k, (X, bias, tau, positions, lag, weight) in enumerate(blocks):
@@ -212,7 +217,7 @@ def _pool(runs: tuple[LoadedLogs, ...], chosen: tuple[int, ...], triangles: list
         meat[np.ix_(columns, columns)] += newey_west_sum(own, tau * scale - own @ solution.estimate[columns],
                                                          positions, lag)[0]
     covariance = factor @ meat @ factor
-    return solution.estimate, covariance
+    return solution.estimate, np.sqrt(np.diag(covariance)), covariance
 
 
 def _stacked(triangles: list[np.ndarray], shared: int, has_bias: bool) -> tuple[np.ndarray, np.ndarray]:

@@ -172,6 +172,8 @@ class MainScreen(Screen):
         # Not in the footer (80 columns have no room): the status under the charts names it.
         Binding("n", "notes", "Notes", priority=True, show=False,
                 tooltip="The log's notes: how it was read, filtered and checked, and what the fit left out"),
+        # Not in the footer or the help's key list (80 columns have no room): the command palette has it.
+        Binding("g", "gains", "Gains", priority=True, show=False),
         # Only with several runs (check_action); the log note names it.
         Binding("u", "runs", "Runs", priority=True, show=False,
                 tooltip="Several runs: each run's fit beside the pooled one; a digit there shows a run"),
@@ -507,7 +509,7 @@ class MainScreen(Screen):
         else:
             self.app.push_screen(LadderScreen(f"log {self.logs.name}", self.logs.training.data,
                                               None if self.logs.heldout is None else self.logs.heldout.data,
-                                              low_pass=self.logs.filter))
+                                              low_pass=self.logs.filter, effort=self.logs.training.effort))
 
     def action_help(self) -> None:
         """Open the help screen."""
@@ -549,7 +551,7 @@ class MainScreen(Screen):
 
     def check_action(self, action: str, parameters: tuple) -> bool | None:
         """Close log exists only while a log is shown, 4 once a motion is designed; the sweep, the matrix and Reset are off (None) while one is."""
-        if action in ("close_log", "notes"):
+        if action in ("close_log", "notes", "gains"):
             return self.logs is not None
         if action == "runs":
             return self.runs is not None
@@ -572,6 +574,27 @@ class MainScreen(Screen):
         from .notes import NotesScreen  # only a log's fit has notes
 
         self.app.push_screen(NotesScreen(self.logs))
+
+    def action_gains(self) -> None:
+        """Open the gains view: WPILib's ArmFeedforward gains of the log shown (and the motor's physical parameters
+        behind a voltage log's); a notification when the fit gives none (a torque log without a motor)."""
+        from jointid.present.gains import gains_parts, motor_parts
+        from jointid.studies.gains import GainsError, arm_gains, motor_parameters
+
+        from .gains import GainsScreen  # only a log's fit has gains
+
+        conventions = self.app.conventions
+        drive = None if conventions is None else conventions.motor
+        fit = self.logs if self.runs is None else self.runs  # several runs: their pooled fit's gains
+        try:
+            sections = [gains_parts(arm_gains(fit, drive))]
+            if drive is not None and not self.logs.result.model.effort.is_torque:
+                sections.append(motor_parts(motor_parameters(fit, drive)))
+        except GainsError as error:
+            self.notify(str(error), title="No gains", severity="warning")
+            return
+        title = self.logs.name if self.runs is None else f"{len(self.runs.runs)} runs pooled"
+        self.app.push_screen(GainsScreen(title, sections))
 
     def action_runs(self) -> None:
         """Open the runs view: each run's fit beside the pooled one."""

@@ -1,4 +1,5 @@
-"""The Ctrl+O dialog: a path field, a folder tree, the log's role and its angle unit, all by keyboard.
+"""The Ctrl+O dialog: a path field, a folder tree, the log's role, what its effort is and its angle unit, all by
+keyboard.
 
 A ROS bag (a ROS 2 bag folder, or a .bag, .mcap or .db3 file) opens the joint
 picker next; the request then names the joint and topic. A WPILib data log
@@ -23,6 +24,7 @@ from textual.widgets import DirectoryTree, Input, Label, RadioSet, Static
 
 from jointid.estimation.low_pass import FilterRequest
 from jointid.logs.conventions import EntryMap, LogConventions
+from jointid.logs.effort import EffortReading
 from jointid.logs.request import HELDOUT, RUN, TRAINING, LoadRequest
 from jointid.options import DEFAULT_ORDER, DEFAULT_WINDOW
 
@@ -125,11 +127,20 @@ class OpenLogScreen(ModalScreen[None]):
                     yield ClearRadioButton("Held-out log", id=f"role-{HELDOUT}",
                                       disabled=not self.heldout_allowed)
                     yield ClearRadioButton("Another run", id=f"role-{RUN}", disabled=not self.run_allowed)
+                session = self.conventions.effort
+                kind = "torque" if session is None else session.kind
+                with RadioSet(id="open-effort", compact=True):
+                    yield ClearRadioButton("Torque (N m)", value=kind == "torque", id="effort-torque")
+                    yield ClearRadioButton("Voltage (V)", value=kind == "voltage", id="effort-voltage")
+                    # A current needs its gear and kt, which only the command line gives (--effort current).
+                    yield ClearRadioButton("Current (A)", value=kind == "current", id="effort-current",
+                                           disabled=kind != "current")
                 yield ClearCheckbox("Angles in degrees", id="open-degrees", compact=True)
             yield Static(
                 "Tab moves between the path, the options and the tree; in the tree Enter opens "
                 "a folder or loads a file. A ROS bag (its folder's path, or a .bag, .mcap or .db3 file) "
                 "asks for a joint next, a WPILib .wpilog for its entries (a SysId log opens as its tests). "
+                "A voltage log is fitted in volts (WPILib's gains; g shows them). "
                 "Escape cancels."
                 + (" Another run is fitted alone, then pooled with the log shown (u: every run)."
                    if self.run_allowed else " A held-out log or another run needs a training log first.")
@@ -155,9 +166,14 @@ class OpenLogScreen(ModalScreen[None]):
         role = TRAINING if pressed is None else roles.get(pressed.id, TRAINING)
         window, order = self.derivatives
         degrees = self.query_one("#open-degrees", ClearCheckbox).value
+        fields = self.conventions.request_fields(bag=joint is not None or wpilog)
+        effort = self.query_one("#open-effort", RadioSet).pressed_button
+        if effort is not None and effort.id == "effort-voltage":
+            fields["effort"] = EffortReading("voltage")
+        elif effort is not None and effort.id == "effort-torque":
+            fields.pop("effort", None)
         return LoadRequest(os.path.expanduser(path.strip()), role, degrees, window=window, order=order,
-                           joint=joint, topic=topic, filtering=self.filtering,
-                           **self.conventions.request_fields(bag=joint is not None or wpilog),
+                           joint=joint, topic=topic, filtering=self.filtering, **fields,
                            wpilog=wpilog, entries=entries, units=units)
 
     def submit(self, request: LoadRequest) -> None:
