@@ -121,11 +121,10 @@ def command_line(argv: list[str]) -> str:
 
 def report_texts(args: argparse.Namespace, command: str) -> dict[str, str]:
     """{path: text} of every file the report writes (the HTML, and the Markdown with its charts)."""
-    from ..present.report_writers import html_page, markdown_files
-    from .version import _version
+    from ..present.report_writers import html_page, made_by, markdown_files
 
     report = build_report(args)
-    footer = f"Written by jointid {_version('jointid')}: {command}"
+    footer = made_by(command)
     texts = {args.out: html_page(report, footer)}
     if args.markdown is not None:
         texts.update(markdown_files(report, args.markdown, footer))

@@ -221,5 +221,6 @@ def residuals_svg(scatters: list[ScatterData], name: str) -> str:
         axes.set_xlabel(scatter.x_label)
         if index % 2 == 0:
             axes.set_ylabel(scatter.y_label)
+        axes.locator_params(axis="x", nbins=5)  # half a page wide: long tick labels such as -0.012 would touch
         axes.grid(True, color=TEXT_COLOUR, alpha=0.12, linewidth=0.6)
     return _svg_text(figure, name)

@@ -52,6 +52,17 @@ SVG_FILE_STYLE = ("<style>svg { color: #1b1b1b; } @media (prefers-color-scheme: 
 """A chart file's own text colour, light and dark (inline in the page, the page sets it instead)."""
 
 
+def made_by(how: str) -> str:
+    """The report's footer: 'Written by jointid 0.1.0 from: jointid report --motion slow ...'."""
+    from importlib import metadata
+
+    try:
+        version = metadata.version("jointid")
+    except metadata.PackageNotFoundError:
+        version = "(version unknown)"
+    return f"Written by jointid {version} from {how}"
+
+
 def _escape(text: str) -> str:
     return html.escape(text, quote=True)
 

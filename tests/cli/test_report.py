@@ -7,14 +7,14 @@ import importlib.util
 import json
 import os
 import re
-import xml.etree.ElementTree as ElementTree
+from xml.etree import ElementTree
 
 import html5lib
 import pytest
+from support.real_logs import REAL_LOGS, needs_real_logs
 
 from jointid.cli import main
 from jointid.present.text import format_number
-from support.real_logs import REAL_LOGS, needs_real_logs
 
 SLOW_CASE = ["--motion", "slow", "--noise", "0.2"]
 """The lesson's slow motion: a unique fit whose inertia is not determined."""
@@ -59,7 +59,7 @@ def assert_self_contained(document, path) -> None:
             if name in ("src", "href", "{http://www.w3.org/1999/xlink}href", "xlink:href", "srcset", "action"):
                 assert not EXTERNAL.match(value), f"{element.tag} {name}={value}"
         assert element.tag not in ("script", "link", "iframe", "img", "object", "embed")
-    text = open(path, encoding="utf-8").read()
+    text = path.read_text(encoding="utf-8")
     assert "@import" not in text
     assert not re.search(r"""url\(\s*["']?(?!#)""", text)  # clip paths refer to ids within the page only
     assert not re.search(r"""(?:src|href)\s*=\s*["']?\s*(?:https?:)?//""", text)
