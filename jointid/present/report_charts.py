@@ -45,9 +45,9 @@ FAINT_ALPHA = 0.25
 SHADE_COLOUR = "#d9a400"
 """Stretches left out for an outside torque (amber, as the explorer's warning colour), drawn light."""
 SHADE_ALPHA = 0.22
-MARGINS = {"left": 0.1, "right": 0.985, "bottom": 0.15, "top": 0.87}
+MARGINS = {"left": 0.1, "right": 0.985, "bottom": 0.15, "top": 0.8}
 """The plot's place in the figure, as shares of its width and height."""
-TITLE_HEIGHT = 1.02
+TITLE_HEIGHT = 1.13
 """Where a title sits, in shares of the plot's height: given, so matplotlib does not measure the tick labels
 beneath it on every draw to place it (a tenth of the drawing time)."""
 FIGURE_SIZE = (7.5, 3.2)
@@ -193,10 +193,10 @@ def torque_svg(chart: ChartData, name: str, thinned: str = "") -> str:
     axes.set_title(chart.titles[0] + (f" ({thinned})" if thinned else ""), loc="left", fontsize=10,
                    fontweight="bold", y=TITLE_HEIGHT)
     axes.grid(True, color=TEXT_COLOUR, alpha=0.12, linewidth=0.6)
-    # Above the plot, right of the title: inside it would hide data.
+    # Between the title and the plot: inside it would hide data, and beside a log's long title it would not fit.
     handles, _ = axes.get_legend_handles_labels()
-    axes.legend(handles=[*handles, *keys], loc="lower right", bbox_to_anchor=(1.0, 1.0), fontsize=8, frameon=False, ncols=4,
-                borderaxespad=0.2, handletextpad=0.4, columnspacing=1.0)
+    axes.legend(handles=[*handles, *keys], loc="lower left", bbox_to_anchor=(-0.01, 0.99), fontsize=8,
+                frameon=False, ncols=5, borderaxespad=0.1, handletextpad=0.4, columnspacing=1.2)
     return _svg_text(figure, name)
 
 

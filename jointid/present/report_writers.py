@@ -31,7 +31,7 @@ body { color: var(--text); font: 15px/1.5 system-ui, -apple-system, "Segoe UI", 
 h1, h2, h3 { line-height: 1.25; }
 h2 { border-bottom: 1px solid var(--rule); padding-bottom: 0.2rem; margin-top: 2rem; }
 .subject { color: var(--muted); margin-top: -0.5rem; }
-pre { background: var(--shade); padding: 0.6rem 0.8rem; overflow-x: auto; font-size: 13px; white-space: pre; }
+pre { background: var(--shade); padding: 0.6rem 0.8rem; overflow-x: auto; font-size: 13px; white-space: pre-wrap; }
 table { border-collapse: collapse; margin: 0.8rem 0; font-variant-numeric: tabular-nums; }
 th, td { border-bottom: 1px solid var(--rule); padding: 0.25rem 0.7rem; vertical-align: top; }
 th { text-align: left; }
@@ -42,7 +42,7 @@ figure { margin: 1rem 0 1.5rem; break-inside: avoid; }
 figure svg { width: 100%; height: auto; color: var(--text); }
 figcaption { color: var(--muted); font-size: 13px; }
 footer { color: var(--muted); font-size: 13px; margin-top: 2.5rem; border-top: 1px solid var(--rule); }
-@media print { body { max-width: none; padding: 0; font-size: 11pt; } pre { white-space: pre-wrap; }
+@media print { body { max-width: none; padding: 0; font-size: 11pt; }
                h2 { break-after: avoid; } }
 """.strip()
 """The page's whole style sheet: system fonts only, colours for light and dark themes, and print."""

@@ -7,10 +7,14 @@ import importlib.util
 import json
 import os
 import re
+import struct
+import zlib
+from pathlib import Path
 from xml.etree import ElementTree
 
 import html5lib
 import pytest
+from support.headless_chromium import CHROMIUM, visit
 from support.real_logs import REAL_LOGS, needs_real_logs
 
 from jointid.cli import main
@@ -22,6 +26,18 @@ REAL_LOG = ["--csv", str(REAL_LOGS / "pendulum_energy_shaping.csv"), "--zero", "
 """A real run with hand pushes the fit leaves out (the excluded intervals' table)."""
 EXTERNAL = re.compile(r"^\s*(?:[a-z][a-z0-9+.-]*:|//)", re.IGNORECASE)
 """A reference that leaves the page: any scheme (http:, https:, file:, data: ...) or a protocol-relative //host."""
+
+
+@pytest.fixture(scope="module")
+def pages(tmp_path_factory) -> dict[str, Path]:
+    """The slow case's report and the real run's, written once for the tests that read them."""
+    folder = tmp_path_factory.mktemp("reports")
+    written = {"slow": folder / "slow.html"}
+    assert main(["report", *SLOW_CASE, "--out", str(written["slow"])]) == 0
+    if REAL_LOGS.is_dir():
+        written["pushes"] = folder / "pushes.html"
+        assert main(["report", *REAL_LOG, "--out", str(written["pushes"])]) == 0
+    return written
 
 
 def parsed(path) -> tuple[object, str]:
@@ -65,10 +81,22 @@ def assert_self_contained(document, path) -> None:
     assert not re.search(r"""(?:src|href)\s*=\s*["']?\s*(?:https?:)?//""", text)
 
 
-def test_the_slow_case_report_holds_fit_json_numbers_and_nothing_external(tmp_path, capsys):
+def test_a_report_replaces_a_file_only_with_force_and_is_the_same_bytes_each_time(pages, tmp_path, capsys):
     page = tmp_path / "slow.html"
-    assert main(["report", *SLOW_CASE, "--out", str(page)]) == 0
-    assert capsys.readouterr().out == f"Wrote {page}.\n"
+    page.write_text("keep me")
+    assert main(["report", *SLOW_CASE, "--out", str(page)]) == 2
+    assert "already exists; not overwriting it (add --force to replace it)" in one_line_error(capsys)
+    assert page.read_text() == "keep me"
+    assert main(["report", *SLOW_CASE, "--out", str(page), "--force"]) == 0
+    assert capsys.readouterr() == (f"Wrote {page}.\n", "")
+    # No date, no random ids: the same bytes as another run, but for the command in the footer.
+    text, other = page.read_text(encoding="utf-8"), pages["slow"].read_text(encoding="utf-8")
+    assert text.split("<footer>")[0] == other.split("<footer>")[0]
+    assert "<metadata>" not in text and "Date" not in text
+
+
+def test_the_slow_case_report_holds_fit_json_numbers_and_nothing_external(pages, capsys):
+    page = pages["slow"]
     document, text = parsed(page)
     fit = fit_json(capsys, SLOW_CASE)
     for number in number_texts(fit):
@@ -87,20 +115,9 @@ def test_the_slow_case_report_holds_fit_json_numbers_and_nothing_external(tmp_pa
         assert label in svg_text, label  # the charts' text is text: selectable and searchable
 
 
-def test_the_report_is_the_same_bytes_every_time(tmp_path, capsys):
-    page = tmp_path / "slow.html"
-    assert main(["report", *SLOW_CASE, "--out", str(page), "--force"]) == 0
-    first = page.read_bytes()
-    assert main(["report", *SLOW_CASE, "--out", str(page), "--force"]) == 0
-    assert page.read_bytes() == first  # no date, no random ids
-    assert b"<metadata>" not in first and b"Date" not in first
-
-
 @needs_real_logs
-def test_a_real_log_report_holds_fit_json_numbers_notes_and_left_out_stretches(tmp_path, capsys):
-    page = tmp_path / "pushes.html"
-    assert main(["report", *REAL_LOG, "--out", str(page)]) == 0
-    capsys.readouterr()
+def test_a_real_log_report_holds_fit_json_numbers_notes_and_left_out_stretches(pages, capsys):
+    page = pages["pushes"]
     document, text = parsed(page)
     fit = fit_json(capsys, REAL_LOG)
     for number in number_texts(fit):
@@ -166,16 +183,6 @@ def one_line_error(capsys) -> str:
     return captured.err
 
 
-def test_an_existing_report_is_not_overwritten_without_force(tmp_path, capsys):
-    page = tmp_path / "slow.html"
-    page.write_text("keep me")
-    assert main(["report", *SLOW_CASE, "--out", str(page)]) == 2
-    assert "already exists; not overwriting it (add --force to replace it)" in one_line_error(capsys)
-    assert page.read_text() == "keep me"
-    assert main(["report", *SLOW_CASE, "--out", str(page), "--force"]) == 0
-    assert page.read_text().startswith("<!DOCTYPE html>")
-
-
 def test_an_existing_chart_file_stops_the_whole_group(tmp_path, capsys):
     page, markdown = tmp_path / "slow.html", tmp_path / "slow.md"
     (tmp_path / "slow-heldout.svg").write_text("keep me")
@@ -222,3 +229,55 @@ def test_without_matplotlib_the_report_names_the_extra(tmp_path, capsys, monkeyp
     assert one_line_error(capsys) == ("jointid: writing a report needs the optional matplotlib package: "
                                       "pip install 'jointid[report]'\n")
     assert not (tmp_path / "a.html").exists()
+
+
+# In a real browser ---------------------------------------------------------------------------------------------
+
+needs_chromium = pytest.mark.skipif(not CHROMIUM.exists(), reason="needs Debian's chromium (/usr/bin/chromium)")
+"""Marks a test that opens a page in headless Chromium (.ci/run installs it)."""
+LIGHT_BACKGROUND = (255, 255, 255)
+DARK_BACKGROUND = (0x12, 0x12, 0x12)
+"""The page's background in each scheme (report_writers.STYLE: the browser's white, and #121212)."""
+
+
+def png_size_and_first_pixel(png: bytes) -> tuple[tuple[int, int], tuple[int, ...]]:
+    """(width, height) and the top-left pixel's RGB of an 8-bit RGB or RGBA PNG, read with zlib alone: whatever
+    the first row's filter, its first pixel is stored as it is (it has no left or upper neighbour)."""
+    assert png[:8] == b"\x89PNG\r\n\x1a\n"
+    width, height, depth, colour = struct.unpack(">IIBB", png[16:26])
+    assert depth == 8 and colour in (2, 6)
+    position, data = 8, b""
+    while position < len(png):
+        length, kind = struct.unpack(">I4s", png[position:position + 8])
+        if kind == b"IDAT":
+            data += png[position + 8:position + 8 + length]
+        position += 12 + length
+    first_row = zlib.decompressobj().decompress(data, 16)
+    return (width, height), tuple(first_row[1:4])
+
+
+def keep(name: str, png: bytes) -> None:
+    """Save a screenshot in the folder $JOINTID_SCREENSHOTS names, for a person to look at."""
+    folder = os.environ.get("JOINTID_SCREENSHOTS")
+    if folder:
+        Path(folder, name).write_bytes(png)
+
+
+@needs_chromium
+def test_chromium_opens_the_reports_without_any_request_but_their_own_files(pages):
+    for (case, page), opened in zip(pages.items(), visit(list(pages.values()))):
+        assert opened.requests == (page.resolve().as_uri(),)
+        (width, height), corner = png_size_and_first_pixel(opened.screenshot)
+        assert width == 1200 and height > 2000  # the whole page: its charts and tables take well over a screen
+        assert corner == LIGHT_BACKGROUND
+        keep(f"{case}.png", opened.screenshot)
+
+
+@pytest.mark.slow  # a second start of Chromium, about 2 s
+@needs_chromium
+def test_the_report_follows_a_dark_browser_theme(pages):
+    opened, = visit([pages["slow"]], dark=True)
+    assert opened.requests == (pages["slow"].resolve().as_uri(),)
+    _, corner = png_size_and_first_pixel(opened.screenshot)
+    assert corner == DARK_BACKGROUND
+    keep("slow-dark.png", opened.screenshot)
