@@ -72,10 +72,15 @@ def run(args: argparse.Namespace) -> int:
         if not args.force and os.path.lexists(path):
             raise UserError(f"{path}: already exists; not overwriting it (add --force to replace it)")
     check_drawing_library()
+    from ..present.chart_process import ChartProcess
+
+    charts = ChartProcess()  # imports matplotlib on another core while the data are read and fitted
     try:
-        texts = report_texts(args, command_line(getattr(args, "argv", sys.argv[1:])))
+        texts = report_texts(args, command_line(getattr(args, "argv", sys.argv[1:])), charts)
     except ReportExtraMissing as error:
         raise UserError(str(error)) from None
+    finally:
+        charts.close()
     from ..files import write_texts
 
     try:
@@ -93,8 +98,8 @@ def run(args: argparse.Namespace) -> int:
 def check_drawing_library() -> None:
     """One line naming the extra when matplotlib is not installed, before any fit is made.
 
-    (Importing it in a background thread during the fit was tried: on a busy machine the two fought for the
-    processor and the report took longer, bench_report.)
+    (Importing it in a background thread during the fit was tried before the child process: on a busy machine
+    the thread and the fit fought over Python's lock and the report took longer, bench_report.)
     """
     import importlib.util
 
@@ -119,11 +124,13 @@ def command_line(argv: list[str]) -> str:
     return " ".join(["jointid", *map(shlex.quote, argv)])
 
 
-def report_texts(args: argparse.Namespace, command: str) -> dict[str, str]:
-    """{path: text} of every file the report writes (the HTML, and the Markdown with its charts)."""
+def report_texts(args: argparse.Namespace, command: str, charts=None) -> dict[str, str]:
+    """{path: text} of every file the report writes (the HTML, and the Markdown with its charts); the charts are
+    drawn by `charts` (a chart_process.ChartProcess) when given."""
+    from ..present.report import draw
     from ..present.report_writers import html_page, made_by, markdown_files
 
-    report = build_report(args)
+    report = draw(build_report(args), charts)
     footer = made_by(command)
     texts = {args.out: html_page(report, footer)}
     if args.markdown is not None:

@@ -57,13 +57,15 @@ class Table:
 
 @dataclass(frozen=True)
 class Chart:
-    """A chart: `name` is unique within a report (ids, file names), `svg` the drawing, `caption` its summary in
-    words, `title` what it shows."""
+    """A chart: `name` is unique within a report (ids, file names), `title` what it shows, `caption` its summary
+    in words, `drawing` the report_charts function and arguments that draw it, `svg` the drawing once made
+    (`draw`)."""
 
     name: str
     title: str
-    svg: str
     caption: str
+    drawing: tuple[str, tuple]
+    svg: str = ""
 
 
 Block = Heading | Paragraph | Preformatted | Table | Chart
@@ -129,7 +131,7 @@ def fit_blocks(result: FitResult, prefix: str, unsettled: dict[str, str] | tuple
     from .charts import heldout_chart
     from .charts import training_chart as synthetic_training_chart
     from .readouts import uncertainty_text
-    from .report_charts import MAX_POINTS, thinned_note, torque_svg
+    from .report_charts import MAX_POINTS, thinned_note
 
     blocks: list[Block] = [
         Heading("Parameters", 3, f"{prefix}parameters"),
@@ -141,15 +143,14 @@ def fit_blocks(result: FitResult, prefix: str, unsettled: dict[str, str] | tuple
     ]
     training = training_chart or synthetic_training_chart(result, columns=MAX_POINTS)
     count = result.training.count if training_count is None else training_count
-    blocks.append(Chart(f"{prefix}training", training.titles[0],
-                        torque_svg(training, f"{prefix}training", thinned_note(count)), training.summaries[0]))
+    blocks.append(Chart(f"{prefix}training", training.titles[0], training.summaries[0],
+                        ("torque_svg", (training, f"{prefix}training", thinned_note(count)))))
     heldout = heldout_chart(result, log_name=heldout_title, columns=MAX_POINTS)
     if heldout is None:
         blocks.append(Paragraph("No held-out data, so predictions are untested."))
     else:
-        blocks.append(Chart(f"{prefix}heldout", heldout.titles[0],
-                            torque_svg(heldout, f"{prefix}heldout", thinned_note(result.heldout.count)),
-                            heldout.summaries[0]))
+        blocks.append(Chart(f"{prefix}heldout", heldout.titles[0], heldout.summaries[0],
+                            ("torque_svg", (heldout, f"{prefix}heldout", thinned_note(result.heldout.count)))))
     blocks += residual_blocks(result, prefix)
     return blocks
 
@@ -159,16 +160,30 @@ def residual_blocks(result: FitResult, prefix: str) -> list[Block]:
     structure against each would mean."""
     from ..estimation.residuals import AXES, AXIS_LABELS, residual_data
     from .charts import residual_scatter, residual_summary
-    from .report_charts import residuals_svg
+    from .report_charts import thin_scatter, thinned_note
     from .text import capitalise
 
     data = residual_data(result)
-    scatters = [residual_scatter(data, axis) for axis in AXES]
+    scatters = [thin_scatter(residual_scatter(data, axis)) for axis in AXES]
     return [Heading("Residuals", 3, f"{prefix}residuals"),
             Chart(f"{prefix}residuals", "Training residuals (N m) against time, angle, velocity and acceleration",
-                  residuals_svg(scatters, f"{prefix}residuals"), residual_summary(data)),
+                  residual_summary(data),
+                  ("residuals_svg", (scatters, f"{prefix}residuals", thinned_note(len(data.residuals))))),
             Table(("Against", "What structure there would mean"),
                   tuple((capitalise(AXIS_LABELS[axis]), data.note(axis)) for axis in AXES))]
+
+
+def draw(report: Report, process=None) -> Report:
+    """The report with every chart drawn (by a chart_process.ChartProcess when given, else here)."""
+    import dataclasses
+
+    from .chart_process import draw_charts
+
+    charts = [block for block in report.blocks if isinstance(block, Chart)]
+    drawn = iter(draw_charts([chart.drawing for chart in charts], process))
+    blocks = tuple(dataclasses.replace(block, svg=next(drawn)) if isinstance(block, Chart) else block
+                   for block in report.blocks)
+    return dataclasses.replace(report, blocks=blocks)
 
 
 # Reports by source ---------------------------------------------------------------------------------------------

@@ -82,6 +82,13 @@ def _matplotlib():
     return Figure, FigureCanvasSVG, matplotlib
 
 
+def preload() -> None:
+    """Import everything drawing needs (matplotlib, its patches and lines), e.g. in a process started early."""
+    _matplotlib()
+    from matplotlib.lines import Line2D  # noqa: F401  the legend's keys
+    from matplotlib.patches import PathPatch  # noqa: F401  the dots
+
+
 def _svg_text(figure, name: str) -> str:
     """The figure as an SVG element: deterministic ids salted by `name` (unique within a page), no prologue, no
     metadata, text and axes in currentColor."""
@@ -200,20 +207,18 @@ def torque_svg(chart: ChartData, name: str, thinned: str = "") -> str:
     return _svg_text(figure, name)
 
 
-def residuals_svg(scatters: list[ScatterData], name: str) -> str:
+def residuals_svg(scatters: list[ScatterData], name: str, thinned: str = "") -> str:
     """The training residuals against each axis (time, angle, velocity, acceleration), two by two in one SVG,
-    each around a zero line; more than MAX_POINTS residuals are thinned evenly (the heading says so)."""
+    each around a zero line. The scatters should already be thinned to about MAX_POINTS (`thin_scatter`);
+    `thinned` says how, in the heading."""
     Figure, _, _ = _matplotlib()
     figure = Figure(figsize=RESIDUALS_SIZE)
     figure.subplots_adjust(**RESIDUALS_MARGINS)
-    count = len(scatters[0].x)
-    stride = shown_stride(count)
-    thinned = thinned_note(count)
     figure.text(0.01, 0.985, "Training residuals (N m)" + (f" ({thinned})" if thinned else ""), fontsize=10,
                 fontweight="bold", va="top")
     for index, scatter in enumerate(scatters):
         axes = figure.add_subplot(2, 2, index + 1)
-        x, y = np.asarray(scatter.x, dtype=float)[::stride], np.asarray(scatter.y, dtype=float)[::stride]
+        x, y = np.asarray(scatter.x, dtype=float), np.asarray(scatter.y, dtype=float)
         axes.axhline(0.0, color=TEXT_COLOUR, linewidth=0.8, alpha=0.6)
         _dots(axes, x, y, dot_size(len(x)))
         axes.set_xlim(*_padded(x))
@@ -224,3 +229,13 @@ def residuals_svg(scatters: list[ScatterData], name: str) -> str:
         axes.locator_params(axis="x", nbins=5)  # half a page wide: long tick labels such as -0.012 would touch
         axes.grid(True, color=TEXT_COLOUR, alpha=0.12, linewidth=0.6)
     return _svg_text(figure, name)
+
+
+def thin_scatter(scatter: ScatterData) -> ScatterData:
+    """The scatter with every k-th point only, at most MAX_POINTS (the same one when it has no more)."""
+    import dataclasses
+
+    stride = shown_stride(len(scatter.x))
+    if stride == 1:
+        return scatter
+    return dataclasses.replace(scatter, x=scatter.x[::stride], y=scatter.y[::stride])

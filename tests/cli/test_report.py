@@ -281,3 +281,40 @@ def test_the_report_follows_a_dark_browser_theme(pages):
     _, corner = png_size_and_first_pixel(opened.screenshot)
     assert corner == DARK_BACKGROUND
     keep("slow-dark.png", opened.screenshot)
+
+
+# The charts' second process ---------------------------------------------------------------------------------
+
+
+def slow_case_report():
+    from jointid.present.report import synthetic_report
+    from jointid.studies.experiment import run_experiment
+    from jointid.synthetic.settings import Settings
+
+    settings = Settings(motion="slow", noise=0.2)
+    return synthetic_report(run_experiment(settings), settings)
+
+
+def drawn_charts(report, process=None) -> list[str]:
+    from jointid.present.report import draw
+
+    return [block.svg for block in draw(report, process).blocks if hasattr(block, "svg")]
+
+
+def test_a_chart_process_that_died_leaves_the_charts_to_this_one(pages):
+    from jointid.present.chart_process import ChartProcess
+
+    broken = ChartProcess()
+    broken.process.kill()  # died before it was asked
+    charts = drawn_charts(slow_case_report(), broken)
+    assert len(charts) == 3 and all(svg.startswith("<svg") for svg in charts)
+    page = pages["slow"].read_text(encoding="utf-8")
+    assert all(svg.split(">", 1)[1] in page for svg in charts)  # as the command's child drew them
+
+
+@pytest.mark.slow  # waits for a child to import matplotlib, about 2 s
+def test_the_chart_process_draws_what_this_process_would():
+    from jointid.present.chart_process import ChartProcess
+
+    report = slow_case_report()
+    assert drawn_charts(report, ChartProcess()) == drawn_charts(report)

@@ -92,7 +92,7 @@ def report_page(runs, logs, result, settings) -> str:
         page = report.logs_report(logs)
     else:
         page = report.synthetic_report(result, settings)
-    return html_page(page, made_by("the explorer (Ctrl+R)"))
+    return html_page(report.draw(page), made_by("the explorer (Ctrl+R)"))
 
 
 def known_parameters_text(joint: TrueJoint = LESSON_JOINT, compact: bool = False) -> str:
