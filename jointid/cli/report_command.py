@@ -60,27 +60,31 @@ def add_parser(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Fit, build the report, write it (HTML, and Markdown with its charts) as one group; print where."""
-    from ..files import ExportError, refuse_special_destination
+    from ..files import ExportError, refuse_special_destination, shown_path
     from ..present.report_charts import ReportExtraMissing
 
     paths = report_paths(args)
-    for path in paths:  # before the fit: a taken name should not cost a minute's fit to find out
+    for path in paths:  # before the fit: a taken name or a missing folder should not cost a minute's fit to find out
         try:
             refuse_special_destination(path)
         except ExportError as error:
             raise UserError(str(error)) from None
         if not args.force and os.path.lexists(path):
-            raise UserError(f"{path}: already exists; not overwriting it (add --force to replace it)")
+            raise UserError(f"{shown_path(path)}: already exists; not overwriting it (add --force to replace it)")
+        if not os.path.isdir(os.path.dirname(path) or os.curdir):
+            raise UserError(f"{shown_path(path)}: cannot write: No such folder")
     check_drawing_library()
     from ..present.chart_process import ChartProcess
 
-    charts = ChartProcess()  # imports matplotlib on another core while the data are read and fitted
+    # A child imports matplotlib on another core while the data are read and fitted: worth it for long fits only.
+    charts = ChartProcess() if long_fit(args) else None
     try:
         texts = report_texts(args, command_line(getattr(args, "argv", sys.argv[1:])), charts)
     except ReportExtraMissing as error:
         raise UserError(str(error)) from None
     finally:
-        charts.close()
+        if charts is not None:
+            charts.close()
     from ..files import write_texts
 
     try:
@@ -107,6 +111,34 @@ def check_drawing_library() -> None:
 
     if importlib.util.find_spec("matplotlib") is None:
         raise UserError(EXTRA_HINT)
+
+
+LONG_FIT_BYTES = 10_000_000
+"""Logs of at least this many bytes (about 100,000 rows of text) take longer to read and fit than matplotlib takes
+to import (a quarter of a second), so their charts are drawn by a child process started first; a smaller fit
+would only wait for the child (and a test suite would wait for it on every report)."""
+LONG_FIT_SAMPLES = 1_000_000
+"""Synthetic experiments of at least this many samples take as long (their fit and the held-out check)."""
+
+
+def long_fit(args: argparse.Namespace) -> bool:
+    """Whether the data take longer to read and fit than matplotlib to import: big log files, or a synthetic
+    experiment of a million samples or more."""
+    if not has_log(args):
+        return (args.samples or 0) >= LONG_FIT_SAMPLES
+    paths = [args.bag] if args.bag is not None else list(getattr(args, "runs", None) or [args.csv])
+    if args.heldout is not None:
+        paths.append(args.heldout)
+    total = 0
+    for path in paths:
+        try:
+            if os.path.isdir(path):  # a ROS 2 bag is a folder
+                total += sum(entry.stat().st_size for entry in os.scandir(path) if entry.is_file())
+            else:
+                total += os.stat(path).st_size
+        except OSError:
+            pass  # the reading will say what is wrong with it
+    return total >= LONG_FIT_BYTES
 
 
 def report_paths(args: argparse.Namespace) -> list[str]:

@@ -192,7 +192,7 @@ def test_an_existing_chart_file_stops_the_whole_group(tmp_path, capsys):
 
 
 @pytest.mark.parametrize("where, problem", [
-    ("missing/slow.html", "No such file or directory"),
+    ("missing/slow.html", "missing/slow.html: cannot write: No such folder"),
     ("file.txt/slow.html", "Not a directory"),
     ("/dev/null", "a character device, not a regular file"),
     (".", "a directory, not a regular file"),
@@ -318,3 +318,15 @@ def test_the_chart_process_draws_what_this_process_would():
 
     report = slow_case_report()
     assert drawn_charts(report, ChartProcess()) == drawn_charts(report)
+
+
+def test_every_text_is_escaped_a_file_name_with_markup_included(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    name = 'run <b>1<i> & "2".csv'
+    assert main(["simulate", "--out", name]) == 0
+    assert main(["report", "--csv", name, "--out", "run.html", "--markdown", "run.md"]) == 0
+    capsys.readouterr()
+    document, text = parsed(tmp_path / "run.html")
+    assert f"Training log {name}" in text  # shown as written
+    assert document.find(".//b") is None and document.find(".//i") is None  # and never read as markup
+    assert 'run \\<b\\>1\\<i\\> & "2".csv' in (tmp_path / "run.md").read_text(encoding="utf-8")
