@@ -60,19 +60,10 @@ def add_parser(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Fit, build the report, write it (HTML, and Markdown with its charts) as one group; print where."""
-    from ..files import ExportError, refuse_special_destination, shown_path
+    from ..files import ExportError, write_texts
     from ..present.report_charts import ReportExtraMissing
 
-    paths = report_paths(args)
-    for path in paths:  # before the fit: a taken name or a missing folder should not cost a minute's fit to find out
-        try:
-            refuse_special_destination(path)
-        except ExportError as error:
-            raise UserError(str(error)) from None
-        if not args.force and os.path.lexists(path):
-            raise UserError(f"{shown_path(path)}: already exists; not overwriting it (add --force to replace it)")
-        if not os.path.isdir(os.path.dirname(path) or os.curdir):
-            raise UserError(f"{shown_path(path)}: cannot write: No such folder")
+    check_destinations(report_paths(args), args.force)
     check_drawing_library()
     from ..present.chart_process import ChartProcess
 
@@ -85,18 +76,33 @@ def run(args: argparse.Namespace) -> int:
     finally:
         if charts is not None:
             charts.close()
-    from ..files import write_texts
-
     try:
         write_texts(texts, overwrite=args.force)
     except ExportError as error:
         hint = " (add --force to replace it)" if "already exists" in str(error) else ""
         raise UserError(f"{error}{hint}") from None
-    charts = len(texts) - 2 if args.markdown is not None else 0
+    chart_files = len(texts) - 2
     written = args.out if args.markdown is None else \
-        f"{args.out}, {args.markdown} and {charts} chart{'s' if charts != 1 else ''} beside it"
+        f"{args.out}, {args.markdown} and {chart_files} chart{'s' if chart_files != 1 else ''} beside it"
     print(f"Wrote {written}.")
     return ExitStatus.SUCCESS
+
+
+def check_destinations(paths: list[str], force: bool) -> None:
+    """UserError (one line) for a path that is taken (without `force`), special, or in a missing folder: found
+    before the fit, which may take a minute. (The chart files beside a Markdown report are checked as they are
+    written.)"""
+    from ..files import ExportError, refuse_special_destination, shown_path
+
+    for path in paths:
+        try:
+            refuse_special_destination(path)
+        except ExportError as error:
+            raise UserError(str(error)) from None
+        if not force and os.path.lexists(path):
+            raise UserError(f"{shown_path(path)}: already exists; not overwriting it (add --force to replace it)")
+        if not os.path.isdir(os.path.dirname(path) or os.curdir):
+            raise UserError(f"{shown_path(path)}: cannot write: No such folder")
 
 
 def check_drawing_library() -> None:
