@@ -145,8 +145,10 @@ def markdown_files(report: Report, markdown_path: str, footer: str) -> dict[str,
             fence = "````" if "```" in block.text else "```"
             lines += [fence + "text", block.text, fence, ""]
         elif isinstance(block, Table):
+            numbers = [all(_NUMBER_CELL.match(row[index]) for row in block.rows)
+                       for index in range(1, len(block.header))]
             lines += ["| " + " | ".join(map(_markdown_text, block.header)) + " |",
-                      "|" + "|".join([":---", *("---:" for _ in block.header[1:])]) + "|",
+                      "|" + "|".join([":---", *("---:" if number else ":---" for number in numbers)]) + "|",
                       *("| " + " | ".join(map(_markdown_text, row)) + " |" for row in block.rows), ""]
             if block.caption:
                 lines += [_markdown_text(block.caption), ""]
