@@ -87,7 +87,7 @@ def parameter_table(result: FitResult, unsettled: dict[str, str] | tuple[str, ..
     """Each parameter's value, standard error, relative error, 95 % interval and verdict, as the uncertainty text
     gives them (the verdict after any other check, e.g. a log's sensitivity check)."""
     from ..estimation.uncertainty import AT_BOUND
-    from .readouts import judged_verdicts, parameter_notes
+    from .readouts import closing_lines, judged_verdicts, parameter_notes
 
     model, uncertainty, estimate = result.model, result.uncertainty, result.estimate
     notes = parameter_notes(result, tuple(unsettled))
@@ -107,9 +107,8 @@ def parameter_table(result: FitResult, unsettled: dict[str, str] | tuple[str, ..
             f"[{format_number(uncertainty.interval95[index][0])}, {format_number(uncertainty.interval95[index][1])}]"
         rows.append((parameter.symbol_with_unit, value, note.text, f"{uncertainty.relative_std_pct[index]:.1f} %",
                      interval, judged_verdicts(result, tuple(unsettled))[index], fails))
-    basis = None if uncertainty is None else uncertainty.verdict_basis
-    caption = {"expected": "± expected from the noise bound (the verdicts' basis); the intervals from the residuals.",
-               "empirical": "± from the residuals."}.get(basis, "")
+    # Where the ± comes from, as the explorer says it under its readouts.
+    caption = " ".join(text for label, text in closing_lines(result) if text.startswith("±"))
     return Table(header, tuple(rows), caption)
 
 
@@ -147,7 +146,9 @@ def fit_blocks(result: FitResult, prefix: str, unsettled: dict[str, str] | tuple
                         ("torque_svg", (training, f"{prefix}training", thinned_note(count)))))
     heldout = heldout_chart(result, log_name=heldout_title, columns=MAX_POINTS)
     if heldout is None:
-        blocks.append(Paragraph("No held-out data, so predictions are untested."))
+        from .status import NO_HELDOUT
+
+        blocks.append(Paragraph(NO_HELDOUT))
     else:
         blocks.append(Chart(f"{prefix}heldout", heldout.titles[0], heldout.summaries[0],
                             ("torque_svg", (heldout, f"{prefix}heldout", thinned_note(result.heldout.count)))))
