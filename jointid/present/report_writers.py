@@ -42,10 +42,14 @@ figure { margin: 1rem 0 1.5rem; break-inside: avoid; }
 figure svg { width: 100%; height: auto; color: var(--text); }
 figcaption { color: var(--muted); font-size: 13px; }
 footer { color: var(--muted); font-size: 13px; margin-top: 2.5rem; border-top: 1px solid var(--rule); }
-@media print { body { max-width: none; padding: 0; font-size: 11pt; }
-               h2 { break-after: avoid; } }
+@media print {
+  :root { color-scheme: light; --text: #000; --muted: #444; --rule: #bbb; --shade: #f3f3f3; }
+  body { background: none; max-width: none; padding: 0; font-size: 11pt; }
+  h2, h3 { break-after: avoid; }
+}
 """.strip()
-"""The page's whole style sheet: system fonts only, colours for light and dark themes, and print."""
+"""The page's whole style sheet: system fonts only, colours for light and dark themes, and print (always dark on
+light: paper, even from a browser in a dark theme)."""
 
 SVG_FILE_STYLE = ("<style>svg { color: #1b1b1b; } @media (prefers-color-scheme: dark) { svg { color: #e6e6e6; } }"
                   "</style>")
