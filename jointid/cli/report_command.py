@@ -186,9 +186,15 @@ def build_report(args: argparse.Namespace):
 
         comparison, heading, _, _ = compare(args)
     if has_log(args):
+        from .effort_arguments import effort_extras
+
         if several_runs(args):
-            return report.runs_report(fit_pooled_runs(args), comparison=comparison, comparison_heading=heading)
-        return report.logs_report(fit_loaded_logs(args), comparison=comparison, comparison_heading=heading)
+            pooled = fit_pooled_runs(args)
+            return report.runs_report(pooled, comparison=comparison, comparison_heading=heading,
+                                      extras=tuple(effort_extras(args, pooled)[0]))
+        logs = fit_loaded_logs(args)
+        return report.logs_report(logs, comparison=comparison, comparison_heading=heading,
+                                  extras=tuple(effort_extras(args, logs)[0]))
     from ..studies.experiment import run_experiment
 
     settings = settings_from(with_default_settings(args))

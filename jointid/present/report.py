@@ -165,11 +165,12 @@ def residual_blocks(result: FitResult, prefix: str) -> list[Block]:
     from .text import capitalise
 
     data = residual_data(result)
+    unit = result.model.effort.unit
     scatters = [thin_scatter(residual_scatter(data, axis)) for axis in AXES]
     return [Heading("Residuals", 3, f"{prefix}residuals"),
-            Chart(f"{prefix}residuals", "Training residuals (N m) against time, angle, velocity and acceleration",
+            Chart(f"{prefix}residuals", f"Training residuals ({unit}) against time, angle, velocity and acceleration",
                   residual_summary(data),
-                  ("residuals_svg", (scatters, f"{prefix}residuals", thinned_note(len(data.residuals))))),
+                  ("residuals_svg", (scatters, f"{prefix}residuals", thinned_note(len(data.residuals)), unit))),
             Table(("Against", "What structure there would mean"),
                   tuple((capitalise(AXIS_LABELS[axis]), data.note(axis)) for axis in AXES))]
 
@@ -273,21 +274,32 @@ def excluded_table(logs: LoadedLogs) -> Table | None:
                  "Seconds from the log's start; standstill is left out besides, sample by sample.")
 
 
-def logs_report(logs: LoadedLogs, *, comparison: Comparison | None = None, comparison_heading: str = "") -> Report:
-    """A fit of logs' report (`jointid report --csv LOG`)."""
-    blocks = log_blocks(logs)
+def extra_blocks(extras: tuple[str, ...]) -> list[Block]:
+    """The motor's physical parameters and the controller's gains (`--motor`, `--gains wpilib`), as `jointid fit`
+    prints them: tables and code lines kept whole."""
+    if not extras:
+        return []
+    return [Heading("Motor and gains", 2, "gains"), *(Preformatted(text) for text in extras)]
+
+
+def logs_report(logs: LoadedLogs, *, comparison: Comparison | None = None, comparison_heading: str = "",
+                extras: tuple[str, ...] = ()) -> Report:
+    """A fit of logs' report (`jointid report --csv LOG`); `extras` are the motor's and the gains' texts."""
+    blocks = log_blocks(logs) + extra_blocks(extras)
     if comparison is not None:
         blocks += ladder_blocks(comparison, comparison_heading)
     return Report("jointid report", logs.source_lines()[0], tuple(blocks))
 
 
-def runs_report(pooled: PooledRuns, *, comparison: Comparison | None = None, comparison_heading: str = "") -> Report:
-    """Several runs of one joint: the per-run table with the pooled fit, then each run's own report."""
+def runs_report(pooled: PooledRuns, *, comparison: Comparison | None = None, comparison_heading: str = "",
+                extras: tuple[str, ...] = ()) -> Report:
+    """Several runs of one joint: the per-run table with the pooled fit (and the pooled fit's motor and gains),
+    then each run's own report."""
     from .runs import runs_parts
 
     heading, table, *sentences = runs_parts(pooled)
     blocks: list[Block] = [Heading("Runs", 2, "runs"), Paragraph(heading), Preformatted(table),
-                           *(Paragraph(sentence) for sentence in sentences)]
+                           *(Paragraph(sentence) for sentence in sentences), *extra_blocks(extras)]
     if comparison is not None:
         blocks += ladder_blocks(comparison, comparison_heading)
     for number, run in enumerate(pooled.runs, start=1):

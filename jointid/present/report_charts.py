@@ -196,7 +196,7 @@ def torque_svg(chart: ChartData, name: str, thinned: str = "") -> str:
     else:
         _dots(axes, t, clipped, size)
     axes.set_xlabel(chart.x_label)
-    axes.set_ylabel("Torque (N m)")
+    axes.set_ylabel(chart.y_label)
     axes.set_title(chart.titles[0] + (f" ({thinned})" if thinned else ""), loc="left", fontsize=10,
                    fontweight="bold", y=TITLE_HEIGHT)
     axes.grid(True, color=TEXT_COLOUR, alpha=0.12, linewidth=0.6)
@@ -207,14 +207,14 @@ def torque_svg(chart: ChartData, name: str, thinned: str = "") -> str:
     return _svg_text(figure, name)
 
 
-def residuals_svg(scatters: list[ScatterData], name: str, thinned: str = "") -> str:
+def residuals_svg(scatters: list[ScatterData], name: str, thinned: str = "", unit: str = "N m") -> str:
     """The training residuals against each axis (time, angle, velocity, acceleration), two by two in one SVG,
     each around a zero line. The scatters should already be thinned to about MAX_POINTS (`thin_scatter`);
     `thinned` says how, in the heading."""
     Figure, _, _ = _matplotlib()
     figure = Figure(figsize=RESIDUALS_SIZE)
     figure.subplots_adjust(**RESIDUALS_MARGINS)
-    figure.text(0.01, 0.985, "Training residuals (N m)" + (f" ({thinned})" if thinned else ""), fontsize=10,
+    figure.text(0.01, 0.985, f"Training residuals ({unit})" + (f" ({thinned})" if thinned else ""), fontsize=10,
                 fontweight="bold", va="top")
     for index, scatter in enumerate(scatters):
         axes = figure.add_subplot(2, 2, index + 1)
