@@ -81,6 +81,20 @@ def cached_experiment(settings: Settings) -> FitResult:
     return run_experiment(settings)
 
 
+def report_page(runs, logs, result, settings) -> str:
+    """The HTML report of what the explorer shows: several runs, a log, or the synthetic experiment's fit."""
+    from jointid.present import report
+    from jointid.present.report_writers import html_page, made_by
+
+    if runs is not None:
+        page = report.runs_report(runs)
+    elif logs is not None:
+        page = report.logs_report(logs)
+    else:
+        page = report.synthetic_report(result, settings)
+    return html_page(report.draw(page), made_by("the explorer (Ctrl+R)"))
+
+
 def known_parameters_text(joint: TrueJoint = LESSON_JOINT, compact: bool = False) -> str:
     """The synthetic joint's true parameters and conventions, as shown beside the controls.
 
@@ -179,6 +193,10 @@ class MainScreen(Screen):
                 tooltip="Several runs: each run's fit beside the pooled one; a digit there shows a run"),
         Binding("ctrl+s", "export", "Export", priority=True,
                 tooltip="Save the fit as JSON and the screen as SVG into a folder"),
+        # Not in the footer (80 columns have no room); the palette lists it as Write report.
+        Binding("ctrl+r", "write_report", "Write report", priority=True, show=False,
+                tooltip="Write an HTML report of what is shown (settings or log, fit, charts, checks) into the "
+                "current folder"),
     ]
 
     def __init__(self, settings: Settings = DEFAULT_SETTINGS, logs: LoadedLogs | PooledRuns | None = None) -> None:
@@ -715,22 +733,29 @@ class MainScreen(Screen):
 
     # --- export -------------------------------------------------------------------------
 
+    def export_stem(self) -> str:
+        """The file name exports of what is shown start with: 'train-fit', 'jointid-slow-0.20-24-7'."""
+        if self.runs is not None:
+            return f"{Path(self.runs.runs[0].training.path).stem}-runs-fit"
+        if self.logs is not None:
+            return f"{Path(self.logs.training.path).stem}-fit"
+        s = self.settings
+        model = "" if s.model == DEFAULT_SETTINGS.model else f"-{s.model}"
+        return f"jointid-{s.motion_name}-{s.noise:.2f}-{s.samples}-{s.seed}{model}"
+
     def export_content(self) -> tuple[str, dict]:
         """File stem and JSON document of the current result, as `jointid fit [--csv] --json` prints it."""
         if self.runs is not None:
             from jointid.present.runs import runs_document
 
-            return f"{Path(self.runs.runs[0].training.path).stem}-runs-fit", runs_document(self.runs)
+            return self.export_stem(), runs_document(self.runs)
         if self.logs is not None:
             from jointid.present.documents import logs_document
 
-            return f"{Path(self.logs.training.path).stem}-fit", logs_document(self.logs)
+            return self.export_stem(), logs_document(self.logs)
         from jointid.present.documents import fit_document  # json and the documents: only when exporting
 
-        s = self.settings
-        model = "" if s.model == DEFAULT_SETTINGS.model else f"-{s.model}"
-        return (f"jointid-{s.motion_name}-{s.noise:.2f}-{s.samples}-{s.seed}{model}",
-                fit_document(self.result, settings=s))
+        return self.export_stem(), fit_document(self.result, settings=self.settings)
 
     def action_export(self) -> None:
         """Export the fit as JSON and the screen as SVG into a chosen folder."""
@@ -754,3 +779,30 @@ class MainScreen(Screen):
             self.notify(str(error), title="Nothing exported", severity="error")
             return
         self.notify(f"Wrote {json_path} and {svg_path}", title="Exported")
+
+    def action_write_report(self) -> None:
+        """Write the report of what is shown (`jointid report` of the same source) into the current folder."""
+        self.notify("Drawing the charts; a notification says where the report is.", title="Writing the report")
+        # The source as it is now: the worker reads only these immutable results, never the screen.
+        self.write_report(self.export_stem().removesuffix("-fit") + "-report", self.runs, self.logs, self.result,
+                          self.settings)
+
+    @work(thread=True, exclusive=True, group="report")
+    def write_report(self, stem: str, runs, logs, result, settings) -> None:
+        """Build and write the report in a thread (drawing its charts takes about a second); notify where, or why
+        not."""
+        from jointid.files import ExportError
+        from jointid.present.report_charts import ReportExtraMissing
+
+        from .export import write_report_page
+
+        try:
+            folder = os.getcwd()
+        except OSError:  # the folder was removed under the explorer: the write says so, in one line
+            folder = os.curdir
+        try:
+            path = write_report_page(folder, stem, report_page(runs, logs, result, settings))
+        except (ExportError, ReportExtraMissing) as error:
+            self.app.call_from_thread(self.notify, str(error), title="No report written", severity="error")
+            return
+        self.app.call_from_thread(self.notify, f"Wrote {path}", title="Report written")
