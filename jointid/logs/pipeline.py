@@ -4,6 +4,7 @@ jittered), missing derivatives estimated, units converted."""
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass
 
 import numpy as np
@@ -55,6 +56,12 @@ class JointLog:
     """The same in a few words, e.g. '1000 rows' or "'j1', 1000 messages"."""
     source: LogSource | None = None
     """The checked columns before differentiation, so the log can be derived again with another window."""
+
+    @property
+    def name(self) -> str:
+        """The log's name in lists: its file's name, or the SysId test a run of a data log is."""
+        run = None if self.source is None else getattr(self.source.table, "run", None)
+        return run or os.path.basename(os.path.normpath(self.path))
 
     def with_window(self, window: int | None, order: int | None = None) -> JointLog:
         """The same log with its missing derivatives estimated by another window (and order); self if none."""

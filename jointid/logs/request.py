@@ -1,10 +1,13 @@
-"""Which joint log to load and how: a CSV file or one joint of a ROS bag, its columns and angle convention, cut to
-a time window, its effort read as torque (scaled, or converted from current) or volts.
+"""Which joint log to load and how: a CSV file, one joint of a ROS bag or entries of a WPILib data log, its
+columns and angle convention, cut to a time window, its effort read as torque (scaled, or converted from current)
+or volts.
 
-Every source is read into a checked table (csvlog.read_table or
-bag.read_bag_table), cut and scaled here, and then goes through
-csvlog.joint_log_from_table, so CSV logs and bags get the same time checks,
-resampling and differentiation.
+Every source is read into a checked table (csvlog.read_table,
+bag.read_bag_table or wpilog.read_wpilog_table), cut and scaled here, and
+then goes through csvlog.joint_log_from_table, so CSV logs, bags and data
+logs get the same time checks, resampling and differentiation. A SysId
+routine log holds several test runs of one joint: load_joint_logs gives one
+log per run.
 """
 
 from __future__ import annotations
@@ -14,7 +17,7 @@ from dataclasses import dataclass
 
 from ..estimation.low_pass import FilterRequest
 from ..options import DEFAULT_ORDER, DEFAULT_WINDOW
-from .conventions import AngleConvention, ColumnMap
+from .conventions import AngleConvention, ColumnMap, EntryMap
 from .effort import EffortReading
 from .timewindow import TimeWindow
 
@@ -52,11 +55,17 @@ class LoadRequest:
     """Where the logged angle's 0 points and which way it grows (`--zero`, `--clockwise`)."""
     effort: EffortReading = EffortReading()
     """What the effort column measured (`--effort`, `--gear`, `--kt`, `--efficiency`); its scale is effort_scale."""
+    wpilog: bool = False
+    """True to read a WPILib data log (`--wpilog`)."""
+    entries: EntryMap | None = None
+    """Which data-log entry gives which quantity (`--entry`); None: a SysId routine's, recognised by name."""
+    units: str | None = None
+    """The data log's angle unit over its metadata's (`--units`): 'rotations', 'radians' or 'degrees'."""
 
     @property
     def is_bag(self) -> bool:
         """True when the request reads a joint from a ROS bag."""
-        return self.joint is not None
+        return self.joint is not None and not self.wpilog
 
 
 def load_joint_log(request: LoadRequest, progress=None, cancel=None):
@@ -68,6 +77,14 @@ def load_joint_log(request: LoadRequest, progress=None, cancel=None):
     from .pipeline import joint_log_from_table
 
     check_filter(request.window, request.order)
+    if request.wpilog:
+        logs = load_joint_logs(request, progress, cancel)
+        if len(logs) > 1:
+            from .table import LogError
+
+            raise LogError(request.path, f"is a SysId log of {len(logs)} test runs, fitted as runs of one joint "
+                           "(jointid fit --wpilog), not as one log")
+        return logs[0]
     if request.is_bag:
         from .bag import read_bag_table
         from .table import LogError
@@ -85,6 +102,41 @@ def load_joint_log(request: LoadRequest, progress=None, cancel=None):
     table = read_effort(table, dataclasses.replace(request.effort, scale=request.effort_scale), request.is_bag)
     return joint_log_from_table(table, degrees=request.degrees, window=request.window, order=request.order,
                                 cutoff=request.filtering.cutoff)
+
+
+def load_joint_logs(request: LoadRequest, progress=None, cancel=None) -> list:
+    """The request's logs ready to fit: one per SysId test run of a data log with a test-state entry, else the one
+    log of load_joint_log; LogError on any problem."""
+    if not request.wpilog:
+        return [load_joint_log(request, progress, cancel)]
+    from .angles import read_angle
+    from .derivatives import check_filter
+    from .effort import read_effort
+    from .pipeline import joint_log_from_table
+    from .wpilog import read_wpilog_table
+
+    check_filter(request.window, request.order)
+    if request.columns is not None:
+        from .table import LogError
+
+        raise LogError(request.path, f"{request.columns.flag}: only for a CSV log; a data log's entries are named "
+                       "with --entry")
+    units = request.units or ("degrees" if request.degrees else None)
+    table = read_wpilog_table(request.path, request.entries, units, progress=progress, cancel=cancel)
+    if request.time_window is not None:
+        table = cut_time_window(table, request.time_window, request.role)
+    # Each test on its own: a run's wraps and whole turns are its own, and its time checks see no other test.
+    tables = table.run_tables() if table.runs else [table]
+    effort = dataclasses.replace(request.effort, scale=request.effort_scale)
+    if (table.routine is not None or table.runs) and effort.kind == "torque":
+        effort = dataclasses.replace(effort, kind="voltage")  # a SysId routine's effort is its motor's voltage
+    logs = []
+    for part in tables:
+        part = read_angle(part, request.angle, False)  # already in radians
+        part = read_effort(part, effort, False)
+        logs.append(joint_log_from_table(part, degrees=False, window=request.window, order=request.order,
+                                         cutoff=request.filtering.cutoff))
+    return logs
 
 
 def cut_time_window(table, window: TimeWindow, role: str = TRAINING):

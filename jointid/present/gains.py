@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from ..estimation.uncertainty import NOT_DETERMINED
 from .text import format_number, text_table
 
 if TYPE_CHECKING:
@@ -61,9 +62,12 @@ def gains_parts(gains: ArmGains) -> tuple[str, str, str, str]:
     if "q0" in gains.names and gains["q0"].determined:
         lines.append(f"ArmFeedforward takes the angle from horizontal: pass the measured angle + q0 "
                      f"({format_number(gains['q0'].value)} rad).")
-    elif "q0" in gains.names:
+    elif "q0" in gains.names and gains["q0"].verdict == NOT_DETERMINED:
         lines.append("q0 is not determined (its error is about as large as itself): the angle as measured is as "
                      "good as any, or fit without the offset (--model coulomb).")
+    elif "q0" in gains.names:
+        lines.append(f"q0 is {gains['q0'].verdict}: pass the measured angle + q0 "
+                     f"({format_number(gains['q0'].value)} rad) to ArmFeedforward, but check the angle's zero.")
     if "V0" in gains.names:
         lines.append("ArmFeedforward has no voltage bias: V0 is left out of the constructor.")
     undetermined = [gain for gain in gains.gains if not gain.determined and gain.name in ("kS", "kG", "kV", "kA")]

@@ -119,6 +119,10 @@ def fit_warnings(result: FitResult) -> tuple[str, ...]:
     return tuple(sentences)
 
 
+NO_HELDOUT = "No held-out data, so predictions are untested."
+"""Said where a fit has nothing to predict: in its status sentence, and in a report in place of the chart."""
+
+
 def status_message(result: FitResult) -> str:
     """The status sentence the lab shows under its readouts."""
     rank, total = result.rank, result.parameter_count
@@ -134,7 +138,7 @@ def status_message(result: FitResult) -> str:
     if result.constrained:
         parts.append(constraint_sentence(result))
     if result.heldout_rmse is None:
-        parts.append("No held-out data, so predictions are untested.")
+        parts.append(NO_HELDOUT)
     else:
         # Measured held-out torques carry their own noise, which no fit can predict.
         effort = result.model.effort

@@ -22,6 +22,7 @@ import numpy as np
 
 from ..estimation.uncertainty import WEAK, WELL_DETERMINED, verdict
 from ..model.motors import MotorDrive, error_scale, gains_from_physical
+from .runs import OWN_FIT
 
 WPILIB_ORDER = ("kS", "kG", "kV", "kA")
 """ArmFeedforward's constructor order."""
@@ -141,7 +142,10 @@ def _pooled_parameters(pooled) -> FittedParameters:
     values, errors = dict(pooled.params), dict(pooled.bse)
     verdicts = {name: verdict(100 * errors[name] / abs(values[name]) if values[name] else math.inf)
                 for name in values}
-    for run in pooled.runs:  # a parameter another check moved in any run is never called well determined
+    # A parameter another check moved in any run is never called well determined, when runs stand alone: a SysId
+    # test alone cannot separate the gains (POOLED_FIT weighting), so what moves in its own fit says nothing.
+    standing_alone = pooled.runs if pooled.weighting == OWN_FIT else ()
+    for run in standing_alone:
         for name in run.unsettled:
             if verdicts.get(name) == WELL_DETERMINED:
                 verdicts[name] = WEAK

@@ -118,8 +118,8 @@ class LoadedLogs:
 
     @property
     def name(self) -> str:
-        """The training file's name, e.g. for the explorer's motion list."""
-        return os.path.basename(os.path.normpath(self.training.path))
+        """The training file's name (a data log's SysId test), e.g. for the explorer's motion list."""
+        return self.training.name
 
     @property
     def heldout_name(self) -> str | None:

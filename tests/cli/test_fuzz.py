@@ -165,6 +165,10 @@ def bad_invocations() -> list[list[str]]:
         ["simulate", "--out", "o.csv", "--samples", "3", "--rate", "1e-300"],
         ["simulate", "--out", "o.csv", "--rate", "1e9", "--duration", "1e6"],
         ["simulate", "--out", "o.csv", "--rate", "1e-300", "--duration", "8"],
+        # jointid report: fit's flags, and where it writes.
+        ["report"], ["report", "--out"], ["report", "--out", "o.csv", "--noise", "nan"],
+        ["report", "--out", "o.csv", "--csv", "missing.csv"], ["report", "--out", "o.csv", "--markdown", "o.csv"],
+        ["report", "--out", "o.csv", "--csv", "x.csv", "--simulate"], ["report", "--out", "o.csv", "--comp"],
     ]
     return cases
 

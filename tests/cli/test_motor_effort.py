@@ -309,3 +309,15 @@ def test_export_of_a_voltage_log_writes_the_physical_joint_behind_the_gains(tmp_
     assert mass * com == pytest.approx(PHYSICAL["h"], rel=1e-5)  # h = m r
     about_axis = float(inertial.get("diaginertia").split()[1]) + mass * com**2 + armature
     assert about_axis == pytest.approx(PHYSICAL["I"], rel=1e-5)
+
+
+def test_a_report_of_a_voltage_log_draws_volts_and_holds_the_gains(tmp_path, capsys, times):
+    """The page's axes follow the effort (volts), and it holds the gains and the constructor `fit` prints."""
+    log = voltage_log(tmp_path / "arm.csv", times)
+    page = tmp_path / "arm.html"
+    status, _, err = run(capsys, "report", "--csv", log, "--effort", "voltage", "--gains", "wpilib", "--no-robust",
+                         "--out", str(page))
+    assert status == 0, err
+    html = page.read_text()
+    assert "Voltage (V)" in html and "Training residuals (V)" in html and "Torque (N m)" not in html
+    assert "new ArmFeedforward(0.2, 0.9, 1.8, 0.12" in html
