@@ -44,6 +44,9 @@ async def test_a_voltage_log_shows_volts_and_its_gains(tmp_path):
         chart = screen.query(TorqueChart).first()
         assert chart.data.y_label == "Voltage (V)"
         assert " V" in chart.data.summaries[0] and "N m" not in chart.data.summaries[0]
+        # The footer has no room for g: the log's note names it, in a line no wider than a torque log's note.
+        note = str(screen.query_one("#log-note").render()).splitlines()
+        assert note[0] == "From log: c or 1/2/3; g: gains"
         await pilot.press("g")
         await pilot.pause()
         assert isinstance(app.screen, GainsScreen)

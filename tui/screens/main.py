@@ -63,6 +63,8 @@ STEPPER_HINT = "←/→ step, Shift+←/→ more, or type"
 FROM_LOG = "from log"
 """Text of the noise, samples and seed fields while a log is shown."""
 LOG_NOTE = "From log: c or 1/2/3 for synthetic"
+GAINS_LOG_NOTE = "From log: c or 1/2/3; g: gains"
+"""A voltage log's note names the gains view, which the footer has no room for; as short, so it takes no row more."""
 """The first line of the note shown while a log is (the help gives the rest)."""
 
 
@@ -138,7 +140,8 @@ def log_note(logs: LoadedLogs) -> str:
     the status sentence then need not name them.
     """
     training, *others = log_sources(logs)
-    return "\n".join((LOG_NOTE, f"{training}; {logs.result.training.count} fitted", *others))
+    first = LOG_NOTE if logs.result.model.effort.is_torque else GAINS_LOG_NOTE
+    return "\n".join((first, f"{training}; {logs.result.training.count} fitted", *others))
 
 
 def runs_note(runs, shown: int) -> str:
