@@ -595,11 +595,20 @@ class MainScreen(Screen):
         return True
 
     def action_open_log(self) -> None:
-        """Choose a training or held-out log to load."""
+        """Choose a training or held-out log to load (in a browser: from the server's --data folder only)."""
         from .open_log import OpenLogScreen
 
         folder = os.path.dirname(os.path.abspath(self.logs.training.path)) if self.logs else None
-        self.app.push_screen(OpenLogScreen(folder, on_request=self.start_loading,
+        data = None
+        if self.app.is_web:
+            from ..web import NO_DATA_FOLDER, data_folder, is_inside
+
+            data = data_folder()
+            if data is None:
+                self.notify(NO_DATA_FOLDER, title="Open log", severity="warning")
+                return
+            folder = folder if folder is not None and is_inside(folder, data) else str(data)
+        self.app.push_screen(OpenLogScreen(folder, data_folder=data, on_request=self.start_loading,
                                            heldout_allowed=self.logs is not None and self.runs is None,
                                            run_allowed=self.logs is not None,
                                            derivatives=self.app.derivatives, filtering=self.app.filtering,
@@ -610,6 +619,17 @@ class MainScreen(Screen):
         closes once it is shown, and stays, with its path, when it cannot be."""
         if request is None:
             return
+        if self.app.is_web:  # the dialog checks as the path is typed; this is the check no path can go around
+            from ..web import NO_DATA_FOLDER, OutsideDataFolder, data_folder, inside
+
+            data = data_folder()
+            try:
+                if data is None:
+                    raise OutsideDataFolder(NO_DATA_FOLDER)
+                inside(request.path, data)
+            except OutsideDataFolder as error:
+                self.notify(str(error), title="Log not loaded", severity="error")
+                return
         from .loading import LoadingScreen
 
         dialog = LoadingScreen(request.path, chooser)
@@ -701,6 +721,12 @@ class MainScreen(Screen):
 
         svg = self.app.export_screenshot()  # before the dialog covers the screen
         stem, document = self.export_content()
+        if self.app.is_web:  # in a browser the files are the browser's downloads, never the server's
+            from ..web import deliver_export
+
+            json_name, svg_name = deliver_export(self.app, stem, document, svg)
+            self.notify(f"Your browser downloads {json_name} and {svg_name}", title="Exported")
+            return
         self.app.push_screen(ExportScreen(stem), lambda folder: self.write_export(folder, stem, document, svg))
 
     def write_export(self, folder: str | None, stem: str, document: dict, svg: str) -> None:
