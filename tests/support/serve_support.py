@@ -150,6 +150,13 @@ class BrowserTerminal:
         """The screen's lines as shown now."""
         return "\n".join(self.screen.display)
 
+    @property
+    def notices(self) -> str:
+        """The text right of the rightmost half-block on each line (where Textual's toasts have their edge),
+        the lines joined: a notification's message as one string, however the toast wraps it."""
+        parts = [line[line.rfind("▌") + 1:] for line in self.screen.display if "▌" in line]
+        return " ".join(" ".join(parts).split())
+
     async def receive_one(self, timeout: float) -> None:
         """Take one frame: draw it, note a delivery, or note the close."""
         message = await asyncio.wait_for(self.socket.receive(), timeout)
