@@ -128,7 +128,7 @@ def test_ctrl_o_in_the_browser_reads_only_inside_the_data_folder(server, data_tr
             await tab.wait_until(lambda: path_field(tab) == "", "the path field to empty")
             await tab.press(typed, "enter")
             refusal = f"{typed}: outside the server's data folder"
-            await tab.wait_until(lambda: refusal in tab.notices, refusal)
+            await tab.wait_until(lambda refusal=refusal: refusal in tab.notices, refusal)
             assert "Log loaded" not in tab.text
         await tab.press("ctrl+u")
         await tab.wait_until(lambda: path_field(tab) == "", "the path field to empty")
@@ -153,11 +153,11 @@ def test_a_port_in_use_and_a_missing_data_folder_are_one_line_and_status_2(tmp_p
         taken.listen()
         port = taken.getsockname()[1]
         busy = subprocess.run([sys.executable, "-m", "jointid", "serve", "--port", str(port)],
-                              capture_output=True, text=True, timeout=60)
+                              capture_output=True, text=True, timeout=60, check=False)
     assert busy.returncode == 2 and busy.stdout == ""
     assert busy.stderr == f"jointid: --port {port}: the port is in use on 127.0.0.1; choose another with --port\n"
     missing = subprocess.run([sys.executable, "-m", "jointid", "serve", "--data", str(tmp_path / "nowhere")],
-                             capture_output=True, text=True, timeout=60)
+                             capture_output=True, text=True, timeout=60, check=False)
     assert missing.returncode == 2 and missing.stdout == ""
     assert missing.stderr == f"jointid: --data {tmp_path / 'nowhere'}: no such folder\n"
 
