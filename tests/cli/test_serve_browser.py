@@ -14,36 +14,8 @@ import json
 import aiohttp
 import pytest
 
-from tests.support.chromium import Chromium
+from tests.support.chromium import PAINTED, RECORD_FRAMES, Chromium
 from tests.support.serve_support import ServedExplorer
-
-RECORD_FRAMES = """
-window.terminalText = "";
-window.terminalWaiters = [];
-const PageWebSocket = window.WebSocket;
-window.WebSocket = class extends PageWebSocket {
-  constructor(...args) {
-    super(...args);
-    const decoder = new TextDecoder();
-    this.addEventListener("message", (event) => {
-      if (typeof event.data === "string") return;
-      window.terminalText += decoder.decode(event.data, {stream: true});
-      window.terminalWaiters = window.terminalWaiters.filter(([text, resolve]) => {
-        if (!window.terminalText.includes(text)) return true;
-        resolve(true);
-        return false;
-      });
-    });
-  }
-};
-window.terminalShows = (text) => window.terminalText.includes(text) ? Promise.resolve(true)
-  : new Promise((resolve) => window.terminalWaiters.push([text, resolve]));
-"""
-"""Runs before the page's scripts: keeps the terminal output the page receives, and `terminalShows(text)`
-resolves once it holds `text` (an event, not a poll)."""
-
-PAINTED = "new Promise((resolve) => requestAnimationFrame(() => requestAnimationFrame(() => resolve(true))))"
-"""Resolves after the browser has drawn two frames: the canvas shows what the terminal received."""
 
 
 @pytest.fixture(scope="module")

@@ -28,6 +28,34 @@ FLAGS = ("--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-
          "--remote-debugging-port=0")
 """Flags that work on this machine's kind (and in CI, which runs as root: --no-sandbox)."""
 
+RECORD_FRAMES = """
+window.terminalText = "";
+window.terminalWaiters = [];
+const PageWebSocket = window.WebSocket;
+window.WebSocket = class extends PageWebSocket {
+  constructor(...args) {
+    super(...args);
+    const decoder = new TextDecoder();
+    this.addEventListener("message", (event) => {
+      if (typeof event.data === "string") return;
+      window.terminalText += decoder.decode(event.data, {stream: true});
+      window.terminalWaiters = window.terminalWaiters.filter(([text, resolve]) => {
+        if (!window.terminalText.includes(text)) return true;
+        resolve(true);
+        return false;
+      });
+    });
+  }
+};
+window.terminalShows = (text) => window.terminalText.includes(text) ? Promise.resolve(true)
+  : new Promise((resolve) => window.terminalWaiters.push([text, resolve]));
+"""
+"""Runs before the page's scripts: keeps the terminal output the page receives, and `terminalShows(text)`
+resolves once it holds `text` (an event, not a poll)."""
+
+PAINTED = "new Promise((resolve) => requestAnimationFrame(() => requestAnimationFrame(() => resolve(true))))"
+"""Resolves after the browser has drawn two frames: the canvas shows what the terminal received."""
+
 START_SECONDS = 60.0
 """How long Chromium may take to open its DevTools port on a loaded machine."""
 

@@ -10,6 +10,7 @@ from textual.containers import VerticalScroll
 from textual.screen import Screen
 from textual.widgets import Markdown
 
+from jointid.cli.serve_command import DEFAULT_IDLE_TIMEOUT
 from jointid.options import DEFAULT_ORDER
 
 from ..palette import PHYSICS_STOPS, TOUR
@@ -18,8 +19,8 @@ from ..widgets.footer import KeyFooter
 from ..widgets.stepper import Stepper
 
 HELP_FILE = Path(__file__).parent.parent / "help.md"
-"""Markdown source of the help text; `{keys}`, the ranges, the tour's length and the smoothing order are filled
-in from the code."""
+"""Markdown source of the help text; `{keys}`, the ranges, the tour's length, the smoothing order and a browser
+session's idle timeout are filled in from the code."""
 
 
 def keys_table(bindings: list[Binding]) -> str:
@@ -50,6 +51,7 @@ def help_markdown(bindings: list[Binding]) -> str:
         tour_stops=len(TOUR) + len(PHYSICS_STOPS),
         lesson_stops=len(TOUR),
         order=DEFAULT_ORDER,
+        idle_minutes=f"{DEFAULT_IDLE_TIMEOUT / 60:g}",
     )
 
 
