@@ -22,6 +22,7 @@ import asyncio
 import logging
 import signal
 import time
+import uuid
 from pathlib import Path
 
 from aiohttp import WSMsgType, web
@@ -41,6 +42,10 @@ FULL_CLOSE_CODE = 1013
 
 IDLE_CLOSE_CODE = 1001
 """WebSocket close code 'going away', for a session ended for want of keys."""
+
+CLIENT_COOKIE = "jointid_client"
+"""A random name per browser, set with the page: a reverse proxy in front of several servers hashes it so that a
+tab's WebSocket and its downloads reach the same server (README.md, "Serve")."""
 
 ACTIVITY = {"stdin", "resize"}
 """Browser messages that show a person is there; the page's own pings and focus changes do not."""
@@ -159,11 +164,16 @@ class JointIdServer(Server):
                     print=self.announce)
 
     async def handle_index(self, request: web.Request) -> web.StreamResponse:
-        """The page, or a page saying the server is full (status 503) when every session is taken."""
+        """The page, or a page saying the server is full (status 503) when every session is taken; either gives
+        the browser a random CLIENT_COOKIE if it has none."""
         if self.full:
-            return web.Response(status=503, content_type="text/html",
-                                text=FULL_PAGE.format(message=full_message(self.max_sessions)))
-        return await super().handle_index(request)
+            response = web.Response(status=503, content_type="text/html",
+                                    text=FULL_PAGE.format(message=full_message(self.max_sessions)))
+        else:
+            response = await super().handle_index(request)
+        if CLIENT_COOKIE not in request.cookies:
+            response.set_cookie(CLIENT_COOKIE, uuid.uuid4().hex, httponly=True, samesite="Strict")
+        return response
 
     async def handle_websocket(self, request: web.Request) -> web.WebSocketResponse:
         """Start a session for this connection, or tell it the server is full; end the session when it goes."""

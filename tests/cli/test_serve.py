@@ -56,6 +56,9 @@ def run(scenario):
 
 def test_the_browser_sees_the_lesson_and_downloads_the_fit_and_the_session_ends_with_the_socket(server):
     async def scenario(http):
+        async with http.get(server.url + "/") as page:  # the page: the address of its WebSocket, and a cookie
+            assert page.status == 200 and f"ws://127.0.0.1:{server.port}/ws" in await page.text()
+            assert len(page.cookies["jointid_client"].value) == 32
         start = len(server.lines)
         tab = await BrowserTerminal(http, server).connect()
         await tab.wait_for_text("0.793312")  # rich motion at noise 0.20, the lesson's first readouts

@@ -31,10 +31,12 @@ FLAGS = ("--headless", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-
 RECORD_FRAMES = """
 window.terminalText = "";
 window.terminalWaiters = [];
+window.terminalSockets = [];
 const PageWebSocket = window.WebSocket;
 window.WebSocket = class extends PageWebSocket {
   constructor(...args) {
     super(...args);
+    window.terminalSockets.push(this);
     const decoder = new TextDecoder();
     this.addEventListener("message", (event) => {
       if (typeof event.data === "string") return;
@@ -50,8 +52,8 @@ window.WebSocket = class extends PageWebSocket {
 window.terminalShows = (text) => window.terminalText.includes(text) ? Promise.resolve(true)
   : new Promise((resolve) => window.terminalWaiters.push([text, resolve]));
 """
-"""Runs before the page's scripts: keeps the terminal output the page receives, and `terminalShows(text)`
-resolves once it holds `text` (an event, not a poll)."""
+"""Runs before the page's scripts: keeps the terminal output the page receives and its sockets
+(`terminalSockets`), and `terminalShows(text)` resolves once the output holds `text` (an event, not a poll)."""
 
 PAINTED = "new Promise((resolve) => requestAnimationFrame(() => requestAnimationFrame(() => resolve(true))))"
 """Resolves after the browser has drawn two frames: the canvas shows what the terminal received."""
