@@ -126,11 +126,14 @@ class BrowserTerminal:
         self.socket: aiohttp.ClientWebSocketResponse | None = None
         self.deliveries: list[str] = []
         self.closed = False
-        self.close_reason = ""
+        self.close_reason: tuple = ()
+        self.changed = asyncio.Event()
+        self.reader: asyncio.Task | None = None
 
     async def connect(self, focus: bool = True) -> BrowserTerminal:
         """Open the WebSocket as the page does (and give the terminal focus, as a click on the page does)."""
         self.socket = await self.http.ws_connect(f"{self.server.url}/ws?width={self.width}&height={self.height}")
+        self.reader = asyncio.create_task(self._read())
         await self.send(["resize", {"width": self.width, "height": self.height}])
         if focus:
             await self.send(["focus"])
@@ -157,43 +160,53 @@ class BrowserTerminal:
         parts = [line[line.rfind("▌") + 1:] for line in self.screen.display if "▌" in line]
         return " ".join(" ".join(parts).split())
 
-    async def receive_one(self, timeout: float) -> None:
-        """Take one frame: draw it, note a delivery, or note the close."""
-        message = await asyncio.wait_for(self.socket.receive(), timeout)
-        if message.type == aiohttp.WSMsgType.BINARY:
-            self.stream.feed(message.data)
-        elif message.type == aiohttp.WSMsgType.TEXT:
-            kind, data = json.loads(message.data)
-            if kind == "deliver_file_start":
-                self.deliveries.append(data)
-        elif message.type in (aiohttp.WSMsgType.CLOSE, aiohttp.WSMsgType.CLOSING, aiohttp.WSMsgType.CLOSED):
-            self.closed = True
-            self.close_reason = self.socket.close_code, message.extra or ""
+    async def _read(self) -> None:
+        """Take every frame as it comes (so the server's pings are answered): draw it, note a delivery, or note
+        the close; wake whoever waits."""
+        while True:
+            message = await self.socket.receive()
+            if message.type == aiohttp.WSMsgType.BINARY:
+                self.stream.feed(message.data)
+            elif message.type == aiohttp.WSMsgType.TEXT:
+                kind, data = json.loads(message.data)
+                if kind == "deliver_file_start":
+                    self.deliveries.append(data)
+            else:  # CLOSE, CLOSING, CLOSED or ERROR: the connection is over
+                self.closed = True
+                self.close_reason = self.socket.close_code, message.extra or ""
+            self.changed.set()
+            if self.closed:
+                return
 
     async def wait_until(self, condition, what: str, timeout: float = DEADLINE) -> None:
-        """Read frames until `condition()` holds; fail naming `what` after `timeout` seconds."""
+        """Wait until `condition()` holds, checked as each frame arrives; fail naming `what` after `timeout`
+        seconds, or if the connection closes first."""
         deadline = time.monotonic() + timeout
         while not condition():
             left = deadline - time.monotonic()
             if left <= 0 or self.closed:
                 raise AssertionError(f"waited for {what}; the screen shows:\n{self.text}\nclosed: {self.closed} "
                                      f"{self.close_reason}")
+            self.changed.clear()
+            if condition():
+                return
             try:
-                await self.receive_one(left)
+                await asyncio.wait_for(self.changed.wait(), left)
             except TimeoutError:
                 pass
 
     async def wait_for_text(self, text: str, timeout: float = DEADLINE) -> None:
-        """Read frames until the screen shows `text`."""
+        """Wait until the screen shows `text`."""
         await self.wait_until(lambda: text in self.text, repr(text), timeout)
 
     async def wait_for_close(self, timeout: float = DEADLINE) -> None:
-        """Read frames until the server closes the connection."""
+        """Wait until the server closes the connection."""
         deadline = time.monotonic() + timeout
         while not self.closed:
             assert time.monotonic() < deadline, f"the server did not close the connection; screen:\n{self.text}"
+            self.changed.clear()
             try:
-                await self.receive_one(deadline - time.monotonic())
+                await asyncio.wait_for(self.changed.wait(), deadline - time.monotonic())
             except TimeoutError:
                 pass
 
@@ -208,3 +221,5 @@ class BrowserTerminal:
     async def close(self) -> None:
         """Close the connection as a browser closing the tab does."""
         await self.socket.close()
+        if self.reader is not None:
+            await self.reader
