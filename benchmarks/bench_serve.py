@@ -22,8 +22,9 @@ Run: .venv/bin/python benchmarks/bench_serve.py [ROUNDS] [--sessions N] [--no-ch
    goal: median <= 2. Each session's first `2` and `1` fit and draw slow and rich motion
    for the first time in that process (later ones are served from its caches), so the p95 is
    also printed without them. The resident memory (VmRSS) of every session's process
-   after its keys is printed per session: what `jointid serve`'s default
-   --max-sessions is sized by (SESSION_MEMORY_MIB in jointid/cli/serve_command.py).
+   after its keys is printed per session, and one session's after it has opened
+   every analysis view: what `jointid serve`'s default --max-sessions is sized
+   by (SESSION_MEMORY_MIB in jointid/cli/serve_command.py).
 
 Milliseconds and MiB are printed for scale; the machine's speed drifts between hours.
 """
@@ -131,6 +132,31 @@ async def class_round(http, server: ServedExplorer, sessions: int) -> tuple[list
     return latencies, memory
 
 
+VIEWS = (("s", "Seed sweep"), ("m", "Cross-excitation"), ("e", "Residuals"), ("l", "ladder"), ("d", "Design"))
+"""Each analysis view's key and a text its screen shows."""
+VIEW_SETTLE = 4.0
+"""Seconds a view is left open to finish its work (the sweep's seeds, the ladder's simulations) before Escape."""
+
+
+async def every_view_memory(http, server: ServedExplorer) -> tuple[float, float]:
+    """One session's resident MiB after its first frame, and after opening every analysis view in turn (the
+    ladder's simulations load scipy): the most a student's session holds."""
+    start = len(server.lines)
+    tab = await BrowserTerminal(http, server, 120, 40).connect()
+    await tab.wait_for_text(READOUTS["1"])
+    pid = int(server.wait_for_line(r"session started: pid (\d+)", start).group(1))
+    first = resident_mib(pid)
+    for key, text in VIEWS:
+        await tab.press(key)
+        await tab.wait_for_text(text)
+        await asyncio.sleep(VIEW_SETTLE)
+        await tab.press("escape")
+        await tab.wait_for_text(READOUTS["1"])
+    after = resident_mib(pid)
+    await tab.close()
+    return first, after
+
+
 def p95(values: list[float]) -> float:
     """The 95th percentile."""
     return statistics.quantiles(values, n=20)[-1]
@@ -185,6 +211,7 @@ async def main_async(rounds: int, sessions: int, use_chromium: bool) -> int:
                     f"{crowd_p95[-1] * 1000:.0f} ms", flush=True)
             if page is not None:
                 await page.close()
+            view_memory = await every_view_memory(http, server)
     finally:
         if browser is not None:
             browser.close()
@@ -210,6 +237,8 @@ async def main_async(rounds: int, sessions: int, use_chromium: bool) -> int:
                   [a / b for a, b in zip(crowd_later, alone_later)]))
     print(f"\nresident memory per session after its keys (VmRSS, {len(memory)} sessions): min {min(memory):.0f} / "
           f"median {statistics.median(memory):.0f} / max {max(memory):.0f} MiB")
+    print(f"one session's resident memory at its first frame {view_memory[0]:.0f} MiB, after opening every analysis "
+          f"view {view_memory[1]:.0f} MiB (what SESSION_MEMORY_MIB allows for)")
     return 0 if verdict else 1
 
 

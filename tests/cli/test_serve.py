@@ -167,26 +167,40 @@ def test_a_port_in_use_and_a_missing_data_folder_are_one_line_and_status_2(tmp_p
 
 @pytest.fixture(scope="module")
 def idle_server():
-    """`jointid serve --idle-timeout 4` without --data."""
-    served = ServedExplorer("--idle-timeout", "4")
+    """`jointid serve --idle-timeout 3` without --data."""
+    served = ServedExplorer("--idle-timeout", "3")
     yield served
     served.stop()
 
 
-@pytest.mark.slow
 def test_an_abandoned_session_ends_after_the_idle_timeout_and_ctrl_o_is_off_without_data(idle_server):
     async def scenario(http):
         start = len(idle_server.lines)
         tab = await BrowserTerminal(http, idle_server, 120, 40).connect()
-        await tab.wait_for_text("0.800000")
-        pid = int(idle_server.wait_for_line(r"session started: pid (\d+)", start).group(1))
-        await tab.press("ctrl+o")
+        await tab.press("ctrl+o")  # the last key: the idle clock runs from here
         await tab.wait_until(lambda: "without a --data folder" in tab.notices, "Ctrl+O's refusal")
         assert "Path (Enter opens it)" not in tab.text
+        pid = int(idle_server.wait_for_line(r"session started: pid (\d+)", start).group(1))
         await tab.wait_for_close()  # nothing typed since: the server ends the session
         code, reason = tab.close_reason
-        assert code == 1001 and reason == "Session ended after 4 s without a key. Reload the page to start again."
+        assert code == 1001 and reason == "Session ended after 3 s without a key. Reload the page to start again."
         idle_server.session_ended(pid, start)
         assert not process_alive(pid)
 
     run(scenario)
+
+
+def test_serve_refuses_bad_flags_and_a_missing_extra_in_one_line(capsys, monkeypatch):
+    from jointid.cli import main
+
+    def refused(*argv: str) -> str:
+        assert main(list(argv)) == 2
+        out, err = capsys.readouterr()
+        assert out == "" and err.count("\n") == 1, err
+        return err
+
+    assert refused("serve", "--csv", "nowhere.csv") == "jointid: nowhere.csv: cannot open: No such file or directory\n"
+    assert refused("--noise", "0.2", "serve").startswith("jointid: put the explorer's flags after `serve`")
+    assert "--max-sessions: must be a whole number from 1" in refused("serve", "--max-sessions", "0")
+    monkeypatch.setitem(sys.modules, "jointid.cli.web_server", None)  # as if textual-serve were not installed
+    assert refused("serve") == "jointid: jointid serve needs textual-serve: pip install 'jointid[web]'\n"
