@@ -10,7 +10,6 @@ import asyncio
 import json
 import os
 import socket
-import subprocess
 import sys
 
 import aiohttp
@@ -150,21 +149,6 @@ def path_field(tab: BrowserTerminal) -> str:
     return lines[label + 1][start:].split("▌")[0].split("│")[0].strip()
 
 
-def test_a_port_in_use_and_a_missing_data_folder_are_one_line_and_status_2(tmp_path):
-    with socket.socket() as taken:
-        taken.bind(("127.0.0.1", 0))
-        taken.listen()
-        port = taken.getsockname()[1]
-        busy = subprocess.run([sys.executable, "-m", "jointid", "serve", "--port", str(port)],
-                              capture_output=True, text=True, timeout=60, check=False)
-    assert busy.returncode == 2 and busy.stdout == ""
-    assert busy.stderr == f"jointid: --port {port}: the port is in use on 127.0.0.1; choose another with --port\n"
-    missing = subprocess.run([sys.executable, "-m", "jointid", "serve", "--data", str(tmp_path / "nowhere")],
-                             capture_output=True, text=True, timeout=60, check=False)
-    assert missing.returncode == 2 and missing.stdout == ""
-    assert missing.stderr == f"jointid: --data {tmp_path / 'nowhere'}: no such folder\n"
-
-
 @pytest.fixture(scope="module")
 def idle_server():
     """`jointid serve --idle-timeout 3` without --data."""
@@ -190,17 +174,34 @@ def test_an_abandoned_session_ends_after_the_idle_timeout_and_ctrl_o_is_off_with
     run(scenario)
 
 
-def test_serve_refuses_bad_flags_and_a_missing_extra_in_one_line(capsys, monkeypatch):
+def test_serve_refuses_a_port_in_use_a_missing_folder_bad_flags_and_a_missing_extra_in_one_line(
+        capsys, monkeypatch, tmp_path):
     from jointid.cli import main
 
     def refused(*argv: str) -> str:
-        assert main(list(argv)) == 2
+        try:
+            status = main(list(argv))
+        except SystemExit as exit:  # argparse's refusals end the process (OneLineParser.error)
+            status = exit.code
+        assert status == 2
         out, err = capsys.readouterr()
         assert out == "" and err.count("\n") == 1, err
         return err
 
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = taken.getsockname()[1]
+        assert refused("serve", "--port", str(port)) == (
+            f"jointid: --port {port}: the port is in use on 127.0.0.1; choose another with --port\n")
+    assert refused("serve", "--data", str(tmp_path / "nowhere")) == f"jointid: --data {tmp_path / 'nowhere'}: no such folder\n"
+    (tmp_path / "file").write_text("")
+    assert refused("serve", "--data", str(tmp_path / "file")) == f"jointid: --data {tmp_path / 'file'}: not a folder\n"
     assert refused("serve", "--csv", "nowhere.csv") == "jointid: nowhere.csv: cannot open: No such file or directory\n"
     assert refused("--noise", "0.2", "serve").startswith("jointid: put the explorer's flags after `serve`")
     assert "--max-sessions: must be a whole number from 1" in refused("serve", "--max-sessions", "0")
+    import jointid.cli
+
     monkeypatch.setitem(sys.modules, "jointid.cli.web_server", None)  # as if textual-serve were not installed
+    monkeypatch.delattr(jointid.cli, "web_server", raising=False)  # imported by the port's check above
     assert refused("serve") == "jointid: jointid serve needs textual-serve: pip install 'jointid[web]'\n"

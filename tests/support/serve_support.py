@@ -50,7 +50,11 @@ class ServedExplorer:
         self.lines: list[str] = []
         self.changed = threading.Condition()
         threading.Thread(target=self._read_log, daemon=True).start()
-        self.wait_for_line(re.escape("Press Ctrl+C to stop."))
+        try:
+            self.wait_for_line(re.escape("Press Ctrl+C to stop."))
+        except BaseException:
+            self.stop()  # a server that did not start is not left running
+            raise
 
     def _read_log(self) -> None:
         """Collect the server's output lines as they come (a thread: a pipe's buffered reads defeat select)."""
