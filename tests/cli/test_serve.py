@@ -136,6 +136,10 @@ def test_ctrl_o_in_the_browser_reads_only_inside_the_data_folder(server, data_tr
         await tab.wait_until(lambda: path_field(tab) == "", "the path field to empty")
         await tab.press("inside.csv", "enter")
         await tab.wait_for_text("Log loaded")
+        await tab.press("?")
+        await tab.wait_for_text("Keys")
+        await tab.press("end")  # the help's last section, in a browser only
+        await tab.wait_for_text("In a browser")
         await tab.close()
 
     run(scenario)
