@@ -61,6 +61,9 @@ def idle_message(idle_timeout: float) -> str:
     return f"Session ended after {idle_timeout:g} s without a key. Reload the page to start again."
 
 
+STOPPED_MESSAGE = "The jointid server stopped."
+"""What every browser is told when the server stops."""
+
 FULL_PAGE = """<!DOCTYPE html>
 <html><head><meta charset="utf-8"><title>jointid: server full</title></head>
 <body style="background:#0c181f;color:#f0f0f0;font-family:sans-serif;padding:3em">
@@ -131,7 +134,8 @@ class JointIdServer(Server):
         self.idle_timeout = idle_timeout
         self.environment = environment
         self.announcement = announcement
-        self.sessions: set[Session] = set()
+        self.sessions: dict[Session, web.WebSocketResponse] = {}
+        """Every running session and its browser's connection."""
 
     @property
     def full(self) -> bool:
@@ -145,6 +149,12 @@ class JointIdServer(Server):
 
     async def on_startup(self, app: web.Application) -> None:
         """Nothing: textual-serve prints its logo here, before it listens; `announce` speaks once it does."""
+
+    async def on_shutdown(self, app: web.Application) -> None:
+        """Close every browser's connection as the server stops, so each session ends at once (aiohttp would
+        otherwise wait for the connections to end by themselves)."""
+        await asyncio.gather(*(websocket.close(code=IDLE_CLOSE_CODE, message=STOPPED_MESSAGE.encode())
+                               for websocket in list(self.sessions.values())), return_exceptions=True)
 
     def announce(self, *_) -> None:
         """Say where the explorer is served and how many sessions it takes, once the server listens."""
@@ -190,7 +200,7 @@ class JointIdServer(Server):
         session = Session(self.argv, self.environment, write_bytes=websocket.send_bytes,
                           write_str=websocket.send_str, close=websocket.close,
                           download_manager=self.download_manager, debug=self.debug)
-        self.sessions.add(session)
+        self.sessions[session] = websocket
         watchdog = None
         try:
             await session.start(width, height)
@@ -205,7 +215,7 @@ class JointIdServer(Server):
             if watchdog is not None:
                 watchdog.cancel()
             await session.stop()
-            self.sessions.discard(session)
+            self.sessions.pop(session, None)
             if session.pid is not None:
                 log.info("session ended: pid %d (%d of %d)", session.pid, len(self.sessions), self.max_sessions)
         return websocket
