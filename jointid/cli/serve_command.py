@@ -184,7 +184,8 @@ def run(args: argparse.Namespace) -> int:
     check_port_free(args.host, args.port)
     max_sessions, sentence = sessions_sentence(args.max_sessions, available_memory())
     server = web_server.JointIdServer(
-        session_command(words), host=args.host, port=args.port, public_url=args.public_url,
+        session_command(words), host=args.host, port=args.port,
+        public_url=None if args.public_url is None else args.public_url.rstrip("/"),  # paths are added to it
         max_sessions=max_sessions, idle_timeout=args.idle_timeout,
         environment={DATA_ENVIRONMENT: data or ""}, announcement=sentence,
     )
