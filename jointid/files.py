@@ -277,7 +277,11 @@ def atomic_outputs(paths: Sequence, *, overwrite: bool = False) -> Iterator[list
         if not overwrite and os.path.lexists(path):
             raise _already_exists(path)
     token = secrets.token_hex(4)  # one for the group, so a later run can tell its members belong together
-    for folder in dict.fromkeys(os.path.dirname(os.path.abspath(path)) for path in paths):
+    try:
+        folders = dict.fromkeys(os.path.dirname(os.path.abspath(path)) for path in paths)
+    except OSError as error:  # a relative path while the current folder has been removed
+        raise ExportError(f"{', '.join(map(shown_path, paths))}: cannot write: {_reason(error)}") from None
+    for folder in folders:
         remove_stale_temporaries(folder)
     temporaries: list[str] = []
     handles: list[TextIO] = []

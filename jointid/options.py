@@ -35,6 +35,8 @@ LADDER = ("plain", "coulomb", "bias", "angle-offset", "coulomb+bias", "coulomb+a
 
 LOG_MODEL = "coulomb+bias"
 """The model a log is fitted with unless told otherwise: real joints have Coulomb friction and sensors a bias."""
+VOLTAGE_LOG_MODEL = "coulomb+angle-offset"
+"""A voltage log's default model: WPILib SysId's arm, V = kS sgn qd + kG cos(q + q0) + kV qd + kA qdd."""
 
 SETTING_DEFAULTS = {
     "motion": "rich",

@@ -25,7 +25,8 @@ from .version import VersionAction
 
 SUBCOMMANDS = {"fit": "fit_command", "compare": "compare_command", "torque": "torque_command",
                "sweep": "sweep_command", "matrix": "matrix_command", "simulate": "simulate_command",
-               "design": "design_command", "bag-info": "bag_info_command", "serve": "serve_command"}
+               "design": "design_command", "export": "export_command", "report": "report_command",
+               "bag-info": "bag_info_command", "log-info": "log_info_command", "serve": "serve_command"}
 """Each subcommand's name and the module that defines it (its NAME), in help order."""
 
 
@@ -43,7 +44,8 @@ def build_parser() -> OneLineParser:
         description=(
             "Identify a rotating joint's inertia I, gravity mass moment h and viscous damping B "
             "from motion and torque: tau = I*qdd + h*g*cos(q) + B*qd. "
-            "With no subcommand, open the terminal explorer at the given settings, or on a --csv or --bag log."
+            "With no subcommand, open the terminal explorer at the given settings, or on a --csv, --bag or --wpilog "
+            "log."
         ),
     )
     parser.add_argument("--version", action=VersionAction,
@@ -83,6 +85,7 @@ def main(argv: list[str] | None = None, *, end_after_subcommand: bool = False, e
     argv = sys.argv[1:] if argv is None else argv
     try:
         args = parse(argv)
+        args.argv = list(argv)  # as typed, for what a report says it was made by
         if args.command is None:
             from .explorer_command import run as run_explorer
 

@@ -13,6 +13,7 @@ from ..options import (
     LOG_MODEL,
     SETTING_DEFAULTS,
     TRAINING_MOTION_NAMES,
+    VOLTAGE_LOG_MODEL,
     SettingsError,
     describe_models,
     parse_float,
@@ -174,7 +175,8 @@ def add_model_argument(parser: argparse.ArgumentParser) -> None:
     """Add --model and --constrained, how to fit (for synthetic experiments and logs alike)."""
     parser.add_argument("--model", type=setting_type("model"), default=None, metavar="NAME",
                         help=f"fitted model: {describe_models()}; default {SETTING_DEFAULTS['model']} "
-                        f"(the lesson's), and {LOG_MODEL} for a log (real joints have friction and sensor bias)")
+                        f"(the lesson's), {LOG_MODEL} for a log (real joints have friction and sensor bias), and "
+                        f"{VOLTAGE_LOG_MODEL} for a voltage log (SysId's arm)")
     parser.add_argument("--constrained", action="store_true",
                         help="fit subject to the sign rules (I at least 1e-6 kg m², h, B, Fc at least 0), "
                         "beside the unconstrained fit; off by default")

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from ..options import LADDER, LOG_MODEL
+from ..options import LADDER
 from .arguments import UserError, add_settings_arguments, settings_from
 from .exit_status import ExitStatus
 from .log_arguments import (
@@ -13,6 +13,7 @@ from .log_arguments import (
     filter_options,
     has_log,
     load_logs,
+    log_model,
     with_default_settings,
 )
 from .output import print_json
@@ -39,9 +40,24 @@ def run(args: argparse.Namespace) -> int:
     """Compare the ladder on the experiment (or the --csv log) and print text or JSON; exit status 0."""
     from ..present.comparison import comparison_text
     from ..present.documents import comparison_document
+
+    comparison, heading, settings, source = compare(args)
+    if args.json:
+        print_json(comparison_document(comparison, settings=settings, source=source))
+    else:
+        print(comparison_text(comparison, heading))
+    return ExitStatus.SUCCESS
+
+
+def compare(args: argparse.Namespace):
+    """The ladder on the experiment or the --csv/--bag log: (ladder.Comparison, its heading, the Settings or None,
+    the source object or None); UserError (one line) on any problem. `jointid report --compare` uses it too."""
     from ..present.notes import low_pass_short_note
     from ..present.text import settings_header
-    from ..studies.ladder import compare_experiment, compare_models  # numpy and the numeric modules load only to run
+    from ..studies.ladder import (  # numpy and the numeric modules load only to run
+        compare_experiment,
+        compare_models,
+    )
 
     if has_log(args):
         from ..logs.table import LogError
@@ -52,22 +68,17 @@ def run(args: argparse.Namespace) -> int:
         training, heldout = load_logs(args)
         try:
             # The default log fit first: what its robust step and standstill leave out, no model decides.
-            logs = fit_logs(training, heldout, model=model_named(LOG_MODEL), filtering=filter_options(args),
+            logs = fit_logs(training, heldout, model=model_named(log_model(args)), filtering=filter_options(args),
                             sensitivity=False, exclusion=exclusion_options(args))
         except LogError as error:
             raise UserError(str(error)) from None
         low_pass = logs.filter
         kept = None if logs.exclusions is None else ~logs.exclusions.pushes  # standstill decides no model either
+        every = ALL_COLUMNS.in_effort(training.effort)
         comparison = compare_models(training.data, None if heldout is None else heldout.data, low_pass=low_pass,
-                                    kept=kept, regressor=smoothed_regressor(training, ALL_COLUMNS))
-        heading = f"Training log {training.source_text()}; {low_pass_short_note(low_pass)}"
-        settings, source = None, {"training": training.path, "heldout": None if heldout is None else heldout.path}
-    else:
-        settings = settings_from(with_default_settings(args))
-        comparison = compare_experiment(settings)
-        heading, source = settings_header(settings), None
-    if args.json:
-        print_json(comparison_document(comparison, settings=settings, source=source))
-    else:
-        print(comparison_text(comparison, heading))
-    return ExitStatus.SUCCESS
+                                    kept=kept, regressor=smoothed_regressor(training, every), effort=training.effort)
+        heading = f"Training log {training.source_text()}; {low_pass_short_note(low_pass, training.effort.name)}"
+        return comparison, heading, None, {"training": training.path,
+                                           "heldout": None if heldout is None else heldout.path}
+    settings = settings_from(with_default_settings(args))
+    return compare_experiment(settings), settings_header(settings), settings, None

@@ -1,4 +1,4 @@
-"""`jointid` with no subcommand: the terminal explorer, on synthetic settings or on a --csv or --bag log.
+"""`jointid` with no subcommand: the terminal explorer, on synthetic settings or on a --csv, --bag or --wpilog log.
 
 The core never imports the terminal UI. The UI registers one entry function
 under the `jointid.faces` entry-point group (see pyproject.toml); this command
@@ -13,7 +13,7 @@ jointid` still makes (tui/command.py has the figure).
 
 from __future__ import annotations
 
-from ..options import LOG_MODEL, SettingsError
+from ..options import SettingsError
 from .arguments import UserError, settings_from
 from .floating_point import strict_arithmetic
 from .log_arguments import (
@@ -21,10 +21,9 @@ from .log_arguments import (
     convention_options,
     derivative_options,
     filter_options,
-    fit_loaded_logs,
-    fit_pooled_runs,
+    fit_any_logs,
     has_log,
-    several_runs,
+    log_model,
     with_default_settings,
 )
 from .version import ENTRY_POINT_GROUP
@@ -51,11 +50,11 @@ def run(args, explore=None) -> int:
     """
     # A bad log is one line on stderr and status 2 before the app starts, as for `jointid fit --csv/--bag`.
     with strict_arithmetic():
-        loaded = (fit_pooled_runs(args) if several_runs(args) else fit_loaded_logs(args)) if has_log(args) else None
+        loaded = fit_any_logs(args) if has_log(args) else None
     derivatives = derivative_options(args)  # also for logs opened later with Ctrl+O
     filtering = filter_options(args)
     conventions = convention_options(args)  # before _defaults clears the log flags
-    settings = settings_from(with_default_settings(args) if loaded is None else _defaults(args))
+    settings = settings_from(with_default_settings(args) if loaded is None else _defaults(args, loaded))
     if explore is None:
         explore = load_explorer()
     try:
@@ -64,10 +63,12 @@ def run(args, explore=None) -> int:
         raise UserError(str(error)) from None
 
 
-def _defaults(args):
+def _defaults(args, loaded):
     """The synthetic defaults behind a log (load_logs has refused any setting flag already)."""
+    model = log_model(args)  # before the log flags (--effort) are cleared
     for name in LOG_ONLY_FLAGS:
         setattr(args, name, None)
-    if args.model is None:  # the explorer refits the log with its model setting: the log's default
-        args.model = LOG_MODEL
+    if args.model is None:  # the explorer refits the log with its model setting: the model it was fitted with
+        runs = getattr(loaded, "runs", None)
+        args.model = (runs[0] if runs else loaded).result.model.name if loaded is not None else model
     return with_default_settings(args)

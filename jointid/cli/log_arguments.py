@@ -1,4 +1,5 @@
-"""`jointid fit --csv` / `--bag`: the options and the run for fitting joint logs (CSV files or ROS bags).
+"""`jointid fit --csv` / `--bag` / `--wpilog`: the options and the run for fitting joint logs (CSV files, ROS bags
+or WPILib data logs; a SysId routine log is fitted as its test runs).
 
 Synthetic settings (--motion, --noise, --samples, --seed, --true-*) describe generated
 data, so they cannot apply to a log: giving them with --csv is an error (one
@@ -12,8 +13,16 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
-from ..options import DEFAULT_ORDER, LOG_MODEL, SETTING_DEFAULTS
+from ..options import DEFAULT_ORDER, LOG_MODEL, SETTING_DEFAULTS, VOLTAGE_LOG_MODEL
 from .arguments import UserError, finite_float, whole_number
+from .effort_arguments import (
+    EFFORT_FLAGS,
+    add_effort_arguments,
+    check_gains_request,
+    effort_extras,
+    effort_reading,
+    motor_drive,
+)
 from .exit_status import ExitStatus
 from .output import print_json
 
@@ -25,11 +34,15 @@ SETTING_FLAGS = ("motion", "noise", "samples", "seed", "true_coulomb", "true_bia
 """Synthetic-experiment options that a log fit rejects."""
 
 LOG_ONLY_FLAGS = ("heldout", "degrees", "window", "order", "cutoff", "decimate", "exclude", "no_robust", "joint",
-                  "topic", "train_window", "heldout_window", "effort_scale", "columns", "zero", "clockwise")
+                  "topic", "train_window", "heldout_window", "effort_scale", "columns", "zero", "clockwise", "entry",
+                  "units", *EFFORT_FLAGS)
 """Options that mean something only with --csv or --bag."""
 
 BAG_ONLY_FLAGS = ("joint", "topic")
 """Options that mean something only with --bag."""
+
+WPILOG_ONLY_FLAGS = ("entry", "units")
+"""Options that mean something only with --wpilog."""
 
 SYNTHETIC_ONLY_FLAGS = ("simulate", "horizon")
 """Options that need the synthetic joint's true torque, which a log does not have."""
@@ -38,8 +51,8 @@ SYNTHETIC_ONLY_FLAGS = ("simulate", "horizon")
 def add_log_arguments(parser: argparse.ArgumentParser) -> None:
     """Add --csv, --bag and the options of a log fit, and make setting flags detectable."""
     group = parser.add_argument_group(
-        "joint logs (CSV: t, q, qd, qdd, tau by header name or --columns; or one joint of a ROS bag's "
-        "sensor_msgs/JointState)",
+        "joint logs (CSV: t, q, qd, qdd, tau by header name or --columns; one joint of a ROS bag's "
+        "sensor_msgs/JointState; or a WPILib data log's entries)",
         "Fit a logged joint instead of a synthetic experiment; --motion, --noise, --samples, --seed and "
         "--true-* describe synthetic data and are refused with a log.",
     )
@@ -50,6 +63,16 @@ def add_log_arguments(parser: argparse.ArgumentParser) -> None:
     source.add_argument("--bag", metavar="BAG",
                         help="fit one joint of this ROS bag (ROS 1 .bag, ROS 2 folder, .mcap or .db3; "
                         "needs pip install 'jointid[ros]')")
+    source.add_argument("--wpilog", metavar="LOG.wpilog",
+                        help="fit a WPILib data log: a SysId routine log's tests as runs of one joint, or the "
+                        "entries named by --entry (needs pip install 'jointid[wpilib]')")
+    group.add_argument("--entry", type=_entry_map, metavar="MAP",
+                       help="which data-log entry gives which quantity, e.g. q=/Arm/Position,qd=/Arm/Velocity,"
+                       "tau=/Arm/Voltage (quantities: q, qd, qdd, tau, and state for a SysId test-state entry); "
+                       "default: a SysId routine's entries (`jointid log-info` lists them)")
+    group.add_argument("--units", choices=UNIT_CHOICES, default=None,
+                       help="the data log's angle unit for q, qd and qdd, over any unit its metadata names; "
+                       "default: the metadata's (WPILib's SysIdRoutineLog writes it)")
     group.add_argument("--joint", metavar="NAME", help="the bag's joint to fit (its name in JointState)")
     group.add_argument("--topic", metavar="TOPIC",
                        help="the bag's JointState topic; default: its only one, or /joint_states")
@@ -61,8 +84,8 @@ def add_log_arguments(parser: argparse.ArgumentParser) -> None:
                        help="predict the samples from START to END seconds after the start of the held-out log "
                        "(without --heldout: of the training log itself)")
     group.add_argument("--effort-scale", type=_effort_scale, metavar="K",
-                       help="torque in N m per unit of the logged effort or tau, e.g. torque constant x gear "
-                       "ratio for a motor current; default 1")
+                       help="the effort's unit (N m, or V with --effort voltage) per unit of the logged effort or "
+                       "tau, e.g. 12 for a duty cycle; default 1 (a current's is --gear x --kt x --efficiency)")
     group.add_argument("--columns", type=_column_map, metavar="MAP",
                        help="which CSV column gives which quantity, e.g. t=time,q=posn,tau=effort (quantities: t, q, "
                        "qd, qdd, tau); default: by name, t/time/timestamp, q/position/pos/angle, qd/velocity/vel, "
@@ -90,6 +113,7 @@ def add_log_arguments(parser: argparse.ArgumentParser) -> None:
                        "e.g. where you know an outside torque acted")
     group.add_argument("--no-robust", action="store_true",
                        help="keep every sample: do not look for outside torques (pushes, collisions) to leave out")
+    add_effort_arguments(group)
     parser.set_defaults(**dict.fromkeys(SETTING_FLAGS))
 
 
@@ -115,6 +139,8 @@ def _time_window(text: str):
 
 
 ZERO_CHOICES = ("right", "up", "left", "down")
+UNIT_CHOICES = ("rotations", "radians", "degrees")
+"""--units's choices, as jointid.logs.wpilog.UNITS names them (not imported: help starts without numpy)."""
 """--zero's choices, as jointid.logs.conventions.ZEROS names them (not imported: help starts without it)."""
 
 
@@ -128,6 +154,16 @@ def _column_map(text: str):
         raise argparse.ArgumentTypeError(str(error)) from None
 
 
+def _entry_map(text: str):
+    """argparse type of --entry: a conventions.EntryMap."""
+    from ..logs.conventions import ColumnMapError, EntryMap
+
+    try:
+        return EntryMap.parse(text)
+    except ColumnMapError as error:
+        raise argparse.ArgumentTypeError(str(error)) from None
+
+
 def _effort_scale(text: str) -> float:
     """argparse type of --effort-scale: a finite number other than 0."""
     value = finite_float(text)
@@ -137,15 +173,16 @@ def _effort_scale(text: str) -> float:
 
 
 def has_log(args: argparse.Namespace) -> bool:
-    """True when the command line names a log (--csv or --bag)."""
-    return getattr(args, "csv", None) is not None or getattr(args, "bag", None) is not None
+    """True when the command line names a log (--csv, --bag or --wpilog)."""
+    return any(getattr(args, name, None) is not None for name in ("csv", "bag", "wpilog"))
 
 
 def with_default_settings(args: argparse.Namespace) -> argparse.Namespace:
     """Reject log-only flags without --csv, and fill unset synthetic settings with their defaults."""
     stray = [_flag(name) for name in LOG_ONLY_FLAGS if getattr(args, name) not in (None, False)]
     if stray:
-        raise UserError(f"{', '.join(stray)}: only for fitting a log; add --csv TRAIN.csv or --bag BAG --joint NAME")
+        raise UserError(f"{', '.join(stray)}: only for fitting a log; add --csv TRAIN.csv, --bag BAG --joint NAME "
+                        "or --wpilog LOG.wpilog")
     for name in SETTING_FLAGS:
         if getattr(args, name) is None:
             setattr(args, name, SETTING_DEFAULTS[name])
@@ -177,15 +214,20 @@ def exclusion_options(args: argparse.Namespace):
 
 
 def convention_options(args: argparse.Namespace):
-    """The column map and angle convention of --columns, --zero and --clockwise: a conventions.LogConventions, or
-    None when none is given (the explorer then starts without importing them)."""
+    """The column map, angle convention, effort and motor of --columns, --zero, --clockwise, --effort (and its
+    gearing) and --motor: a conventions.LogConventions, or None when none is given (the explorer then starts
+    without importing them); UserError on a bad mix of the effort and motor options."""
+    efforts = any(getattr(args, name, None) is not None for name in EFFORT_FLAGS)
     if getattr(args, "columns", None) is None and getattr(args, "zero", None) is None \
-            and not getattr(args, "clockwise", False):
+            and not getattr(args, "clockwise", False) and not efforts:
         return None
     from ..logs.conventions import AngleConvention, LogConventions
 
+    effort = effort_reading(args) if efforts else None
     return LogConventions(getattr(args, "columns", None),
-                          AngleConvention(getattr(args, "zero", None) or "right", bool(getattr(args, "clockwise", False))))
+                          AngleConvention(getattr(args, "zero", None) or "right", bool(getattr(args, "clockwise", False))),
+                          None if effort is None or effort.kind == "torque" else effort,
+                          motor_drive(args) if efforts else None)
 
 
 def _conventions_or_defaults(args: argparse.Namespace):
@@ -226,6 +268,13 @@ def log_requests(args: argparse.Namespace):
     if simulated:
         raise UserError(f"{', '.join(simulated)}: needs the synthetic joint's true torque, which a log does not "
                         "have; drop it")
+    wpilog = getattr(args, "wpilog", None)
+    if wpilog is None:
+        stray = [_flag(name) for name in WPILOG_ONLY_FLAGS if getattr(args, name, None) is not None]
+        if stray:
+            raise UserError(f"{', '.join(stray)}: only for a WPILib data log; use --wpilog LOG.wpilog")
+    elif args.columns is not None:
+        raise UserError("--columns: only for a CSV log; name a data log's entries with --entry")
     if args.bag is None:
         stray = [_flag(name) for name in BAG_ONLY_FLAGS if getattr(args, name) is not None]
         if stray:
@@ -238,10 +287,14 @@ def log_requests(args: argparse.Namespace):
     from ..logs.request import HELDOUT, TRAINING, LoadRequest
 
     window, order = derivative_options(args)
+    if wpilog is None:  # a SysId data log is in volts whatever --effort says: its fit's model decides (effort_extras)
+        check_gains_request(args)
     common = dict(degrees=args.degrees, window=window, order=order, joint=args.joint, topic=args.topic,
                   effort_scale=1.0 if args.effort_scale is None else args.effort_scale, filtering=filter_options(args),
                   **_conventions_or_defaults(args).request_fields())
-    path = args.bag if args.bag is not None else args.csv
+    if wpilog is not None:
+        common.update(wpilog=True, entries=args.entry, units=args.units)
+    path = args.bag if args.bag is not None else (wpilog if wpilog is not None else args.csv)
     training = LoadRequest(path, TRAINING, time_window=args.train_window, **common)
     if args.heldout is None and args.heldout_window is None:
         return training, None
@@ -249,7 +302,7 @@ def log_requests(args: argparse.Namespace):
     if args.heldout is not None and args.bag is not None and not _looks_like_bag(args.heldout):
         raise UserError(f"--heldout {args.heldout}: with --bag the held-out log is a bag too (a ROS 2 folder, "
                         ".bag, .mcap or .db3)")
-    if args.heldout is not None and args.bag is None and _looks_like_bag(args.heldout):
+    if args.heldout is not None and args.bag is None and wpilog is None and _looks_like_bag(args.heldout):
         raise UserError(f"--heldout {args.heldout}: a bag; fit a bag with --bag BAG --joint NAME")
     return training, LoadRequest(heldout_path, HELDOUT, time_window=args.heldout_window, **common)
 
@@ -285,26 +338,73 @@ def fit_loaded_logs(args: argparse.Namespace) -> LoadedLogs:
     from ..studies.log_fit import fit_logs
 
     try:
-        return fit_logs(training, heldout, model=model_named(args.model or LOG_MODEL),
+        return fit_logs(training, heldout, model=model_named(args.model or log_model(args)),
                         constrained=getattr(args, "constrained", False), filtering=filter_options(args),
                         exclusion=exclusion_options(args))
     except LogError as error:  # numbers beyond double precision
         raise UserError(str(error)) from None
 
 
-def run_log_fit(args: argparse.Namespace) -> int:
-    """Load the training (and held-out) log, fit, and print text or JSON; exit status 0."""
+def log_model(args: argparse.Namespace) -> str:
+    """The model a log is fitted with when --model is not given: SysId's arm for a voltage log, else LOG_MODEL."""
+    return VOLTAGE_LOG_MODEL if getattr(args, "effort", None) == "voltage" else LOG_MODEL
+
+
+def fit_any_logs(args: argparse.Namespace):
+    """The fitted log(s) the command line names: several runs (repeated --csv, or a SysId data log's tests) as a
+    studies.runs.PooledRuns, else a LoadedLogs; UserError (one line) on any problem."""
     if several_runs(args):
-        return run_several(args)
-    logs = fit_loaded_logs(args)
+        return fit_pooled_runs(args)
+    if getattr(args, "wpilog", None) is None:
+        return fit_loaded_logs(args)
+    training, heldout = log_requests(args)
+    from ..logs.request import load_joint_logs
+    from ..logs.table import LogError
+
+    try:
+        logs = load_joint_logs(training)
+    except LogError as error:
+        raise UserError(str(error)) from None
+    from ..model.terms import model_named
+
+    if len(logs) == 1:
+        from ..logs.request import load_joint_log
+        from ..studies.log_fit import fit_logs
+
+        try:
+            other = None if heldout is None else load_joint_log(heldout)
+            return fit_logs(logs[0], other, model=model_named(args.model or log_model(args)),
+                            constrained=getattr(args, "constrained", False), filtering=filter_options(args),
+                            exclusion=exclusion_options(args))
+        except LogError as error:
+            raise UserError(str(error)) from None
+    if heldout is not None:
+        raise UserError(f"--heldout and --heldout-window: {training.path} is a SysId log of {len(logs)} tests, each "
+                        "predicted by the others instead; drop them")
+    from ..studies.sysid import fit_sysid_runs
+
+    try:
+        return fit_sysid_runs(logs, None if args.model is None else model_named(args.model), filter_options(args),
+                              exclusion_options(args), getattr(args, "constrained", False))
+    except LogError as error:
+        raise UserError(str(error)) from None
+
+
+def run_log_fit(args: argparse.Namespace) -> int:
+    """Load the training (and held-out) log(s), fit, and print text or JSON (with the motor and gains asked for);
+    exit status 0."""
+    logs = fit_any_logs(args)
+    if hasattr(logs, "shared"):
+        return print_runs(args, logs)
+    paragraphs, fields = effort_extras(args, logs)
     if args.json:
         from ..present.documents import logs_document
 
-        print_json(logs_document(logs))
+        print_json({**logs_document(logs), **fields})
     else:
         from ..present.summary import log_fit_summary
 
-        print(log_fit_summary(logs))
+        print("\n\n".join([log_fit_summary(logs), *paragraphs]))
     return ExitStatus.SUCCESS
 
 
@@ -324,7 +424,7 @@ def fit_pooled_runs(args: argparse.Namespace):
     training, _ = log_requests(args)
     try:
         logs = [load_joint_log(dataclasses.replace(training, path=path)) for path in args.runs]
-        return fit_runs(logs, model_named(args.model or LOG_MODEL), filter_options(args), exclusion_options(args),
+        return fit_runs(logs, model_named(args.model or log_model(args)), filter_options(args), exclusion_options(args),
                         getattr(args, "constrained", False))
     except LogError as error:
         raise UserError(str(error)) from None
@@ -337,14 +437,19 @@ def several_runs(args: argparse.Namespace) -> bool:
 
 def run_several(args: argparse.Namespace) -> int:
     """Several runs of one joint: the per-run table and the pooled fit, as text or JSON; exit status 0."""
-    pooled = fit_pooled_runs(args)
+    return print_runs(args, fit_pooled_runs(args))
+
+
+def print_runs(args: argparse.Namespace, pooled) -> int:
+    """Print pooled runs (with the motor and gains asked for) as text or JSON; exit status 0."""
+    paragraphs, fields = effort_extras(args, pooled)
     if args.json:
         from ..present.runs import runs_document
 
-        print_json(runs_document(pooled))
+        print_json({**runs_document(pooled), **fields})
     else:
         from ..present.runs import runs_text
 
-        print(runs_text(pooled))
+        print("\n\n".join([runs_text(pooled), *paragraphs]))
     return ExitStatus.SUCCESS
 

@@ -12,7 +12,13 @@ from __future__ import annotations
 import argparse
 import math
 
-from ..options import ALL_MOTION_NAMES, DURATION, SETTING_DEFAULTS, SettingsError, check_setting
+from ..options import (
+    ALL_MOTION_NAMES,
+    DURATION,
+    SETTING_DEFAULTS,
+    SettingsError,
+    check_setting,
+)
 from .arguments import (
     UserError,
     add_motion_file_argument,
@@ -22,6 +28,7 @@ from .arguments import (
     setting_type,
     whole_number,
 )
+from .effort_arguments import efficiency_number
 from .exit_status import ExitStatus
 
 NAME = "simulate"
@@ -109,6 +116,25 @@ def add_parser(subparsers) -> None:
                              ("true_angle_offset", "the logged angle is q_true - Q0, -0.5 to 0.5 rad; default 0")):
         parser.add_argument(f"--{field.replace('_', '-')}", dest=field, type=setting_type(field), default=0.0,
                             metavar={"true_coulomb": "FC", "true_bias": "TAU0"}.get(field, "Q0"), help=help_text)
+    motors = parser.add_argument_group(
+        "motor current or voltage instead of torque",
+        "Write the effort a motor would take for the joint's torque: --effort current with --kt (current = "
+        "torque / (gear x kt x efficiency)), or --effort voltage with a motor (voltage = torque / c + gear/Kv x qd, "
+        "c = efficiency x gear x motors x kt / R); the column is named effort, to fit with the same --effort.")
+    motors.add_argument("--effort", choices=("torque", "current", "voltage"), default=None,
+                        help="what the effort column holds: joint torque (N m, the default), motor current (A) or "
+                        "motor voltage (V)")
+    for flag, kind, metavar, help_text in (
+            ("--gear", positive_number, "G", "motor turns per joint turn; default 1"),
+            ("--kt", positive_number, "N_M_PER_A", "torque constant of the current, for --effort current"),
+            ("--efficiency", efficiency_number, "E", "the gearbox's efficiency, 0 < E <= 1; default 1"),
+            ("--motor", str, "NAME", "one of WPILib's DCMotor (NEO, Kraken X60, ...), for --effort voltage"),
+            ("--motor-count", whole_number(1), "N", "motors driving the joint; default 1"),
+            ("--motor-r", positive_number, "OHM", "a motor of your own: resistance"),
+            ("--motor-kt", positive_number, "N_M_PER_A", "a motor of your own: torque constant"),
+            ("--motor-kv", positive_number, "RAD_PER_S_PER_V", "a motor of your own: speed constant")):
+        motors.add_argument(flag, type=kind, default=None, metavar=metavar, help=help_text)
+    parser.set_defaults(effort_scale=None, motor_inertia=None, gains=None)
     parser.add_argument("--out", required=True, metavar="FILE", help="the CSV file to write")
     parser.add_argument("--force", action="store_true", help="replace FILE if it exists (only a regular file: never a symlink, a FIFO, a device or a folder)")
 
@@ -143,6 +169,31 @@ def timing(samples: int | None, rate: float | None, duration: float | None) -> t
     return (SETTING_DEFAULTS["samples"] if samples is None else samples), (DURATION if duration is None else duration)
 
 
+def motor_effort(args: argparse.Namespace, tau, qd):
+    """(the logged effort, a comment's words) for --effort current or voltage, or (None, '') for torque; UserError
+    on a bad mix of the motor options."""
+    from .effort_arguments import effort_reading, motor_drive
+
+    kind = args.effort or "torque"
+    reading = effort_reading(args)
+    drive = motor_drive(args)
+    if kind == "torque":
+        if drive is not None:
+            raise UserError("--motor: only with --effort voltage (a torque log needs no motor)")
+        return None, ""
+    if kind == "current":
+        if drive is not None:
+            raise UserError("--motor: only with --effort voltage (a current log needs --kt)")
+        factor = reading.current_factor
+        return tau / factor, (f"; effort = motor current (A) = torque / {factor:.6g} N m/A (gear {reading.gear:g}, "
+                              f"kt {reading.kt:g} N m/A, efficiency {reading.efficiency:g})")
+    if drive is None:
+        raise UserError("--effort voltage needs a motor: --motor NAME (WPILib's DCMotor), or --motor-r, --motor-kt "
+                        "and --motor-kv")
+    return (tau / drive.torque_per_volt + drive.back_emf * qd,
+            f"; effort = motor voltage (V) of {drive.description()}")
+
+
 def run(args: argparse.Namespace) -> int:
     """Write the log; print one line saying what was written; exit status 0."""
     import numpy as np  # numpy and the numeric modules load only to run
@@ -163,11 +214,14 @@ def run(args: argparse.Namespace) -> int:
     joint = TrueJoint(coulomb=args.true_coulomb, bias=args.true_bias, angle_offset=args.true_angle_offset)
     tau = joint.measured_torque(states.q, states.qd, states.qdd) + torque_noise(args.noise, samples, args.seed)
     q = joint.logged_angle(states.q)
+    effort, effort_text = motor_effort(args, tau, states.qd)
+    column = "tau" if effort is None else "effort"
+    tau = tau if effort is None else effort
     if args.encoder_counts is None:
-        names, table = FULL_COLUMNS, np.column_stack([t, q, states.qd, states.qdd, tau])
+        names, table = (*FULL_COLUMNS[:-1], column), np.column_stack([t, q, states.qd, states.qdd, tau])
     else:
         step = 2 * math.pi / args.encoder_counts
-        names, table = ENCODER_COLUMNS, np.column_stack([t, np.round(q / step) * step, tau])
+        names, table = (*ENCODER_COLUMNS[:-1], column), np.column_stack([t, np.round(q / step) * step, tau])
     if not np.isfinite(table).all():  # the limits above should make this impossible: never write such a row
         raise UserError("the simulated log would hold values that are not finite numbers; nothing written")
     truth = joint.description()
@@ -176,7 +230,7 @@ def run(args: argparse.Namespace) -> int:
         quantised += f", sampling instants jittered by up to {args.jitter:g} steps"
     comment = (
         f"# jointid simulate: {motion.name} motion, {samples} samples over {duration:g} s{quantised}, "
-        f"uniform torque noise bound {args.noise:g} N m, seed {args.seed}; true {truth}\n"
+        f"uniform torque noise bound {args.noise:g} N m, seed {args.seed}; true {truth}{effort_text}\n"
     )
     try:
         with atomic_output(args.out, overwrite=args.force) as handle:

@@ -357,6 +357,8 @@ def _squared_residuals(X: np.ndarray, y: np.ndarray, thetas: np.ndarray, out: np
 
 def bisquare(X: np.ndarray, y: np.ndarray, theta: np.ndarray, scale: float) -> np.ndarray:
     """Tukey-bisquare M-estimate from `theta` with the scale fixed (iteratively reweighted least squares)."""
+    if not scale > 0:  # most residuals exactly zero (a SysId test's constant voltage, fitted exactly): no outlier
+        return theta
     for _ in range(50):
         u = (y - X @ theta) / (BISQUARE * scale)
         new = _corrected(X, y, theta, np.where(np.abs(u) < 1, (1 - u * u) ** 2, 0.0))

@@ -227,10 +227,9 @@ class FitResult:
         """(corr, h/I, its standard error) when the acceleration and gravity columns correlate above
         SCALE_CORRELATION (a joint swinging near its natural frequency: h/I is determined, their common scale
         less so), else None."""
-        names = self.model.column_names
-        if "I" not in names or "h" not in names or self.uncertainty is None or self.estimate is None:
+        i, h = self.model.index_of("I"), self.model.index_of("h")
+        if i is None or h is None or self.uncertainty is None or self.estimate is None:
             return None
-        i, h = names.index("I"), names.index("h")
         X = self.training_regressor
         with np.errstate(all="ignore"):  # columns of extreme magnitude: scaled first, checked below
             a, b = X[:, i] / np.max(np.abs(X[:, i])), X[:, h] / np.max(np.abs(X[:, h]))

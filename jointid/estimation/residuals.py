@@ -52,6 +52,8 @@ class ResidualData:
     """False when 't' holds sample indices because the source had no time column."""
     unique_fit: bool
     """False when the residuals come from the basic solution of a rank-deficient fit."""
+    unit: str = "N m"
+    """The residuals' unit: the fitted effort's (N m, or V for a voltage log)."""
 
     def note(self, axis: str) -> str:
         """What structure in the residuals against `axis` would mean."""
@@ -69,4 +71,5 @@ def residual_data(result: FitResult) -> ResidualData:
         axes=axes,
         has_times=data.t is not None,
         unique_fit=result.estimate is not None,
+        unit=result.model.effort.unit,
     )

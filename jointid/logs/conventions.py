@@ -99,6 +99,11 @@ class ColumnMap:
     flag: str = "--columns"
     """How messages name the map: the flag, or fit_log's argument."""
 
+    QUANTITIES = COLUMNS
+    """The quantities a map may name."""
+    EXAMPLE = "t=time,q=position,tau=effort"
+    """A map shown in messages."""
+
     @classmethod
     def parse(cls, text: str, flag: str = "--columns") -> ColumnMap:
         """The map of 'QUANTITY=NAME,...'; ColumnMapError (one line) when it is not one."""
@@ -106,7 +111,7 @@ class ColumnMap:
         for part in str(text).split(","):
             if "=" not in part:
                 shown = part.strip() or str(text).strip()
-                raise ColumnMapError(f"{shown!r} is not QUANTITY=NAME; give e.g. t=time,q=position,tau=effort")
+                raise ColumnMapError(f"{shown!r} is not QUANTITY=NAME; give e.g. {cls.EXAMPLE}")
             key, name = (piece.strip() for piece in part.split("=", 1))
             pairs.append((key, name))
         return cls.of_pairs(pairs, flag)
@@ -134,9 +139,9 @@ class ColumnMap:
         seen: dict[str, str] = {}
         for key, name in pairs:
             quantity = key.lower()
-            if quantity not in COLUMNS:
+            if quantity not in cls.QUANTITIES:
                 raise ColumnMapError(f"unknown quantity {key!r} in {key}={name}; the quantities are "
-                                     f"{', '.join(COLUMNS)}")
+                                     f"{', '.join(cls.QUANTITIES)}")
             if not name:
                 raise ColumnMapError(f"{key}= names no column")
             if quantity in seen:
@@ -146,13 +151,26 @@ class ColumnMap:
                 raise ColumnMapError(f"column {name!r} is given for both {other} and {quantity}")
             seen[quantity] = name
         if not seen:
-            raise ColumnMapError("names no column; give e.g. t=time,q=position,tau=effort")
+            raise ColumnMapError(f"names no column; give e.g. {cls.EXAMPLE}")
         return cls(tuple(seen.items()), flag)
 
     @property
     def text(self) -> str:
         """'t=time,q=posn': the map as the flag takes it."""
         return ",".join(f"{key}={name}" for key, name in self.pairs)
+
+
+class EntryMap(ColumnMap):
+    """Which entry of a WPILib data log gives which quantity (`--entry q=/Arm/Position,tau=/Arm/Voltage`): time is
+    each record's own time stamp, and `state` names a SysId test-state entry that splits the log into runs."""
+
+    QUANTITIES = ("q", "qd", "qdd", "tau", "state")
+    EXAMPLE = "q=/Arm/Position,qd=/Arm/Velocity,tau=/Arm/Voltage"
+
+    @classmethod
+    def parse(cls, text: str, flag: str = "--entry") -> EntryMap:
+        """The map of 'QUANTITY=ENTRY,...'; ColumnMapError (one line) when it is not one."""
+        return super().parse(text, flag)
 
 
 class ColumnProblem(ValueError):
@@ -220,10 +238,18 @@ class LogConventions:
     """The CSV column map (`--columns`), or None: by name. A bag's fields have fixed names and take no map."""
     angle: AngleConvention = field(default_factory=lambda: AngleConvention())
     """Where the logged angle's 0 points and which way it grows (`--zero`, `--clockwise`)."""
+    effort: object = None
+    """What the effort column measured, an effort.EffortReading (`--effort`, `--gear`, `--kt`, `--efficiency`), or
+    None: torque."""
+    motor: object = None
+    """The motors driving the joint, a model.motors.MotorDrive (`--motor`...), or None: for a voltage log's
+    physical parameters and a torque log's gains."""
 
     def request_fields(self, bag: bool = False) -> dict:
-        """LoadRequest's `columns` and `angle` for a CSV log, or for a bag (no column map)."""
-        return {"columns": None if bag else self.columns, "angle": self.angle}
+        """LoadRequest's `columns`, `angle` (and `effort`, when one is given) for a CSV log, or for a bag (no column
+        map)."""
+        fields = {"columns": None if bag else self.columns, "angle": self.angle}
+        return fields if self.effort is None else {**fields, "effort": self.effort}
 
 
 # ---------------------------------------------------------------------------------------------- angles

@@ -4,10 +4,12 @@ jittered), missing derivatives estimated, units converted."""
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass
 
 import numpy as np
 
+from ..model.effort import Effort, effort_named
 from ..norms import all_finite
 from ..options import DEFAULT_ORDER, DEFAULT_WINDOW
 from ..samples import JointData
@@ -55,6 +57,12 @@ class JointLog:
     source: LogSource | None = None
     """The checked columns before differentiation, so the log can be derived again with another window."""
 
+    @property
+    def name(self) -> str:
+        """The log's name in lists: its file's name, or the SysId test a run of a data log is."""
+        run = None if self.source is None else getattr(self.source.table, "run", None)
+        return run or os.path.basename(os.path.normpath(self.path))
+
     def with_window(self, window: int | None, order: int | None = None) -> JointLog:
         """The same log with its missing derivatives estimated by another window (and order); self if none."""
         if self.source is None or self.derivatives is None:
@@ -90,6 +98,11 @@ class JointLog:
         pairs = () if table is None else table.read_as
         reading = AngleReading() if table is None or table.angle is None else table.angle
         return {"columns": dict(pairs), **reading.to_dict(logged_angle_name(pairs))}
+
+    @property
+    def effort(self) -> Effort:
+        """What the log's effort column holds once read: torque (N m; a current log's converted), or voltage (V)."""
+        return effort_named("torque" if self.source is None else self.source.table.effort)
 
     def source_text(self) -> str:
         """One line describing what was read, e.g. for the line above the readouts."""

@@ -1,21 +1,24 @@
-"""Which joint log to load and how: a CSV file or one joint of a ROS bag, its columns and angle convention, cut to
-a time window, torque scaled.
+"""Which joint log to load and how: a CSV file, one joint of a ROS bag or entries of a WPILib data log, its
+columns and angle convention, cut to a time window, its effort read as torque (scaled, or converted from current)
+or volts.
 
-Every source is read into a checked table (csvlog.read_table or
-bag.read_bag_table), cut and scaled here, and then goes through
-csvlog.joint_log_from_table, so CSV logs and bags get the same time checks,
-resampling and differentiation.
+Every source is read into a checked table (csvlog.read_table,
+bag.read_bag_table or wpilog.read_wpilog_table), cut and scaled here, and
+then goes through csvlog.joint_log_from_table, so CSV logs, bags and data
+logs get the same time checks, resampling and differentiation. A SysId
+routine log holds several test runs of one joint: load_joint_logs gives one
+log per run.
 """
 
 from __future__ import annotations
 
 import dataclasses
-import math
 from dataclasses import dataclass
 
 from ..estimation.low_pass import FilterRequest
 from ..options import DEFAULT_ORDER, DEFAULT_WINDOW
-from .conventions import AngleConvention, ColumnMap
+from .conventions import AngleConvention, ColumnMap, EntryMap
+from .effort import EffortReading
 from .timewindow import TimeWindow
 
 TRAINING, HELDOUT, RUN = "training", "heldout", "run"
@@ -50,11 +53,19 @@ class LoadRequest:
     """Which CSV column gives which quantity (`--columns`); None: recognised by name."""
     angle: AngleConvention = AngleConvention()
     """Where the logged angle's 0 points and which way it grows (`--zero`, `--clockwise`)."""
+    effort: EffortReading = EffortReading()
+    """What the effort column measured (`--effort`, `--gear`, `--kt`, `--efficiency`); its scale is effort_scale."""
+    wpilog: bool = False
+    """True to read a WPILib data log (`--wpilog`)."""
+    entries: EntryMap | None = None
+    """Which data-log entry gives which quantity (`--entry`); None: a SysId routine's, recognised by name."""
+    units: str | None = None
+    """The data log's angle unit over its metadata's (`--units`): 'rotations', 'radians' or 'degrees'."""
 
     @property
     def is_bag(self) -> bool:
         """True when the request reads a joint from a ROS bag."""
-        return self.joint is not None
+        return self.joint is not None and not self.wpilog
 
 
 def load_joint_log(request: LoadRequest, progress=None, cancel=None):
@@ -62,9 +73,18 @@ def load_joint_log(request: LoadRequest, progress=None, cancel=None):
     from .angles import read_angle
     from .csv_reader import read_table
     from .derivatives import check_filter
+    from .effort import read_effort
     from .pipeline import joint_log_from_table
 
     check_filter(request.window, request.order)
+    if request.wpilog:
+        logs = load_joint_logs(request, progress, cancel)
+        if len(logs) > 1:
+            from .table import LogError
+
+            raise LogError(request.path, f"is a SysId log of {len(logs)} test runs, fitted as runs of one joint "
+                           "(jointid fit --wpilog), not as one log")
+        return logs[0]
     if request.is_bag:
         from .bag import read_bag_table
         from .table import LogError
@@ -79,9 +99,44 @@ def load_joint_log(request: LoadRequest, progress=None, cancel=None):
     table = read_angle(table, request.angle, request.degrees)
     if request.time_window is not None:
         table = cut_time_window(table, request.time_window, request.role)
-    table = scale_torque(table, request.effort_scale, request.is_bag)
+    table = read_effort(table, dataclasses.replace(request.effort, scale=request.effort_scale), request.is_bag)
     return joint_log_from_table(table, degrees=request.degrees, window=request.window, order=request.order,
                                 cutoff=request.filtering.cutoff)
+
+
+def load_joint_logs(request: LoadRequest, progress=None, cancel=None) -> list:
+    """The request's logs ready to fit: one per SysId test run of a data log with a test-state entry, else the one
+    log of load_joint_log; LogError on any problem."""
+    if not request.wpilog:
+        return [load_joint_log(request, progress, cancel)]
+    from .angles import read_angle
+    from .derivatives import check_filter
+    from .effort import read_effort
+    from .pipeline import joint_log_from_table
+    from .wpilog import read_wpilog_table
+
+    check_filter(request.window, request.order)
+    if request.columns is not None:
+        from .table import LogError
+
+        raise LogError(request.path, f"{request.columns.flag}: only for a CSV log; a data log's entries are named "
+                       "with --entry")
+    units = request.units or ("degrees" if request.degrees else None)
+    table = read_wpilog_table(request.path, request.entries, units, progress=progress, cancel=cancel)
+    if request.time_window is not None:
+        table = cut_time_window(table, request.time_window, request.role)
+    # Each test on its own: a run's wraps and whole turns are its own, and its time checks see no other test.
+    tables = table.run_tables() if table.runs else [table]
+    effort = dataclasses.replace(request.effort, scale=request.effort_scale)
+    if (table.routine is not None or table.runs) and effort.kind == "torque":
+        effort = dataclasses.replace(effort, kind="voltage")  # a SysId routine's effort is its motor's voltage
+    logs = []
+    for part in tables:
+        part = read_angle(part, request.angle, False)  # already in radians
+        part = read_effort(part, effort, False)
+        logs.append(joint_log_from_table(part, degrees=False, window=request.window, order=request.order,
+                                         cutoff=request.filtering.cutoff))
+    return logs
 
 
 def cut_time_window(table, window: TimeWindow, role: str = TRAINING):
@@ -103,20 +158,3 @@ def cut_time_window(table, window: TimeWindow, role: str = TRAINING):
     note = (f"{ROLE_WORDS[role]} window {window.text} s from the log's start: {kept} of {table.count} samples "
             f"(t = {float(since[rows.start]):.6g} to {float(since[rows.stop - 1]):.6g} s).")
     return dataclasses.replace(table.sliced(rows, note), time_window=window, time_origin=table.start_time)
-
-
-def scale_torque(table, scale: float, bag: bool):
-    """The table with tau multiplied by `scale`, and a note saying which scale was used (always for a bag)."""
-    if not math.isfinite(scale) or scale == 0:
-        from .table import LogError
-
-        raise LogError(table.path, f"effort scale {scale!r} must be a finite number other than 0")
-    source = "effort" if bag else "tau"
-    if scale == 1.0:
-        if not bag:
-            return table
-        note = "effort read as torque in N m (--effort-scale 1)."
-        return dataclasses.replace(table, notes=(*table.notes, note))
-    note = f"torque = {scale:g} × {source}, in N m (--effort-scale {scale:g})."
-    columns = {**table.columns, "tau": table.columns["tau"] * scale}
-    return dataclasses.replace(table, columns=columns, notes=(*table.notes, note), effort_scale=scale)

@@ -72,7 +72,12 @@ class LogTable:
     time_window: object = None
     """The timewindow.TimeWindow the table was cut to, or None."""
     effort_scale: float = 1.0
-    """Torque (N m) per unit of the logged tau or effort, already applied to the tau column."""
+    """Torque (N m) per unit of the logged tau or effort, already applied to the tau column (volts per unit for a
+    voltage log)."""
+    effort: str = "torque"
+    """What the logged effort column measured: 'torque', 'current' (now converted to torque) or 'voltage'."""
+    current_to_torque: tuple[float, float, float] | None = None
+    """(gear, kt in N m/A, efficiency) a current log was converted to torque with, or None."""
     time_origin: float | None = None
     """The first time stamp of the log as read, when a time window has cut it (None: the first t here)."""
 
@@ -93,7 +98,17 @@ class LogTable:
         """JSON-ready: the file, its format, and the time window and effort scale applied."""
         return {"path": self.path, "format": "csv",
                 "time_window": None if self.time_window is None else self.time_window.to_dict(),
-                "effort_scale": self.effort_scale}
+                "effort_scale": self.effort_scale, **self.effort_origin}
+
+    @property
+    def effort_origin(self) -> dict:
+        """JSON-ready: what the effort was, when not torque (a torque log's origin keeps its keys as before)."""
+        if self.effort == "torque":
+            return {}
+        if self.current_to_torque is None:
+            return {"effort": self.effort}
+        gear, kt, efficiency = self.current_to_torque
+        return {"effort": self.effort, "gear": gear, "kt_n_m_per_a": kt, "efficiency": efficiency}
 
     @property
     def count(self) -> int:

@@ -15,6 +15,12 @@ A model fits its *columns* (`terms`) and reports its *parameters*. They are the
 same except for the angle offset: its model fits h_c*g*cos(q) + h_s*g*sin(q),
 which is h*g*cos(q + q0) with h = hypot(h_c, h_s) and q0 = atan2(-h_s, h_c),
 and it reports h and q0 (with standard errors by the delta method).
+
+A model fitted to a voltage log (`JointModel.in_effort(VOLTAGE)`) has the same
+terms with the effort in volts, named as WPILib's arm feedforward names them:
+kA (qdd), kG (cos q), kV (qd), kS (sign qd), V0 (a voltage bias). Each keeps
+the torque term it stands for as its `role`, so code that needs "the velocity
+column" asks `model.index_of("B")` whatever the effort.
 """
 
 from __future__ import annotations
@@ -32,6 +38,7 @@ from ..options import (
     TRUE_VALUES,
     model_extras,
 )
+from .effort import TORQUE, Effort
 
 G = 9.81
 """Gravitational acceleration (m/s^2)."""
@@ -91,6 +98,13 @@ class Term(Parameter):
     column: Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray] = field(repr=False)
     from_derivatives: bool = False
     """True when the column is qd or qdd itself, so it already carries the smoothing they were estimated with."""
+    role: str = ""
+    """The torque term this one plays the part of in a voltage model (kA plays I), '' when it is a torque term."""
+
+    @property
+    def kind(self) -> str:
+        """The torque term's name this term stands for: its own name, or its role in a voltage model."""
+        return self.role or self.name
 
 
 def rounded_cos(q: np.ndarray) -> np.ndarray:
@@ -122,6 +136,33 @@ GRAVITY_SINE = Term("h_s", "gravity sine coefficient", "kg m", None, "no angle a
 ANGLE_OFFSET = Parameter("q0", "angle offset", "rad", None, "no angle away from horizontal")
 QUADRATIC_DRAG = Term("Bq", "quadratic drag", "N m s²/rad²", None, "no velocity", lambda q, qd, qdd: qd * np.abs(qd))
 """Not in any model: a candidate the omitted-terms test tries on a log fit's residuals (drag growing with speed)."""
+
+# The same terms with the effort in volts, named as WPILib's ArmFeedforward names them. The gravity gain's column
+# is cos q itself (kG is the voltage that holds the arm horizontal), not g cos q.
+ACCELERATION_GAIN = Term("kA", "acceleration gain", "V s²/rad", POSITIVE, "no acceleration",
+                         lambda q, qd, qdd: qdd, True, "I")
+GRAVITY_GAIN = Term("kG", "gravity gain", "V", NONNEGATIVE, "no gravity torque",
+                    lambda q, qd, qdd: rounded_cos(q), role="h")
+VELOCITY_GAIN = Term("kV", "velocity gain", "V s/rad", NONNEGATIVE, "no velocity", lambda q, qd, qdd: qd, True, "B")
+STATIC_GAIN = Term("kS", "static gain", "V", NONNEGATIVE, "no velocity", lambda q, qd, qdd: np.sign(qd),
+                   role="Fc")
+VOLTAGE_BIAS = Term("V0", "voltage bias", "V", None, "no samples", lambda q, qd, qdd: np.ones_like(q), role="tau0")
+GRAVITY_COSINE_GAIN = Term("kG_c", "gravity cosine gain", "V", None, "no gravity torque",
+                           lambda q, qd, qdd: rounded_cos(q), role="h_c")
+GRAVITY_SINE_GAIN = Term("kG_s", "gravity sine gain", "V", None, "no angle away from horizontal",
+                         lambda q, qd, qdd: rounded_sin(q), role="h_s")
+QUADRATIC_DRAG_GAIN = Term("kVq", "quadratic drag gain", "V s²/rad²", None, "no velocity",
+                           lambda q, qd, qdd: qd * np.abs(qd), role="Bq")
+
+VOLTAGE_TERMS = {term.role: term for term in (ACCELERATION_GAIN, GRAVITY_GAIN, VELOCITY_GAIN, STATIC_GAIN,
+                                              VOLTAGE_BIAS, GRAVITY_COSINE_GAIN, GRAVITY_SINE_GAIN,
+                                              QUADRATIC_DRAG_GAIN)}
+"""Each torque term's twin with the effort in volts, by the torque term's name."""
+
+
+def in_effort(terms, effort: Effort) -> tuple[Term, ...]:
+    """The terms as fitted to an effort in `effort`'s unit: themselves for torque, their volt twins for voltage."""
+    return tuple(terms) if effort.is_torque else tuple(VOLTAGE_TERMS[term.kind] for term in terms)
 
 
 @dataclass(frozen=True)
@@ -160,13 +201,27 @@ class JointModel:
     terms: tuple[Term, ...]
     angle_offset: AngleOffset | None = None
     """Set when the model reports h and q0 in place of its h_c and h_s columns."""
+    effort: Effort = TORQUE
+    """What the fitted effort is: torque (N m), or voltage (V) for the same terms named as WPILib's gains."""
+
+    def in_effort(self, effort: Effort) -> JointModel:
+        """The same model fitted to an effort in `effort`'s unit (itself when it already is)."""
+        if effort == self.effort:
+            return self
+        torque_terms = tuple(TORQUE_TERMS[term.kind] for term in self.terms)
+        return JointModel(self.name, in_effort(torque_terms, effort), self.angle_offset, effort)
+
+    def index_of(self, kind: str) -> int | None:
+        """The column index of the term standing for torque term `kind` ('I', 'B', 'Fc', 'tau0'...), or None."""
+        kinds = tuple(term.kind for term in self.terms)
+        return kinds.index(kind) if kind in kinds else None
 
     @cached_property
     def parameters(self) -> tuple[Parameter, ...]:
         """The reported parameters in theta order (the terms, with h and q0 for an angle offset)."""
         reported = list(self.terms)
         if self.angle_offset is not None:
-            reported[self.angle_offset.cosine] = MASS_MOMENT
+            reported[self.angle_offset.cosine] = MASS_MOMENT if self.effort.is_torque else GRAVITY_GAIN
             reported[self.angle_offset.sine] = ANGLE_OFFSET
         return tuple(reported)
 
@@ -237,6 +292,10 @@ PLAIN = JointModel("plain", (INERTIA, MASS_MOMENT, DAMPING))
 
 EXTRA_TERMS = dict(zip(EXTRA_TERM_NAMES, (COULOMB, BIAS, GRAVITY_SINE)))
 """Terms that can be added to `plain`, by the name used in model names, in column order."""
+
+TORQUE_TERMS = {term.name: term for term in (INERTIA, MASS_MOMENT, DAMPING, COULOMB, BIAS, GRAVITY_COSINE,
+                                             GRAVITY_SINE, QUADRATIC_DRAG)}
+"""The torque terms by name (what a volt twin's role names)."""
 
 CANDIDATE_TERMS = (COULOMB, BIAS, GRAVITY_SINE, QUADRATIC_DRAG)
 """Terms a log fit's residuals are tested against when its model lacks them (the ladder's, and quadratic drag)."""

@@ -11,5 +11,9 @@ written once and the two faces cannot disagree.
 - `charts`: the series and one-line summaries of every chart;
 - `documents`: the JSON documents of `jointid ... --json` and the explorer's export;
 - `notes`, `summary`, `runs`: a log fit's notes and what it left out, the text `jointid fit` prints (the
-  library's `summary()`), and several runs side by side.
+  library's `summary()`), and several runs side by side;
+- `simulators`: the MJCF and URDF files `jointid export` writes, and what it prints about them.
+- `report`, `report_writers`, `report_charts`, `chart_process`: `jointid report`'s page, arranged from the texts
+  above, written as HTML or Markdown, its charts drawn by matplotlib (the `jointid[report]` extra), in a second
+  process when the command runs.
 """

@@ -50,11 +50,13 @@ class ChartData:
     x_label: str = "Time (s)"
     left_out: np.ndarray | None = None
     shaded: tuple[tuple[float, float], ...] = ()
+    y_label: str = "Torque (N m)"
+    """The effort axis's label: 'Torque (N m)', or 'Voltage (V)' for a voltage log."""
 
     def same_as(self, other: ChartData | None) -> bool:
         """True when other would draw exactly the same chart (arrays compared by value)."""
-        if other is None or (self.titles, self.summaries, self.x_label) != (
-            other.titles, other.summaries, other.x_label
+        if other is None or (self.titles, self.summaries, self.x_label, self.y_label) != (
+            other.titles, other.summaries, other.x_label, other.y_label
         ):
             return False
         if (self.line is None) != (other.line is None):
@@ -72,7 +74,7 @@ class ChartData:
         """A hashable value that is equal exactly when two charts draw the same figure."""
         line = None if self.line is None else self.line.tobytes()
         left_out = None if self.left_out is None else self.left_out.tobytes()
-        return (self.titles, self.x_label, self.t.tobytes(), self.dots.tobytes(), line, left_out, self.shaded)
+        return (self.titles, self.x_label, self.y_label, self.t.tobytes(), self.dots.tobytes(), line, left_out, self.shaded)
 
 
 NICE_STEPS = (1.0, 2.0, 2.5, 5.0, 10.0)
@@ -107,26 +109,29 @@ def torque_chart(result: FitResult, data: JointData, predictions: np.ndarray | N
     count = data.count
     stride = 1 if columns is None else thin_stride(count, columns)
     shown = slice(None, None, stride)
+    effort = result.model.effort
+    unit, efforts = effort.unit, f"{effort.name}s"
     low, high = (format_number(float(f(data.tau)), 2) for f in (np.min, np.max))
     thinned = f"; every {ordinal(stride)} of {count} samples shown" if stride > 1 else ""
     thinned_short = f"; every {ordinal(stride)} shown" if stride > 1 else ""
     if predictions is None:
         unavailable = f"rank {result.rank} of {result.parameter_count}, predictions unavailable"
         summaries = (
-            f"{count} {what} torques (dots), {low} to {high} N m; no {line_label} line: {unavailable}{thinned}.",
-            f"{count} {what}, {low} to {high} N m; {unavailable}{thinned_short}",
-            f"{dots_label} {low}..{high} N m; no predictions",
+            f"{count} {what} {efforts} (dots), {low} to {high} {unit}; no {line_label} line: {unavailable}{thinned}.",
+            f"{count} {what}, {low} to {high} {unit}; {unavailable}{thinned_short}",
+            f"{dots_label} {low}..{high} {unit}; no predictions",
         )
         titles = (f"{titles[0]}: predictions unavailable", *titles)
     else:
         error = format_number(rmse)
         summaries = (
-            f"{count} {what} torques (dots), {low} to {high} N m; {line_label} line, RMSE {error} N m{thinned}.",
-            f"{count} {what}, {low} to {high} N m; RMSE {error} N m{thinned_short}",
+            f"{count} {what} {efforts} (dots), {low} to {high} {unit}; {line_label} line, RMSE {error} {unit}"
+            f"{thinned}.",
+            f"{count} {what}, {low} to {high} {unit}; RMSE {error} {unit}{thinned_short}",
             # Narrow charts: a thinned one says so before its RMSE, which the readouts give as well.
-            *((f"{dots_label} {low}..{high} N m; RMSE {error}; 1 in {stride}",
-               f"{dots_label} {low}..{high} N m; 1 in {stride} shown") if stride > 1 else ()),
-            f"{dots_label} {low}..{high} N m; RMSE {error}",
+            *((f"{dots_label} {low}..{high} {unit}; RMSE {error}; 1 in {stride}",
+               f"{dots_label} {low}..{high} {unit}; 1 in {stride} shown") if stride > 1 else ()),
+            f"{dots_label} {low}..{high} {unit}; RMSE {error}",
         )
     return ChartData(
         titles=titles,
@@ -137,6 +142,7 @@ def torque_chart(result: FitResult, data: JointData, predictions: np.ndarray | N
         line_label=line_label,
         summaries=summaries,
         x_label="Time (s)" if data.t is not None else "Sample index",
+        y_label=effort.label,
     )
 
 
@@ -163,18 +169,20 @@ def log_training_chart(logs: LoadedLogs, *, columns: int | None = None) -> Chart
     count = len(left.torque)
     stride = 1 if columns is None else thin_stride(count, columns)
     shown = slice(None, None, stride)
-    line = None if result.estimate is None else (left.regressor @ result.estimate)[shown]
+    line = None if result.estimate is None else (left.regressor @ result.column_estimate)[shown]
     offset = float(left.times[0] - left.since[0])  # the notes' times are from the log's start, the axis the log's
     shaded = tuple((start + offset, end + offset) for start, end in left.within)
     omitted = int(count - left.kept.sum())
     low, high = (format_number(float(f(left.torque)), 2) for f in (np.min, np.max))
-    rmse = "no fitted line" if line is None else f"RMSE {format_number(result.training_rmse)} N m"
+    effort = result.model.effort
+    rmse = "no fitted line" if line is None else f"RMSE {format_number(result.training_rmse)} {effort.unit}"
     error = rmse if line is None else f"{rmse} on the kept"
     where = ", ".join(f"{start:.2f}-{end:.2f}" for start, end in shaded)
     pushes = f"; shaded: outside torque at {where} s" if shaded else ""
     thinned = f"; every {ordinal(stride)} of {count} samples shown" if stride > 1 else ""
     summaries = (
-        f"{count} filtered torques (dots), {low} to {high} N m, {omitted} left out (faint); {error}{pushes}"
+        f"{count} filtered {effort.name}s (dots), {low} to {high} {effort.unit}, {omitted} left out (faint); "
+        f"{error}{pushes}"
         f"{thinned}.",
         f"{omitted} of {count} left out (faint); {rmse}{pushes}",
         f"{omitted} of {count} left out (faint); {rmse}{'; pushes shaded' if shaded else ''}",
@@ -183,7 +191,7 @@ def log_training_chart(logs: LoadedLogs, *, columns: int | None = None) -> Chart
     )
     return ChartData(titles=chart.titles, t=left.times[shown], dots=left.torque[shown], line=line,
                      dots_label="measured", line_label="fitted", summaries=summaries, x_label=chart.x_label,
-                     left_out=~left.kept[shown], shaded=shaded)
+                     left_out=~left.kept[shown], shaded=shaded, y_label=chart.y_label)
 
 
 def heldout_chart(result: FitResult, *, log_name: str | None = None,
@@ -253,11 +261,11 @@ def residual_scatter(data: ResidualData, axis: str) -> ScatterData:
 
     x_label = AXIS_LABELS[axis] if data.has_times or axis != "t" else "sample index"
     return ScatterData(
-        titles=(f"Training residuals (N m) against {x_label}", f"Residuals against {x_label}"),
+        titles=(f"Training residuals ({data.unit}) against {x_label}", f"Residuals against {x_label}"),
         x=data.axes[axis],
         y=data.residuals,
         x_label=x_label.capitalize(),
-        y_label="Residual (N m)",
+        y_label=f"Residual ({data.unit})",
     )
 
 
@@ -266,4 +274,4 @@ def residual_summary(data: ResidualData) -> str:
     low, high = (format_number(float(f(data.residuals)), 3) for f in (min, max))
     source = ("the fit" if data.unique_fit
               else "the basic solution (rank-deficient: every solution fits the same)")
-    return f"{len(data.residuals)} residuals (measured - fitted) from {source}, {low} to {high} N m."
+    return f"{len(data.residuals)} residuals (measured - fitted) from {source}, {low} to {high} {data.unit}."

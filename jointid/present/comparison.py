@@ -91,7 +91,8 @@ def _absorbed(simpler: LadderRow, preferred: LadderRow) -> list[str]:
     label = simpler.model.parameter(name).label
     ratio = f" ({value / reference:.1f}x)" if reference and value / reference > 0 else ""
     heldout = ("" if simpler.heldout_rmse is None or preferred.heldout_rmse is None else
-               f", and its held-out error is {_rmse(simpler.heldout_rmse)} against {_rmse(preferred.heldout_rmse)}")
+               f", and its held-out error is {_rmse(simpler.heldout_rmse, preferred.model.effort.unit)} against "
+               f"{_rmse(preferred.heldout_rmse, preferred.model.effort.unit)}")
     return [f"Without {join_words(missing)}, {simpler.model.name} moves its {label} to {format_number(value)} "
             f"against {format_number(reference)}{ratio} to absorb it{heldout}."]
 
@@ -114,9 +115,9 @@ def _superfluous(larger: LadderRow, preferred: LadderRow) -> list[str]:
     return [f"Adding {labels} ({larger.model.name}) {join_words(costs)}."]
 
 
-def _rmse(value: float | None) -> str:
+def _rmse(value: float | None, unit: str = "N m") -> str:
     """An RMSE with its unit, or 'unavailable'."""
-    return UNAVAILABLE if value is None else f"{format_number(value)} N m"
+    return UNAVAILABLE if value is None else f"{format_number(value)} {unit}"
 
 
 def comparison_text(comparison: Comparison, heading: str) -> str:

@@ -286,4 +286,13 @@ def logs_document(logs) -> dict:
                                log_notes(logs)), **exclusion_object(logs),
             "moved_by_derivative_settings": list(logs.moved_by_settings),
             "omitted_terms": omitted_object(logs),
-            "moved_by_omitted_terms": list(logs.decided_by_omitted)}
+            "moved_by_omitted_terms": list(logs.decided_by_omitted), **effort_object(logs.result.model)}
+
+
+def effort_object(model) -> dict:
+    """JSON-ready: the effort and the parameters' units when the fit is not in torque (a torque fit's document keeps
+    its keys as before)."""
+    if model.effort.is_torque:
+        return {}
+    return {"effort": {"name": model.effort.name, "unit": model.effort.unit},
+            "units": {parameter.name: parameter.unit for parameter in model.parameters}}

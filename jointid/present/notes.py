@@ -17,33 +17,33 @@ def log_notes(logs: LoadedLogs) -> tuple[str, ...]:
     """The loaders' notes (ignored columns, timing, estimated derivatives) and the filter's, training log first."""
     notes = list(logs.training.notes)
     if logs.filter is not None:
-        notes.append(f"{logs.training.path}: {low_pass_note(logs.filter)}")
+        notes.append(f"{logs.training.path}: {low_pass_note(logs.filter, logs.result.model.effort.name)}")
     if logs.heldout is not None:
         notes.extend(logs.heldout.notes)
     return tuple(notes)
 
 
 
-def low_pass_short_note(low_pass: ParallelFilter) -> str:
-    """The low-pass in a few words, for a narrow status line."""
+def low_pass_short_note(low_pass: ParallelFilter, effort: str = "torque") -> str:
+    """The low-pass in a few words, for a narrow status line (`effort`: what the fit's effort is)."""
     if not low_pass.active:
         return "not low-passed"
     kept = "" if low_pass.decimation == 1 else f", every {ordinal(low_pass.decimation)} sample kept"
-    return f"torque and regressor low-passed at {low_pass.cutoff:.3g} Hz{kept}"
+    return f"{effort} and regressor low-passed at {low_pass.cutoff:.3g} Hz{kept}"
 
 
-def low_pass_note(low_pass: ParallelFilter) -> str:
-    """The low-pass and decimation in one sentence for a person."""
+def low_pass_note(low_pass: ParallelFilter, effort: str = "torque") -> str:
+    """The low-pass and decimation in one sentence for a person (`effort`: what the fit's effort is)."""
     if not low_pass.active:
-        return f"torque and regressor columns not low-passed: {low_pass.reason}."
+        return f"{effort} and regressor columns not low-passed: {low_pass.reason}."
     design = low_pass.design
     kept = "" if low_pass.decimation == 1 else f", then every {ordinal(low_pass.decimation)} sample kept"
-    return (f"torque and every regressor column low-passed alike at {low_pass.cutoff:.3g} Hz (zero-phase FIR, "
+    return (f"{effort} and every regressor column low-passed alike at {low_pass.cutoff:.3g} Hz (zero-phase FIR, "
             f"{FILTER_NAME}, {design.length} taps, Kaiser beta {design.beta:.3g}: flat within "
             f"{FLATNESS:.1%} below {design.passband_edge:.3g} Hz, {ATTENUATION_DB:g} dB down above "
             f"{design.stopband_edge:.3g} Hz; each end extended by {low_pass.extension} samples, reflected about "
             f"a line fitted to its last half cutoff period, so no sample is lost){kept} ({low_pass.reason}); "
-            "the training RMSE is of the filtered torque.")
+            f"the training RMSE is of the filtered {effort}.")
 
 
 def exclusion_text(logs: LoadedLogs) -> str | None:
@@ -105,9 +105,11 @@ def left_out_brief(logs: LoadedLogs) -> str | None:
 
 
 OMITTED_WORDS = {"Fc": "Coulomb friction (sign qd)", "tau0": "a torque bias", "h_s": "an angle offset (g sin q)",
-                 "Bq": "quadratic drag (qd |qd|)"}
-"""How the text names each candidate term of the omitted-terms test."""
-OMITTED_MODELS = {"Fc": "coulomb", "tau0": "bias", "h_s": "angle-offset"}
+                 "Bq": "quadratic drag (qd |qd|)", "kS": "a static voltage (sign qd)", "V0": "a voltage bias",
+                 "kG_s": "an angle offset (sin q)", "kVq": "quadratic drag (qd |qd|)"}
+"""How the text names each candidate term of the omitted-terms test (torque terms, and their volt twins)."""
+OMITTED_MODELS = {"Fc": "coulomb", "tau0": "bias", "h_s": "angle-offset", "kS": "coulomb", "V0": "bias",
+                  "kG_s": "angle-offset"}
 """The model term that adds each candidate, where a model has one (no model has quadratic drag)."""
 
 

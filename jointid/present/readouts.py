@@ -37,6 +37,7 @@ class Readout:
 def readouts(result: FitResult) -> tuple[Readout, ...]:
     """The lab's readouts for a fit in display order: rank, one per parameter, both RMSEs, motion RMS."""
     estimate = result.estimate
+    unit = result.model.effort.unit
 
     def optional(key: str, label: str, value: float | None) -> Readout:
         return Readout(key, label, UNAVAILABLE if value is None else format_number(value))
@@ -51,8 +52,8 @@ def readouts(result: FitResult) -> tuple[Readout, ...]:
     return (
         Readout("rank", "Regressor rank", f"{result.rank} / {result.parameter_count}"),
         *parameters,
-        optional("training_rmse", "Training RMSE (N m)", result.training_rmse),
-        optional("heldout_rmse", "Held-out RMSE (N m)", result.heldout_rmse),
+        optional("training_rmse", f"Training RMSE ({unit})", result.training_rmse),
+        optional("heldout_rmse", f"Held-out RMSE ({unit})", result.heldout_rmse),
         Readout("accel_rms", "Acceleration RMS (rad/s²)", format_number(result.accel_rms)),
         Readout("speed_rms", "Speed RMS (rad/s)", format_number(result.speed_rms)),
     )
@@ -213,9 +214,11 @@ def uncertainty_text(result: FitResult, unsettled: dict[str, str] | tuple[str, .
     ratio = result.scale_ratio
     if ratio is not None:
         corr, value, error = ratio
+        inertia, gravity = (model.terms[model.index_of(kind)].name for kind in ("I", "h"))
+        unit = "1/m" if model.effort.is_torque else "rad/s²"
         lines.append(f"The acceleration and gravity columns correlate at {corr:.3f} (the joint swings near its "
-                     f"natural frequency): h/I = {format_number(value)} ± {format_number(error)} 1/m is determined "
-                     "better than the scale they share.")
+                     f"natural frequency): {gravity}/{inertia} = {format_number(value)} ± {format_number(error)} "
+                     f"{unit} is determined better than the scale they share.")
     if result.constrained and result.unconstrained_estimate is not None:
         values = ", ".join(f"{name} {format_number(value)}"
                            for name, value in zip(model.names, result.unconstrained_estimate))

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+from ..studies.runs import POOLED_FIT
 from .text import format_number, text_table
 
 if TYPE_CHECKING:
@@ -21,8 +22,11 @@ def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
     table sideways and wraps the sentences)."""
     shared = pooled.shared
     model = pooled.runs[0].result.model
-    bias = "tau0" in model.column_names
-    header = ["run", "samples", "cutoff", "left out", *shared, *(["tau0"] if bias else []), "others predict"]
+    bias_index = model.index_of("tau0")
+    bias = bias_index is not None
+    bias_name = None if bias_index is None else model.column_names[bias_index]
+    unit = model.effort.unit
+    header = ["run", "samples", "cutoff", "left out", *shared, *([bias_name] if bias else []), "others predict"]
     rows = []
     for k, run in enumerate(pooled.runs):
         left = run.exclusions
@@ -31,20 +35,31 @@ def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
         other = pooled.predicted_by_others[k]
         rows.append([run.name, str(run.result.training.count), cutoff, share,
                      *(format_number(run.params[name]) for name in shared),
-                     *([format_number(run.params["tau0"])] if bias else []),
-                     "-" if other is None else f"{format_number(other)} N m"])
+                     *([format_number(run.params[bias_name])] if bias else []),
+                     "-" if other is None else f"{format_number(other)} {unit}"])
     offsets = pooled.estimate[len(shared):]
     rows.append(["pooled", str(sum(run.result.training.count for run in pooled.runs)), "", "",
                  *(format_number(pooled.params[name]) for name in shared), *(["own"] if bias else []), ""])
     rows.append(["± (Newey-West)", "", "", "", *(format_number(pooled.bse[name]) for name in shared),
                  *([""] if bias else []), ""])
-    lines = [f"{len(pooled.runs)} runs of one joint, each prepared and fitted alone, then together (model "
-             f"{model.name}; weights 1/σ² of each run's residuals"
-             + ("; each run keeps its own torque bias" if bias else "") + "):",
+    against = " against an equally weighted pooled fit" if pooled.weighting == POOLED_FIT else ""
+    sysid = _is_sysid(pooled)
+    routine = _sysid_routine(pooled)
+    what = (f"SysId tests of routine {routine!r}" if routine else "SysId tests") if sysid else "runs of one joint"
+    lines = [f"{len(pooled.runs)} {what}, each prepared and fitted alone, then together (model "
+             f"{model.name}; weights 1/σ² of each run's residuals{against}"
+             + (f"; each run keeps its own {model.effort.name} bias" if bias else "") + "):",
              text_table(header, rows)]
     if bias:
-        lines.append("Pooled torque bias of each run: " + ", ".join(
-            f"{name} {format_number(value)}" for name, value in zip(pooled.names, offsets)) + " N m.")
+        lines.append(f"Pooled {model.effort.name} bias of each run: " + ", ".join(
+            f"{name} {format_number(value)}" for name, value in zip(pooled.names, offsets)) + f" {unit}.")
+    if sysid:
+        lines.append("No SysId test alone separates the gains (a dynamic test's voltage is constant, which its "
+                     "Coulomb term fits exactly; a quasistatic test barely accelerates): read the pooled fit. The "
+                     "low-pass is off unless --cutoff asks for it, as each dynamic test starts with a step from rest.")
+        lines.append("Others predict: the RMS error of each test's effort predicted by the pooled fit of the other "
+                     "tests.")
+        return tuple(lines)
     lines.append("Scatter between the runs in their standard errors (about 1 when the errors are honest): "
                  + ", ".join(f"{name} {value:.1f}" for name, value in pooled.scatter.items()) + ".")
     if pooled.disagreements:
@@ -56,9 +71,22 @@ def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
             + ". The runs do not share one joint within their errors: read the scatter, not the ±.")
     else:
         lines.append("Every run agrees with the pooled fit within its errors.")
-    lines.append("Others predict: the RMS error of each run's filtered torque predicted by the pooled fit of the "
-                 "other runs (its own offset).")
+    lines.append(f"Others predict: the RMS error of each run's filtered {model.effort.name} predicted by the pooled "
+                 "fit of the other runs (its own offset).")
     return tuple(lines)
+
+
+def _is_sysid(pooled: PooledRuns) -> bool:
+    """True when the runs are the tests of a SysId routine log."""
+    source = pooled.runs[0].training.source
+    return getattr(None if source is None else source.table, "run", None) is not None
+
+
+def _sysid_routine(pooled: PooledRuns) -> str | None:
+    """The SysId routine the runs are the tests of, or None for runs of other logs."""
+    table = pooled.runs[0].training.source
+    routine = getattr(None if table is None else table.table, "routine", None)
+    return None if routine is None else routine.routine
 
 
 def runs_document(pooled: PooledRuns) -> dict:
@@ -67,6 +95,8 @@ def runs_document(pooled: PooledRuns) -> dict:
 
     return {
         "model": pooled.runs[0].result.model.name,
+        "weighting": pooled.weighting,
+        "sysid_routine": _sysid_routine(pooled),
         "runs": [{**logs_document(run), "name": run.name, "predicted_by_others_rmse": other,
                   "weight": weight}
                  for run, other, weight in zip(pooled.runs, pooled.predicted_by_others, pooled.weights)],

@@ -6,8 +6,9 @@ SETTINGS_DECIDE = "Your derivative settings decide this estimate"
 """The warning both faces print when the sensitivity check flags a parameter."""
 
 
-def sensitivity_summary(check) -> str:
-    """One sentence: which settings were varied and each parameter's largest move (sensitivity.SensitivityCheck)."""
+def sensitivity_summary(check, effort: str = "torque") -> str:
+    """One sentence: which settings were varied and each parameter's largest move (sensitivity.SensitivityCheck;
+    `effort`: what the fit's effort is)."""
     tried = [name for name in ("window", "cutoff") if any(v.setting == name for v in check.variants)]
     if not tried:
         return "Sensitivity check: nothing to vary (no derivative was estimated and nothing was low-passed)."
@@ -17,7 +18,7 @@ def sensitivity_summary(check) -> str:
     varied = " and ".join(settings[name] for name in tried)
     if check.exact:
         moves = ", ".join(f"{name} {move:.1g}" for name, move in zip(check.names, check.relative_moves))
-        return (f"Sensitivity check ({varied}, each halved and doubled): the torques are fitted exactly "
+        return (f"Sensitivity check ({varied}, each halved and doubled): the {effort}s are fitted exactly "
                 f"(noise-free data), so the standard errors are rounding and no move is judged by them; "
                 f"largest relative moves {moves}.")
     moves = ", ".join(f"{name} {f'{check.worst(j)[1]:.2f}'}" for j, name in enumerate(check.names))
@@ -45,7 +46,7 @@ def sensitivity_warning(check, compact: bool = False) -> str | None:
     return f"{SETTINGS_DECIDE}: " + "; ".join(parts) + "."
 
 
-def sensitivity_text(check) -> str:
+def sensitivity_text(check, effort: str = "torque") -> str:
     """The sensitivity check's summary line, then its warning when a parameter is flagged."""
     warning = sensitivity_warning(check)
-    return sensitivity_summary(check) + ("" if warning is None else "\n" + warning)
+    return sensitivity_summary(check, effort) + ("" if warning is None else "\n" + warning)

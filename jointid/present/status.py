@@ -108,7 +108,7 @@ def fit_warnings(result: FitResult) -> tuple[str, ...]:
     elif condition > LARGE_CONDITION:
         sentences.append(
             f"The condition number {condition:.3g} is large: the columns are nearly dependent, "
-            "so small torque errors move the parameters a lot."
+            f"so small {result.model.effort.name} errors move the parameters a lot."
         )
     elif condition < MODEST_CONDITION and verdicts and any(v != WELL_DETERMINED for v in verdicts):
         sentences.append(
@@ -117,6 +117,10 @@ def fit_warnings(result: FitResult) -> tuple[str, ...]:
             "parameter's signal rises above the noise."
         )
     return tuple(sentences)
+
+
+NO_HELDOUT = "No held-out data, so predictions are untested."
+"""Said where a fit has nothing to predict: in its status sentence, and in a report in place of the chart."""
 
 
 def status_message(result: FitResult) -> str:
@@ -134,11 +138,13 @@ def status_message(result: FitResult) -> str:
     if result.constrained:
         parts.append(constraint_sentence(result))
     if result.heldout_rmse is None:
-        parts.append("No held-out data, so predictions are untested.")
+        parts.append(NO_HELDOUT)
     else:
         # Measured held-out torques carry their own noise, which no fit can predict.
-        measured = "" if result.heldout_is_noiseless else " against measured torques, so it includes their measurement noise"
-        parts.append(f"Held-out torque RMSE is {format_number(result.heldout_rmse)} N m{measured}.")
+        effort = result.model.effort
+        measured = ("" if result.heldout_is_noiseless
+                    else f" against measured {effort.name}s, so it includes their measurement noise")
+        parts.append(f"Held-out {effort.name} RMSE is {format_number(result.heldout_rmse)} {effort.unit}{measured}.")
     model = result.model
     for name in result.sign_failures:
         parameter = model.parameter(name)
@@ -210,7 +216,7 @@ def compact_log_status(logs) -> str:
     if result.estimate is None:
         return f"{status_message(result)} n: notes."
     tested = ("untested (no held-out log)" if result.heldout_rmse is None
-              else f"held-out RMSE {format_number(result.heldout_rmse)} N m")
+              else f"held-out RMSE {format_number(result.heldout_rmse)} {result.model.effort.unit}")
     parts = [f"Rank {result.rank} of {result.parameter_count}: a unique fit, {tested}."]
     names = result.model.names
     parts.extend(f"Fitted {name} fails its sign rule." for name in result.sign_failures)

@@ -31,7 +31,7 @@ def log_checks(logs: LoadedLogs) -> tuple[list[str], str | None]:
     from .notes import exclusion_text, omitted_sentence
     from .sensitivity import sensitivity_text  # only log fits carry a sensitivity check
 
-    found = [] if logs.sensitivity is None else [sensitivity_text(logs.sensitivity)]
+    found = [] if logs.sensitivity is None else [sensitivity_text(logs.sensitivity, logs.result.model.effort.name)]
     omitted = omitted_sentence(logs)
     if omitted is not None:
         found.append(omitted)

@@ -19,6 +19,7 @@ import numpy as np
 from ..estimation.fit import fitted_torque
 from ..estimation.solver import LeastSquaresSolution, solve_least_squares, triangle_of
 from ..estimation.uncertainty import ParameterUncertainty, parameter_uncertainty
+from ..model.effort import TORQUE, Effort
 from ..model.terms import JointModel, model_named
 from ..options import LADDER
 from ..samples import JointData, rms
@@ -30,8 +31,10 @@ ALL_COLUMNS = model_named("coulomb+bias+angle-offset")
 
 
 def column_indices(model: JointModel) -> list[int]:
-    """Where each of a model's columns sits in ALL_COLUMNS (the plain h column is h_c there)."""
-    return [ALL_COLUMNS.column_names.index("h_c" if name == "h" else name) for name in model.column_names]
+    """Where each of a model's columns sits in ALL_COLUMNS (the plain h column is h_c there; a voltage model's
+    columns by the torque terms they stand for)."""
+    kinds = [term.kind for term in ALL_COLUMNS.terms]
+    return [kinds.index("h_c" if term.kind == "h" else term.kind) for term in model.terms]
 
 
 @dataclass(frozen=True, eq=False)
@@ -105,7 +108,8 @@ class Comparison:
 
 
 def compare_models(training: JointData, heldout: JointData | None = None, *, noise_bound: float | None = None,
-                   models: tuple[str, ...] = LADDER, low_pass=None, kept=None, regressor=None) -> Comparison:
+                   models: tuple[str, ...] = LADDER, low_pass=None, kept=None, regressor=None,
+                   effort: Effort = TORQUE) -> Comparison:
     """Fit each named model to the training data from one factorisation, and score it on the held-out data.
 
     `low_pass` (a low_pass.ParallelFilter) filters every column and the torque
@@ -113,10 +117,12 @@ def compare_models(training: JointData, heldout: JointData | None = None, *, noi
     decimation) leaves out what a log fit's robust step and standstill found,
     so that pushes do not decide the model. `regressor` (N, columns + 1)
     replaces ALL_COLUMNS' regressor with the torque as its last column (a
-    log's, smoothed like its derivatives).
+    log's, smoothed like its derivatives). `effort`: what the torque column holds (a voltage log's models are
+    fitted in volts).
     """
+    every = ALL_COLUMNS.in_effort(effort)
     if regressor is None:
-        X, tau = ALL_COLUMNS.data_regressor(training), training.tau
+        X, tau = every.data_regressor(training), training.tau
     else:
         X, tau = regressor[:, :-1], regressor[:, -1]
     if low_pass is not None and (low_pass.active or low_pass.decimation > 1):
@@ -128,10 +134,10 @@ def compare_models(training: JointData, heldout: JointData | None = None, *, noi
     if low_pass is not None and low_pass.active:
         independent = count * min(1.0, 2.0 * low_pass.cutoff * low_pass.decimation / low_pass.rate)
     factor = triangle_of(X, tau)
-    heldout_X = None if heldout is None else ALL_COLUMNS.data_regressor(heldout)
+    heldout_X = None if heldout is None else every.data_regressor(heldout)
     rows = []
     for name in models:
-        model = model_named(name)
+        model = model_named(name).in_effort(effort)
         columns = column_indices(model)
         small = solve_least_squares(factor[:, columns], factor[:, -1])
         solution = replace(small, row_count=count)

@@ -27,7 +27,7 @@ from ..logs.derivatives import MAX_WINDOW, smooth
 from ..logs.pipeline import JointLog
 from ..logs.request import HELDOUT, TRAINING, LoadRequest, load_joint_log
 from ..logs.table import LoadCancelled, LogError
-from ..model.terms import CANDIDATE_TERMS, PLAIN, JointModel, model_argument
+from ..model.terms import CANDIDATE_TERMS, PLAIN, JointModel, in_effort, model_argument
 from ..norms import rms
 from ..options import DEFAULT_ORDER, LOG_MODEL
 from ..samples import JointData
@@ -118,8 +118,8 @@ class LoadedLogs:
 
     @property
     def name(self) -> str:
-        """The training file's name, e.g. for the explorer's motion list."""
-        return os.path.basename(os.path.normpath(self.training.path))
+        """The training file's name (a data log's SysId test), e.g. for the explorer's motion list."""
+        return self.training.name
 
     @property
     def heldout_name(self) -> str | None:
@@ -163,6 +163,10 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
     numbers leave double precision (an estimate or an RMSE that overflows would
     otherwise be shown as if it were a result) or the filter cannot apply.
     """
+    model = model.in_effort(training.effort)
+    if heldout is not None and heldout.effort != training.effort:
+        raise LogError(heldout.path, f"holds {heldout.effort.name} ({heldout.effort.unit}) but the training log "
+                       f"{training.effort.name} ({training.effort.unit}); read both alike (--effort)")
     chosen = low_pass_for(training, filtering)
     check_work(training, chosen)
     others = _cutoff_variants(training, chosen) if sensitivity else []
@@ -187,7 +191,8 @@ def _omitted_terms(training: JointLog, model: JointModel, chosen: ParallelFilter
                    exclusions: Exclusions | None) -> OmittedTerms | None:
     """The test of the candidate terms the model lacks against the fit's filtered, kept samples; None without a
     unique low-passed fit on times, or when the model has every candidate."""
-    candidates = tuple(term for term in CANDIDATE_TERMS if term.name not in model.column_names)
+    kinds = {term.kind for term in model.terms}
+    candidates = in_effort(tuple(term for term in CANDIDATE_TERMS if term.name not in kinds), model.effort)
     if (exclusions is None or exclusions.regressor is None or result.estimate is None
             or result.correlation is None or not candidates):
         return None
@@ -342,11 +347,11 @@ def _exclusions(training: JointLog, model: JointModel, chosen: ParallelFilter, X
     origin = None if training.source is None else training.source.table.start_time
     since = t - (training.data.t[0] if origin is None else origin)
     support = 0 if not chosen.active else max(1, math.ceil(chosen.support * chosen.rate / chosen.decimation))
-    coulomb = model.column_names.index("Fc") if "Fc" in model.column_names else None
+    coulomb = model.index_of("Fc")
     still = rest = np.zeros(len(t), dtype=bool)
     threshold = None
     if coulomb is not None:
-        speed = X[:, model.column_names.index("B")]
+        speed = X[:, model.index_of("B")]
         still, rest, threshold = standstill(speed, _speed_resolution(training, chosen), support)
         if (~still).sum() <= 4 * X.shape[1]:  # hardly ever moving: too little left to leave standstill out
             still = rest = np.zeros(len(t), dtype=bool)
@@ -471,14 +476,15 @@ def load_request(
                     exclusion=exclusion)
 
 
-@checked(model=model_argument, degrees=flag, window=optional(whole(3)), order=whole(2), cutoff=optional(real(0.0)),
-         decimate=optional(whole(1)), constrained=flag, joint=optional(text), zero=text, clockwise=flag,
-         sensitivity=flag, robust=flag, exclude=pairs)
+@checked(model=optional(model_argument), degrees=flag, window=optional(whole(3)), order=whole(2),
+         cutoff=optional(real(0.0)), decimate=optional(whole(1)), constrained=flag, joint=optional(text), zero=text,
+         clockwise=flag, sensitivity=flag, robust=flag, exclude=pairs, effort=text, gear=real(0.0, above=True),
+         kt=optional(real(0.0, above=True)), efficiency=real(0.0, 1.0, above=True))
 def fit_log(
     source,
     heldout=None,
     *,
-    model: str | JointModel = LOG_MODEL,
+    model: str | JointModel | None = None,
     degrees: bool = False,
     window: int | None = None,
     order: int = DEFAULT_ORDER,
@@ -492,6 +498,10 @@ def fit_log(
     sensitivity: bool = True,
     robust: bool = True,
     exclude: tuple[tuple[float, float], ...] = (),
+    effort: str = "torque",
+    gear: float = 1.0,
+    kt: float | None = None,
+    efficiency: float = 1.0,
 ) -> LoadedLogs:
     """Fit a joint log as `jointid fit --csv` does: the same time checks, resampling, derivatives, low-pass and
     sensitivity check.
@@ -503,8 +513,9 @@ def fit_log(
         with q and tau and any of t, qd, qdd (missing derivatives are estimated from q, which needs t).
     heldout : same kinds as `source`, optional
         A log the fit never sees, to predict.
-    model : str or JointModel
-        'coulomb+bias' by default (real joints have friction, sensors a bias); 'plain' is the lesson's I, h, B.
+    model : str or JointModel, optional
+        'coulomb+bias' by default (real joints have friction, sensors a bias), 'coulomb+angle-offset' (WPILib
+        SysId's arm) for a voltage log; 'plain' is the lesson's I, h, B.
     degrees : bool
         q (and qd, qdd) given in degrees rather than radians.
     window, order : int
@@ -529,6 +540,12 @@ def fit_log(
         Find and leave out stretches where an outside torque acts (pushes, collisions).
     exclude : tuple of (start, end)
         Seconds from the log's start to leave out as well.
+    effort : {'torque', 'current', 'voltage'}
+        What the effort (tau) column holds: joint torque (N m), motor current (A; torque = gear x kt x efficiency x
+        current) or motor voltage (V; fitted as WPILib's arm gains kA, kG, kV, kS).
+    gear, kt, efficiency : float
+        A current log's reduction (motor turns per joint turn), torque constant (N m/A, required) and gearbox
+        efficiency.
 
     Returns
     -------
@@ -557,6 +574,15 @@ def fit_log(
     from ..logs.pipeline import check_finite, joint_log_from_table
     from ..model.terms import model_named
 
+    from ..logs.effort import EffortReading, read_effort
+    from ..options import VOLTAGE_LOG_MODEL
+
+    try:
+        reading = EffortReading(effort, 1.0, gear, kt, efficiency)
+    except ValueError as error:
+        raise ValueError(f"fit_log(): {error}") from None
+    if model is None:
+        model = VOLTAGE_LOG_MODEL if effort == "voltage" else LOG_MODEL
     fitted_model = model_named(model) if isinstance(model, str) else model
     if not isinstance(fitted_model, JointModel):
         raise TypeError(f"model must be a model name or a JointModel; got {type(model).__name__}")
@@ -568,9 +594,11 @@ def fit_log(
     def load(given, role: str) -> JointLog:
         if isinstance(given, (str, os.PathLike)):
             return load_joint_log(LoadRequest(os.fspath(given), role, degrees=degrees, window=window, order=order,
-                                              filtering=filtering, joint=joint, columns=column_map, angle=angle))
+                                              filtering=filtering, joint=joint, columns=column_map, angle=angle,
+                                              effort=reading))
         table = read_arrays(given, "arrays" if role == TRAINING else "held-out arrays", column_map)
         check_finite(table)
+        table = read_effort(table, reading, bag=False)
         table = read_angle(table, angle, degrees)
         return joint_log_from_table(table, degrees=degrees, window=window, order=order, cutoff=cutoff)
 

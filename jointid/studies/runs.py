@@ -32,6 +32,10 @@ from .log_fit import LoadedLogs, fit_logs
 BIAS = "tau0"
 """The model's torque bias term, which each run keeps for itself."""
 
+OWN_FIT, POOLED_FIT = "own fit", "pooled fit"
+"""How runs are weighted: by their own fit's residuals, or by their residuals against a first, equally weighted
+pooled fit (a SysId test alone fits its constant voltage exactly, so its own residuals say nothing of its noise)."""
+
 DISAGREEMENT = 3.0
 """A run disagrees when a shared parameter differs from the pooled one by more than this many combined errors."""
 
@@ -43,7 +47,8 @@ class PooledRuns:
     runs: tuple[LoadedLogs, ...]
     """Each run prepared and fitted on its own, in the order given."""
     shared: tuple[str, ...]
-    """The parameters every run shares (the model's, less its torque bias)."""
+    """The parameters every run shares (the model's reported ones, less its torque bias: an angle offset's h and q0
+    rather than its columns)."""
     estimate: np.ndarray
     """(s + b,) The pooled fit: the shared parameters, then each run's own bias when the model has one."""
     std_error: np.ndarray
@@ -53,6 +58,11 @@ class PooledRuns:
     predicted_by_others: tuple[float | None, ...]
     """RMS (N m) of each run's filtered torque less the other runs' pooled prediction (its offset its own), or
     None when the other runs have no unique fit together."""
+    covariance: np.ndarray | None = None
+    """(s + b, s + b) The covariance behind `std_error`, for parameters derived from several (an angle offset's
+    h and q0, a controller's gains); None without a unique pooled fit."""
+    weighting: str = OWN_FIT
+    """OWN_FIT or POOLED_FIT: what the weights come from."""
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -60,14 +70,32 @@ class PooledRuns:
         return tuple(run.name for run in self.runs)
 
     @cached_property
+    def _reported(self) -> tuple[np.ndarray, np.ndarray]:
+        """(s,) The pooled shared parameters as the model reports them, and their standard errors (the delta method
+        on the pooled covariance for an angle offset's h and q0)."""
+        model = self.runs[0].result.model
+        count = len(self.shared)
+        columns = [j for j, term in enumerate(model.terms) if term.kind != BIAS]
+        theta = np.zeros(model.size)
+        theta[columns] = self.estimate[:count]
+        jacobian = model.report_jacobian(theta) if np.all(np.isfinite(theta)) else None
+        if jacobian is None:
+            return np.asarray(self.estimate[:count], dtype=float), np.asarray(self.std_error[:count], dtype=float)
+        reported = model.report(theta)[columns]
+        if self.covariance is None:
+            return reported, np.full(count, np.nan)
+        block = jacobian[np.ix_(columns, columns)]
+        return reported, np.sqrt(np.diag(block @ self.covariance[:count, :count] @ block.T))
+
+    @cached_property
     def params(self) -> MappingProxyType:
         """The pooled shared parameters by name."""
-        return MappingProxyType(dict(zip(self.shared, map(float, self.estimate[: len(self.shared)]))))
+        return MappingProxyType(dict(zip(self.shared, map(float, self._reported[0]))))
 
     @cached_property
     def bse(self) -> MappingProxyType:
         """Their standard errors by name."""
-        return MappingProxyType(dict(zip(self.shared, map(float, self.std_error[: len(self.shared)]))))
+        return MappingProxyType(dict(zip(self.shared, map(float, self._reported[1]))))
 
     @cached_property
     def scatter(self) -> dict[str, float]:
@@ -97,12 +125,13 @@ class PooledRuns:
 
 def fit_runs(logs: list[JointLog], model: JointModel, filtering: FilterRequest = FilterRequest(),
              exclusion: ExclusionRequest = ExclusionRequest(), constrained: bool = False,
-             sensitivity: bool = True) -> PooledRuns:
-    """Fit each run alone, then all together; ValueError with fewer than two runs."""
+             sensitivity: bool = True, weighting: str = OWN_FIT) -> PooledRuns:
+    """Fit each run alone, then all together (weighted as `weighting` says); ValueError with fewer than two
+    runs."""
     if len(logs) < 2:
         raise ValueError("pooling needs at least two runs")
     return pool_runs(tuple(fit_logs(log, None, model, constrained, filtering, sensitivity, exclusion)
-                           for log in logs))
+                           for log in logs), weighting)
 
 
 def add_run(current: LoadedLogs | PooledRuns, log: JointLog, model: JointModel, constrained: bool = False,
@@ -112,44 +141,71 @@ def add_run(current: LoadedLogs | PooledRuns, log: JointLog, model: JointModel, 
     runs = current.runs if isinstance(current, PooledRuns) else (current,)
     first = runs[0]
     added = fit_logs(log, None, model, constrained, first.filtering, sensitivity, first.exclusion)
-    return pool_runs((*runs, added))
+    weighting = current.weighting if isinstance(current, PooledRuns) else OWN_FIT
+    return pool_runs((*runs, added), weighting)
 
 
-def pool_runs(runs: tuple[LoadedLogs, ...]) -> PooledRuns:
+def pool_runs(runs: tuple[LoadedLogs, ...], weighting: str = OWN_FIT) -> PooledRuns:
     """Runs each already fitted alone (with one model), fitted together and each predicted by the others."""
     model = runs[0].result.model
     everyone = tuple(range(len(runs)))
-    triangles = _triangles(runs)
-    estimate, std_error, weights = _pool(runs, everyone, triangles)
-    others = tuple(_predicted_by_others(runs, triangles, index) for index in everyone)
-    shared = tuple(name for name in model.column_names if name != BIAS)
-    return PooledRuns(runs, shared, estimate, std_error, weights, others)
+    weights = _own_weights(runs) if weighting == OWN_FIT else _pooled_weights(runs)
+    triangles = _triangles(runs, weights)
+    estimate, std_error, covariance = _pool(runs, everyone, triangles, weights)
+    others = tuple(_predicted_by_others(runs, triangles, index, weights) for index in everyone)
+    shared = tuple(name for name, term in zip(model.names, model.terms) if term.kind != BIAS)
+    return PooledRuns(runs, shared, estimate, std_error, weights, others, covariance, weighting)
 
 
-def _blocks(runs: tuple[LoadedLogs, ...], chosen: tuple[int, ...]):
+def _own_weights(runs: tuple[LoadedLogs, ...]) -> tuple[float, ...]:
+    """1 / each run's residual variance in its own fit."""
+    weights = []
+    for run in runs:
+        result = run.result
+        residuals = result.training.tau - result.training_predictions
+        weights.append(1.0 / max(float(np.mean(residuals**2)), 1e-300))
+    return tuple(weights)
+
+
+def _pooled_weights(runs: tuple[LoadedLogs, ...]) -> tuple[float, ...]:
+    """1 / each run's residual variance against the runs' equally weighted pooled fit (its own bias fitted)."""
+    equal = (1.0,) * len(runs)
+    triangles = _triangles(runs, equal)
+    estimate, _, _ = _pool(runs, tuple(range(len(runs))), triangles, equal)
+    if not np.all(np.isfinite(estimate)):
+        return _own_weights(runs)
+    weights = []
+    for k, (X, bias, tau, _, _, _) in enumerate(_blocks(runs, tuple(range(len(runs))), equal)):
+        residuals = tau - X @ estimate[: X.shape[1]]
+        if bias is not None:
+            residuals = residuals - bias * estimate[X.shape[1] + k]
+        weights.append(1.0 / max(float(np.mean(residuals**2)), 1e-300))
+    return tuple(weights)
+
+
+def _blocks(runs: tuple[LoadedLogs, ...], chosen: tuple[int, ...], weights: tuple[float, ...]):
     """Each chosen run's kept, filtered rows: (shared columns, bias column or None, torque, positions, lag,
     weight)."""
     for index in chosen:
         result = runs[index].result
-        names = result.model.column_names
         X = result.training_regressor
-        shared = [j for j, name in enumerate(names) if name != BIAS]
-        bias = names.index(BIAS) if BIAS in names else None
-        residuals = result.training.tau - result.training_predictions
-        weight = 1.0 / max(float(np.mean(residuals**2)), 1e-300)
+        shared = [j for j, term in enumerate(result.model.terms) if term.kind != BIAS]
+        bias = result.model.index_of(BIAS)
+        weight = weights[index]
         positions, lag = result.correlation if result.correlation is not None else (np.arange(len(X)), 0)
         yield X[:, shared], None if bias is None else X[:, bias], result.training.tau, positions, lag, weight
 
 
-def _pool(runs: tuple[LoadedLogs, ...], chosen: tuple[int, ...], triangles: list[np.ndarray]):
-    """(estimate, standard errors, weights) of the weighted fit of the chosen runs together, solved from their
-    `triangles` (see `_triangles`)."""
-    blocks = list(_blocks(runs, chosen))
+def _pool(runs: tuple[LoadedLogs, ...], chosen: tuple[int, ...], triangles: list[np.ndarray],
+          weights: tuple[float, ...]):
+    """(estimate, standard errors, covariance) of the fit of the chosen runs together with their `weights`,
+    solved from their `triangles` (see `_triangles`); the covariance is None without a unique fit."""
+    blocks = list(_blocks(runs, chosen, weights))
     shared, has_bias = blocks[0][0].shape[1], blocks[0][1] is not None
     solution = solve_least_squares(*_stacked([triangles[index] for index in chosen], shared, has_bias))
     if solution.estimate is None:
         size = solution.column_count
-        return np.full(size, np.nan), np.full(size, np.nan), tuple(block[-1] for block in blocks)
+        return np.full(size, np.nan), np.full(size, np.nan), None
     factor = covariance_factor(solution)
     meat = np.zeros_like(factor)
     for k, (X, bias, tau, positions, lag, weight) in enumerate(blocks):
@@ -161,7 +217,7 @@ def _pool(runs: tuple[LoadedLogs, ...], chosen: tuple[int, ...], triangles: list
         meat[np.ix_(columns, columns)] += newey_west_sum(own, tau * scale - own @ solution.estimate[columns],
                                                          positions, lag)[0]
     covariance = factor @ meat @ factor
-    return solution.estimate, np.sqrt(np.diag(covariance)), tuple(block[-1] for block in blocks)
+    return solution.estimate, np.sqrt(np.diag(covariance)), covariance
 
 
 def _stacked(triangles: list[np.ndarray], shared: int, has_bias: bool) -> tuple[np.ndarray, np.ndarray]:
@@ -180,12 +236,12 @@ def _stacked(triangles: list[np.ndarray], shared: int, has_bias: bool) -> tuple[
     return rows, targets
 
 
-def _triangles(runs: tuple[LoadedLogs, ...]) -> list[np.ndarray]:
+def _triangles(runs: tuple[LoadedLogs, ...], weights: tuple[float, ...]) -> list[np.ndarray]:
     """Each run's weighted rows reduced to the triangle of [shared columns | its bias column, if any | torque]
     (see triangle_of): every leave-one-run-out pool is solved from the other runs' triangles, the same least
     squares in a few dozen rows, where stacking their tens of thousands of rows again took most of pooling."""
     out = []
-    for X, bias, tau, _, _, weight in _blocks(runs, tuple(range(len(runs)))):
+    for X, bias, tau, _, _, weight in _blocks(runs, tuple(range(len(runs))), weights):
         scale = math.sqrt(weight)
         columns = (X if bias is None else np.column_stack([X, bias])) * scale
         # Blocked above one block's rows: LAPACK's QR of a whole run (thousands of rows) woke OpenBLAS's
@@ -194,10 +250,11 @@ def _triangles(runs: tuple[LoadedLogs, ...]) -> list[np.ndarray]:
     return out
 
 
-def _predicted_by_others(runs: tuple[LoadedLogs, ...], triangles: list[np.ndarray], index: int) -> float | None:
+def _predicted_by_others(runs: tuple[LoadedLogs, ...], triangles: list[np.ndarray], index: int,
+                         weights: tuple[float, ...]) -> float | None:
     """RMS of run `index`'s filtered torque less the other runs' pooled prediction, its offset its own
     (`triangles`: each run's, see `_triangles`)."""
-    X, bias, tau, _, _, _ = next(_blocks(runs, (index,)))
+    X, bias, tau, _, _, _ = next(_blocks(runs, (index,), weights))
     others = [triangle for k, triangle in enumerate(triangles) if k != index]
     estimate = solve_least_squares(*_stacked(others, X.shape[1], bias is not None)).estimate
     if estimate is None or not np.all(np.isfinite(estimate)):

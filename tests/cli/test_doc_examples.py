@@ -4,8 +4,9 @@ An example is a line `$ COMMAND` inside an indented or fenced code block, follow
 `...` stands for any number of lines left out on purpose. `jointid` commands run in this process through
 `jointid.cli.main` (a subprocess costs half a second of start-up each); commands with shell syntax (a pipe, a
 redirection) and the few other programs allowed below run in a shell. Each doc's examples share one temporary
-folder, where examples that write files (`--out`) are run before the examples after them; examples reading the real
-pendulum runs run in ../shared/real-logs. Python examples are not here: tests/core/test_library.py runs library.md's.
+folder, where examples that write files (`--out`, export's `--mujoco`/`--urdf`, `> FILE`) are run before the examples
+after them; examples reading the real pendulum runs run in ../shared/real-logs, or, when they write a file, in the
+doc's folder with the runs linked into it. Python examples are not here: tests/core/test_library.py runs library.md's.
 """
 
 from __future__ import annotations
@@ -48,6 +49,12 @@ REAL_LOG_NAMES = re.compile(r"\bpendulum_\w+\.csv\b")
 
 SHELL_SYNTAX = re.compile(r"[|<>;&`$]")
 
+OUTPUT_FLAGS = ("--out", "--mujoco", "--urdf")
+"""Flags naming a file the example writes (simulate's and design's --out, export's files)."""
+
+REDIRECT_TO_FILE = re.compile(r"(?<![0-9&])>\s*(?!&|/dev/)[\w.-]+")
+"""`> fit.json`: the example writes a file the doc's later examples read (not `2>&1`, not `> /dev/full`)."""
+
 
 @dataclass(frozen=True)
 class Example:
@@ -68,7 +75,8 @@ class Example:
 
     @property
     def writes_files(self) -> bool:
-        return "--out" in shlex.split(self.command)
+        words = shlex.split(self.command)
+        return any(flag in words for flag in OUTPUT_FLAGS) or REDIRECT_TO_FILE.search(self.command) is not None
 
 
 def code_blocks(lines: list[str]):
@@ -164,11 +172,18 @@ def write_bags(folder: Path) -> None:
     write_joint_bag(folder / "arm_bad", "sqlite3", t, joints)
 
 
+def copy_sysid_log(folder: Path) -> None:
+    """sysid_arm.wpilog (sysid.md): the committed example, a SysId routine simulated by tests/support/sysid_arm.py."""
+    pytest.importorskip("wpiutil")
+    (folder / "sysid_arm.wpilog").write_bytes((ROOT / "docs" / "examples" / "sysid_arm.wpilog").read_bytes())
+
+
 FIXTURES = {
     "bad.csv": lambda folder: (folder / "bad.csv").write_text("t,q,qd,qdd,tau\n0,0,NaN,0,1\n0.1,0,0,0,1\n"),
     "units.csv": lambda folder: (folder / "units.csv").write_text(
         "time_s,position_deg,velocity_deg_s,torque_nm,tau_cmd\n0,0,0,1,1\n"),
     "arm_": write_bags,
+    "sysid_arm.wpilog": copy_sysid_log,
 }
 """Files the docs' examples read without an example writing them first, by the text in a command that names them."""
 
@@ -183,13 +198,18 @@ class DocFolders:
         self.results: dict[Example, Run] = {}
 
     def folder(self, example: Example) -> Path:
-        if REAL_LOG_NAMES.search(example.command):
-            if not REAL_LOGS.is_dir():
-                pytest.skip("../shared/real-logs is not beside the checkout")
+        real = REAL_LOG_NAMES.search(example.command)
+        if real and not REAL_LOGS.is_dir():
+            pytest.skip("../shared/real-logs is not beside the checkout")
+        if real and not example.writes_files:
             return REAL_LOGS
         if example.doc not in self.folders:
             self.folders[example.doc] = self.factory.mktemp(example.doc.stem)
         folder = self.folders[example.doc]
+        if real:  # it writes a file: in the doc's own folder, the real runs (read-only in CI) linked into it
+            for log in REAL_LOGS.glob("pendulum_*.csv"):
+                if not (folder / log.name).exists():
+                    (folder / log.name).symlink_to(log)
         for name, write in FIXTURES.items():
             if name in example.command and (folder, name) not in self.written:
                 write(folder)

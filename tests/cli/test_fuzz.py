@@ -115,6 +115,15 @@ def bad_invocations() -> list[list[str]]:
     cases += cases_for([], "--noise", ["٣", "-inf", "nan", "5", "1.5", "101"])  # the explorer: 0 to 1.00 N m
     cases += cases_for([], "--samples", ["1", "241", "1000", "٣"])  # the explorer: 2 to 240
     cases += cases_for([], "--seed", ["-1", "x", "4294967296"])
+    export = ["export", "--mujoco", "o.xml"]
+    cases += cases_for(export, "--mass", ["0", "-1", "nan", "inf", "٣", "x", "0.1"])  # 0.1 kg: below h²/I = 0.2
+    cases += cases_for(export, "--com-distance", ["0", "-2", "nan", "2.5"])  # 2.5 m: beyond I/h = 2
+    cases += cases_for([*export, "--mass", "2"], "--armature", ["-0.1", "nan", "0.8", "x"])
+    cases += cases_for([*export, "--mass", "1"], "--length", ["0", "nan", "0.3"])  # r = 0.4 m: beyond 0.3
+    cases += cases_for([*export, "--mass", "2"], "--name", ["", "a b", "1joint", "<x>"])
+    cases += [["export"], ["export", "--mass", "2"], ["export", "--mas", "2", "--mujoco", "o.xml"],
+              [*export, "--mass", "2", "--com-distance", "0.2"], [*export, "--mass", "2", "--motion", "holds"],
+              [*export, "--mass", "2", "--from-json", "missing.json"], [*export, "--mass", "2", "--urdf", "o.xml"]]
     cases += cases_for(["fit", "--csv", "x.csv"], "--window", ["10", "2", "-3", "abc", "٣", "7001", "4003"])
     cases += cases_for(["fit", "--csv", "x.csv"], "--order", ["1", "-2", "x", "11", "6999", "２"])
     cases += [
@@ -156,6 +165,10 @@ def bad_invocations() -> list[list[str]]:
         ["simulate", "--out", "o.csv", "--samples", "3", "--rate", "1e-300"],
         ["simulate", "--out", "o.csv", "--rate", "1e9", "--duration", "1e6"],
         ["simulate", "--out", "o.csv", "--rate", "1e-300", "--duration", "8"],
+        # jointid report: fit's flags, and where it writes.
+        ["report"], ["report", "--out"], ["report", "--out", "o.csv", "--noise", "nan"],
+        ["report", "--out", "o.csv", "--csv", "missing.csv"], ["report", "--out", "o.csv", "--markdown", "o.csv"],
+        ["report", "--out", "o.csv", "--csv", "x.csv", "--simulate"], ["report", "--out", "o.csv", "--comp"],
     ]
     return cases
 
@@ -166,7 +179,7 @@ BAD = bad_invocations()
 def test_the_fuzz_list_is_long_and_covers_every_subcommand():
     assert len(BAD) >= 150
     first_words = {case[0] if case and not case[0].startswith("-") else "(explorer)" for case in BAD}
-    assert {"fit", "sweep", "matrix", "torque", "simulate", "(explorer)"} <= first_words
+    assert {"fit", "sweep", "matrix", "torque", "simulate", "export", "(explorer)"} <= first_words
 
 
 @pytest.mark.parametrize("argv", BAD, ids=[" ".join(case) or "(empty)" for case in BAD])
@@ -176,7 +189,7 @@ def test_a_bad_invocation_is_one_line_and_status_2(capsys, in_tmp, argv):
     assert out == ""
     assert len(err.splitlines()) == 1 and err.endswith("\n"), err
     assert err.startswith("jointid") and "Traceback" not in err and "Warning" not in err
-    assert not (in_tmp / "o.csv").exists()  # simulate wrote nothing
+    assert not (in_tmp / "o.csv").exists() and not (in_tmp / "o.xml").exists()  # simulate and export wrote nothing
 
 
 @pytest.mark.parametrize(

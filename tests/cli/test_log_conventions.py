@@ -163,9 +163,10 @@ def test_two_columns_for_one_quantity_are_one_line(capsys, tmp_path):
 
 def test_flags_need_a_log_and_columns_need_a_csv(capsys):
     assert refused(capsys, "fit", "--zero", "down") == (
-        "jointid: --zero: only for fitting a log; add --csv TRAIN.csv or --bag BAG --joint NAME")
+        "jointid: --zero: only for fitting a log; add --csv TRAIN.csv, --bag BAG --joint NAME or --wpilog LOG.wpilog")
     assert refused(capsys, "fit", "--columns", "q=a") == (
-        "jointid: --columns: only for fitting a log; add --csv TRAIN.csv or --bag BAG --joint NAME")
+        "jointid: --columns: only for fitting a log; add --csv TRAIN.csv, --bag BAG --joint NAME "
+        "or --wpilog LOG.wpilog")
     assert refused(capsys, "fit", "--bag", "x.bag", "--joint", "j", "--columns", "q=a") == (
         "jointid: --columns: only for a CSV log; a bag's JointState gives position, velocity and effort by name")
 

@@ -81,6 +81,22 @@ def write_export(folder: str | os.PathLike, stem: str, document: dict, svg: str)
     raise ExportError(f"{shown_path(folder)}: no free name for {stem}.json and {stem}.svg")
 
 
+def write_report_page(folder: str | os.PathLike, stem: str, page: str) -> Path:
+    """Write stem.html (or stem-2.html, ... when taken) into `folder`; ExportError, never an overwrite."""
+    folder = export_folder(folder)
+    remove_stale_temporaries(str(folder))
+    for number in range(1, NAME_ATTEMPTS + 1):
+        path = folder / (f"{stem}.html" if number == 1 else f"{stem}-{number}.html")
+        if os.path.lexists(path):
+            continue
+        try:
+            write_texts({path: page})
+        except AlreadyExists:
+            continue  # it appeared meanwhile: take the next free name
+        return path
+    raise ExportError(f"{shown_path(folder)}: no free name for {stem}.html")
+
+
 class ExportScreen(ModalScreen[str | None]):
     """Ask for the folder to export into; Enter exports, Escape cancels."""
 

@@ -41,7 +41,8 @@ class LadderScreen(Screen):
     ]
 
     def __init__(self, title: str, training: JointData, heldout: JointData | None, *,
-                 noise_bound: float | None = None, joint: TrueJoint | None = None, low_pass=None) -> None:
+                 noise_bound: float | None = None, joint: TrueJoint | None = None, low_pass=None,
+                 effort=None) -> None:
         """Create the view.
 
         Args:
@@ -51,10 +52,14 @@ class LadderScreen(Screen):
             noise_bound: The known noise bound (synthetic data), for expected standard errors.
             joint: The synthetic joint to simulate against; None for a log (no true torque).
             low_pass: The log fit's parallel low-pass (parallel_filter.ParallelFilter), applied alike here.
+            effort: What the log's effort is (jointid.model.effort.Effort: a voltage log's models are fitted in
+                volts); None: torque.
         """
         super().__init__()
         self.title_text = title
-        self.comparison: Comparison = compare_models(training, heldout, noise_bound=noise_bound, low_pass=low_pass)
+        extra = {} if effort is None else {"effort": effort}
+        self.comparison: Comparison = compare_models(training, heldout, noise_bound=noise_bound, low_pass=low_pass,
+                                                     **extra)
         self.joint = joint
         self.simulations: dict = {}
 

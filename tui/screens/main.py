@@ -81,6 +81,20 @@ def cached_experiment(settings: Settings) -> FitResult:
     return run_experiment(settings)
 
 
+def report_page(runs, logs, result, settings) -> str:
+    """The HTML report of what the explorer shows: several runs, a log, or the synthetic experiment's fit."""
+    from jointid.present import report
+    from jointid.present.report_writers import html_page, made_by
+
+    if runs is not None:
+        page = report.runs_report(runs)
+    elif logs is not None:
+        page = report.logs_report(logs)
+    else:
+        page = report.synthetic_report(result, settings)
+    return html_page(report.draw(page), made_by("the explorer (Ctrl+R)"))
+
+
 def known_parameters_text(joint: TrueJoint = LESSON_JOINT, compact: bool = False) -> str:
     """The synthetic joint's true parameters and conventions, as shown beside the controls.
 
@@ -172,11 +186,17 @@ class MainScreen(Screen):
         # Not in the footer (80 columns have no room): the status under the charts names it.
         Binding("n", "notes", "Notes", priority=True, show=False,
                 tooltip="The log's notes: how it was read, filtered and checked, and what the fit left out"),
+        # Not in the footer or the help's key list (80 columns have no room): the command palette has it.
+        Binding("g", "gains", "Gains", priority=True, show=False),
         # Only with several runs (check_action); the log note names it.
         Binding("u", "runs", "Runs", priority=True, show=False,
                 tooltip="Several runs: each run's fit beside the pooled one; a digit there shows a run"),
         Binding("ctrl+s", "export", "Export", priority=True,
                 tooltip="Save the fit as JSON and the screen as SVG into a folder"),
+        # Not in the footer (80 columns have no room); the palette lists it as Write report.
+        Binding("ctrl+r", "write_report", "Write report", priority=True, show=False,
+                tooltip="Write an HTML report of what is shown (settings or log, fit, charts, checks) into the "
+                "current folder"),
     ]
 
     def __init__(self, settings: Settings = DEFAULT_SETTINGS, logs: LoadedLogs | PooledRuns | None = None) -> None:
@@ -394,7 +414,7 @@ class MainScreen(Screen):
         first = runs.runs[0]
         try:
             refitted = fit_runs([run.training for run in runs.runs], settings.joint_model, first.filtering,
-                                first.exclusion, settings.constrained)
+                                first.exclusion, settings.constrained, weighting=runs.weighting)
         except ValueError as error:  # LogError: numbers beyond double precision
             self.app.call_from_thread(self.notify, str(error).splitlines()[0], title="Runs not refitted",
                                       severity="error")
@@ -507,7 +527,7 @@ class MainScreen(Screen):
         else:
             self.app.push_screen(LadderScreen(f"log {self.logs.name}", self.logs.training.data,
                                               None if self.logs.heldout is None else self.logs.heldout.data,
-                                              low_pass=self.logs.filter))
+                                              low_pass=self.logs.filter, effort=self.logs.training.effort))
 
     def action_help(self) -> None:
         """Open the help screen."""
@@ -549,7 +569,7 @@ class MainScreen(Screen):
 
     def check_action(self, action: str, parameters: tuple) -> bool | None:
         """Close log exists only while a log is shown, 4 once a motion is designed; the sweep, the matrix and Reset are off (None) while one is."""
-        if action in ("close_log", "notes"):
+        if action in ("close_log", "notes", "gains"):
             return self.logs is not None
         if action == "runs":
             return self.runs is not None
@@ -572,6 +592,27 @@ class MainScreen(Screen):
         from .notes import NotesScreen  # only a log's fit has notes
 
         self.app.push_screen(NotesScreen(self.logs))
+
+    def action_gains(self) -> None:
+        """Open the gains view: WPILib's ArmFeedforward gains of the log shown (and the motor's physical parameters
+        behind a voltage log's); a notification when the fit gives none (a torque log without a motor)."""
+        from jointid.present.gains import gains_parts, motor_parts
+        from jointid.studies.gains import GainsError, arm_gains, motor_parameters
+
+        from .gains import GainsScreen  # only a log's fit has gains
+
+        conventions = self.app.conventions
+        drive = None if conventions is None else conventions.motor
+        fit = self.logs if self.runs is None else self.runs  # several runs: their pooled fit's gains
+        try:
+            sections = [gains_parts(arm_gains(fit, drive))]
+            if drive is not None and not self.logs.result.model.effort.is_torque:
+                sections.append(motor_parts(motor_parameters(fit, drive)))
+        except GainsError as error:
+            self.notify(str(error), title="No gains", severity="warning")
+            return
+        title = self.logs.name if self.runs is None else f"{len(self.runs.runs)} runs pooled"
+        self.app.push_screen(GainsScreen(title, sections))
 
     def action_runs(self) -> None:
         """Open the runs view: each run's fit beside the pooled one."""
@@ -657,6 +698,11 @@ class MainScreen(Screen):
                 if dialog.cancelled.is_set():  # as load_request: no refit is started after an Escape
                     raise LoadCancelled(request.path)
                 logs = add_run(current, log, self.settings.joint_model, self.settings.constrained)
+            elif request.wpilog and request.role != HELDOUT:  # a SysId data log opens as its tests, pooled
+                from jointid.studies.sysid import load_training_request
+
+                logs = load_training_request(request, self.settings.joint_model, self.settings.constrained,
+                                             progress, dialog.cancelled.is_set)
             elif hasattr(current, "runs"):  # several runs: each is predicted by the others; a new log replaces them
                 if request.role == HELDOUT:
                     raise ValueError(f"{request.path}: with several runs each run is predicted by the others; "
@@ -687,6 +733,15 @@ class MainScreen(Screen):
             return
         if dialog.chooser is not None and dialog.chooser.is_attached:
             dialog.chooser.dismiss()
+        if hasattr(logs, "runs") and logs.runs[0].training.name != os.path.basename(logs.runs[0].training.path) \
+                and all(run.training.path == dialog.path for run in logs.runs):
+            # A SysId data log's tests (no other runs come from one file): shown from the first, in the model
+            # they were fitted with.
+            self.settings = replace(self.settings, model=logs.runs[0].result.model.name)
+            self.set_runs(logs, 0)
+            self.notify(f"{len(logs.runs)} SysId tests of {dialog.path}, fitted alone and pooled; u: every test",
+                        title="SysId log loaded")
+            return
         if hasattr(logs, "runs"):
             self.set_runs(logs, len(logs.runs) - 1)
             self.notify(f"{logs.runs[-1].training.source_text()}; u: every run and the pooled fit",
@@ -698,22 +753,29 @@ class MainScreen(Screen):
 
     # --- export -------------------------------------------------------------------------
 
+    def export_stem(self) -> str:
+        """The file name exports of what is shown start with: 'train-fit', 'jointid-slow-0.20-24-7'."""
+        if self.runs is not None:
+            return f"{Path(self.runs.runs[0].training.path).stem}-runs-fit"
+        if self.logs is not None:
+            return f"{Path(self.logs.training.path).stem}-fit"
+        s = self.settings
+        model = "" if s.model == DEFAULT_SETTINGS.model else f"-{s.model}"
+        return f"jointid-{s.motion_name}-{s.noise:.2f}-{s.samples}-{s.seed}{model}"
+
     def export_content(self) -> tuple[str, dict]:
         """File stem and JSON document of the current result, as `jointid fit [--csv] --json` prints it."""
         if self.runs is not None:
             from jointid.present.runs import runs_document
 
-            return f"{Path(self.runs.runs[0].training.path).stem}-runs-fit", runs_document(self.runs)
+            return self.export_stem(), runs_document(self.runs)
         if self.logs is not None:
             from jointid.present.documents import logs_document
 
-            return f"{Path(self.logs.training.path).stem}-fit", logs_document(self.logs)
+            return self.export_stem(), logs_document(self.logs)
         from jointid.present.documents import fit_document  # json and the documents: only when exporting
 
-        s = self.settings
-        model = "" if s.model == DEFAULT_SETTINGS.model else f"-{s.model}"
-        return (f"jointid-{s.motion_name}-{s.noise:.2f}-{s.samples}-{s.seed}{model}",
-                fit_document(self.result, settings=s))
+        return self.export_stem(), fit_document(self.result, settings=self.settings)
 
     def action_export(self) -> None:
         """Export the fit as JSON and the screen as SVG into a chosen folder."""
@@ -743,3 +805,30 @@ class MainScreen(Screen):
             self.notify(str(error), title="Nothing exported", severity="error")
             return
         self.notify(f"Wrote {json_path} and {svg_path}", title="Exported")
+
+    def action_write_report(self) -> None:
+        """Write the report of what is shown (`jointid report` of the same source) into the current folder."""
+        self.notify("Drawing the charts; a notification says where the report is.", title="Writing the report")
+        # The source as it is now: the worker reads only these immutable results, never the screen.
+        self.write_report(self.export_stem().removesuffix("-fit") + "-report", self.runs, self.logs, self.result,
+                          self.settings)
+
+    @work(thread=True, exclusive=True, group="report")
+    def write_report(self, stem: str, runs, logs, result, settings) -> None:
+        """Build and write the report in a thread (drawing its charts takes about a second); notify where, or why
+        not."""
+        from jointid.files import ExportError
+        from jointid.present.report_charts import ReportExtraMissing
+
+        from .export import write_report_page
+
+        try:
+            folder = os.getcwd()
+        except OSError:  # the folder was removed under the explorer: the write says so, in one line
+            folder = os.curdir
+        try:
+            path = write_report_page(folder, stem, report_page(runs, logs, result, settings))
+        except (ExportError, ReportExtraMissing) as error:
+            self.app.call_from_thread(self.notify, str(error), title="No report written", severity="error")
+            return
+        self.app.call_from_thread(self.notify, f"Wrote {path}", title="Report written")

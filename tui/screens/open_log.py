@@ -1,7 +1,10 @@
-"""The Ctrl+O dialog: a path field, a folder tree, the log's role and its angle unit, all by keyboard.
+"""The Ctrl+O dialog: a path field, a folder tree, the log's role, what its effort is and its angle unit, all by
+keyboard.
 
 A ROS bag (a ROS 2 bag folder, or a .bag, .mcap or .db3 file) opens the joint
-picker next; the request then names the joint and topic. The dialog stays open
+picker next; the request then names the joint and topic. A WPILib data log
+(.wpilog) opens the entry picker, or, for a SysId routine log, loads its tests
+as runs of one joint. The dialog stays open
 while the chosen file loads (the progress dialog covers it): the explorer closes
 it once the log is shown, and a file that cannot be used leaves it as it was,
 path and options included, to correct or cancel.
@@ -20,7 +23,8 @@ from textual.screen import ModalScreen
 from textual.widgets import DirectoryTree, Input, Label, RadioSet, Static
 
 from jointid.estimation.low_pass import FilterRequest
-from jointid.logs.conventions import LogConventions
+from jointid.logs.conventions import EntryMap, LogConventions
+from jointid.logs.effort import EffortReading
 from jointid.logs.request import HELDOUT, RUN, TRAINING, LoadRequest
 from jointid.options import DEFAULT_ORDER, DEFAULT_WINDOW
 
@@ -48,7 +52,7 @@ class LogTree(DirectoryTree):
 
 
 class OpenLogScreen(ModalScreen[None]):
-    """Choose a CSV log or a ROS bag: type a path and press Enter, or pick a file in the tree."""
+    """Choose a CSV log, a ROS bag or a WPILib data log: type a path and press Enter, or pick a file in the tree."""
 
     DEFAULT_CSS = """
     OpenLogScreen {
@@ -127,7 +131,7 @@ class OpenLogScreen(ModalScreen[None]):
     def compose(self) -> ComposeResult:
         """Path field, role and degrees options, hint, folder tree, and the dialog's keys."""
         with Vertical() as box:
-            box.border_title = "Open a joint log (CSV or ROS bag)"
+            box.border_title = "Open a joint log (CSV, ROS bag or WPILib .wpilog)"
             yield Label("Path (Enter opens it):")
             yield Input(value=f"{self.folder}{os.sep}", id="open-path", compact=True)
             with Horizontal(id="open-options"):
@@ -136,11 +140,21 @@ class OpenLogScreen(ModalScreen[None]):
                     yield ClearRadioButton("Held-out log", id=f"role-{HELDOUT}",
                                       disabled=not self.heldout_allowed)
                     yield ClearRadioButton("Another run", id=f"role-{RUN}", disabled=not self.run_allowed)
+                session = self.conventions.effort
+                kind = "torque" if session is None else session.kind
+                with RadioSet(id="open-effort", compact=True):
+                    yield ClearRadioButton("Torque (N m)", value=kind == "torque", id="effort-torque")
+                    yield ClearRadioButton("Voltage (V)", value=kind == "voltage", id="effort-voltage")
+                    # A current needs its gear and kt, which only the command line gives (--effort current).
+                    yield ClearRadioButton("Current (A)", value=kind == "current", id="effort-current",
+                                           disabled=kind != "current")
                 yield ClearCheckbox("Angles in degrees", id="open-degrees", compact=True)
             yield Static(
                 "Tab moves between the path, the options and the tree; in the tree Enter opens "
                 "a folder or loads a file. A ROS bag (its folder's path, or a .bag, .mcap or .db3 file) "
-                "asks for a joint next. Escape cancels."
+                "asks for a joint next, a WPILib .wpilog for its entries (a SysId log opens as its tests). "
+                "A voltage log is fitted in volts (WPILib's gains; g shows them). "
+                "Escape cancels."
                 + (" Another run is fitted alone, then pooled with the log shown (u: every run)."
                    if self.run_allowed else " A held-out log or another run needs a training log first.")
                 + ("" if self.heldout_allowed or not self.run_allowed
@@ -156,16 +170,24 @@ class OpenLogScreen(ModalScreen[None]):
         field.focus()
         field.cursor_position = len(field.value)
 
-    def request(self, path: str, joint: str | None = None, topic: str | None = None) -> LoadRequest:
-        """The load request for a path (and a bag's joint and topic) with the chosen role and unit."""
+    def request(self, path: str, joint: str | None = None, topic: str | None = None, *, wpilog: bool = False,
+                entries: EntryMap | None = None, units: str | None = None) -> LoadRequest:
+        """The load request for a path (and a bag's joint and topic, or a data log's entries and unit) with the
+        chosen role and unit."""
         pressed = self.query_one("#open-role", RadioSet).pressed_button
         roles = {f"role-{role}": role for role in (TRAINING, HELDOUT, RUN)}
         role = TRAINING if pressed is None else roles.get(pressed.id, TRAINING)
         window, order = self.derivatives
         degrees = self.query_one("#open-degrees", ClearCheckbox).value
+        fields = self.conventions.request_fields(bag=joint is not None or wpilog)
+        effort = self.query_one("#open-effort", RadioSet).pressed_button
+        if effort is not None and effort.id == "effort-voltage":
+            fields["effort"] = EffortReading("voltage")
+        elif effort is not None and effort.id == "effort-torque":
+            fields.pop("effort", None)
         return LoadRequest(os.path.expanduser(path.strip()), role, degrees, window=window, order=order,
-                           joint=joint, topic=topic, filtering=self.filtering,
-                           **self.conventions.request_fields(bag=joint is not None))
+                           joint=joint, topic=topic, filtering=self.filtering, **fields,
+                           wpilog=wpilog, entries=entries, units=units)
 
     def submit(self, request: LoadRequest) -> None:
         """Hand a request to the owner, which closes this dialog once the log is shown."""
@@ -190,13 +212,16 @@ class OpenLogScreen(ModalScreen[None]):
     def choose(self, path: str) -> None:
         """Load a CSV log now; for a bag, pick its joint first (the dialog stays open behind the picker)."""
         from jointid.logs.bag import looks_like_bag
+        from jointid.logs.wpilog import looks_like_wpilog
 
         path = self.within_data_folder(path)
         if path is None:
             return
-
         if os.path.basename(path) == "metadata.yaml":  # chosen inside a ROS 2 bag folder: the folder is the bag
             path = os.path.dirname(path)
+        if looks_like_wpilog(path):
+            self.choose_entries(path)
+            return
         if not looks_like_bag(path):
             self.submit(self.request(path))
             return
@@ -207,6 +232,22 @@ class OpenLogScreen(ModalScreen[None]):
                 self.submit(self.request(path, *choice))
 
         self.app.push_screen(BagJointScreen(path), picked)
+
+    def choose_entries(self, path: str) -> None:
+        """A WPILib data log: a SysId routine log loads as its tests, any other after its entries are picked."""
+        from .wpilog_entry import SYSID, WpilogEntryScreen
+
+        def picked(choice: tuple | None) -> None:
+            if choice is None:
+                return
+            if choice[0] == SYSID:
+                self.submit(self.request(path, wpilog=True))
+                return
+            angle, effort, unit = choice
+            self.submit(self.request(path, wpilog=True, entries=EntryMap((("q", angle), ("tau", effort))),
+                                     units=unit))
+
+        self.app.push_screen(WpilogEntryScreen(path), picked)
 
     def on_input_submitted(self, message: Input.Submitted) -> None:
         """Enter in the path field: a folder opens in the tree, a file is loaded; nothing or a typo stays here."""

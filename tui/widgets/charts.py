@@ -131,7 +131,7 @@ def draw_torque_chart(plt, data: ChartData, line_rgb: tuple[int, int, int], dots
     """
     plt.clear_data()
     plt.xlabel(data.x_label)
-    plt.ylabel("Torque (N m)")
+    plt.ylabel(data.y_label)
     # No top or right frame line: a row saved is a row of data at 80x24.
     plt.xaxes(True, False)
     plt.yaxes(True, False)

@@ -1,0 +1,49 @@
+"""What `jointid log-info` prints for a WPILib data log, and the entry lines the explorer's entry picker shows."""
+
+from __future__ import annotations
+
+from .text import COLUMN_GAP
+
+
+def entry_line(entry) -> str:
+    """"/Arm/Position: double, 1000 records at 250 Hz, Rotation" for a wpilog.Entry."""
+    rate = "" if entry.rate is None else f" at {entry.rate:.4g} Hz"
+    unit = "" if entry.unit is None else f", {entry.unit}"
+    return f"{entry.name}: {entry.type}, {entry.records} records{rate}{unit}"
+
+
+def _columns(header: list[str], rows: list[list[str]], right: tuple[int, ...]) -> str:
+    """Rows under a header, the columns in `right` right-aligned."""
+    table = [header, *rows]
+    widths = [max(len(row[i]) for row in table) for i in range(len(header))]
+    return "\n".join(
+        COLUMN_GAP.join(cell.rjust(w) if i in right else cell.ljust(w) for i, (cell, w) in enumerate(zip(row, widths)))
+        .rstrip() for row in table)
+
+
+def wpilog_info_text(info) -> str:
+    """The text of `jointid log-info` for a wpilog.WpilogInfo."""
+    count = len(info.entries)
+    lines = [f"{info.path}: WPILib data log, {info.duration:.6g} s, {count} entr{'y' if count == 1 else 'ies'}", ""]
+    start = info.start_us
+    rows = [[e.name, e.type, str(e.records), "-" if e.rate is None else f"{e.rate:.4g}",
+             "-" if e.first_us is None else f"{(e.first_us - start) * 1e-6:.6g}", e.unit or "-"]
+            for e in info.entries]
+    lines.append(_columns(["entry", "type", "records", "rate (Hz)", "from (s)", "unit"], rows, (2, 3, 4)))
+    if not any(entry.numeric for entry in info.entries):
+        lines += ["", "No numeric entry (double, float or int64): nothing jointid can fit."]
+    for routine in info.lacking_voltage:
+        lines += ["", (f"SysId routine {routine!r} has a test-state entry but no voltage-<motor>-{routine} entry: "
+                  "without the voltage there is no effort to fit.")]
+    for routine in info.routines:
+        velocity = f", qd from {routine.velocity}" if routine.velocity else ""
+        lines += ["", (f"SysId routine {routine.routine!r}, motor {routine.motor!r}: q from {routine.position}"
+                  f"{velocity}, effort from {routine.voltage}; `jointid fit --wpilog {info.path}` fits its tests "
+                  "as runs of one joint:")]
+        runs = info.runs.get(routine.routine, ())
+        lines.append(_columns(["test", "from (s)", "to (s)", "state records"],
+                              [[test, f"{(a - start) * 1e-6:.6g}", f"{(b - start) * 1e-6:.6g}", str(n)]
+                               for test, a, b, n in runs], (1, 2, 3)) if runs else "  no test recorded")
+    if not info.routines and any(entry.numeric for entry in info.entries) and not info.lacking_voltage:
+        lines += ["", "Not a SysId routine log: name the joint's entries with --entry q=ENTRY,qd=ENTRY,tau=ENTRY."]
+    return "\n".join(lines)
