@@ -129,8 +129,8 @@ def test_ctrl_o_in_the_browser_reads_only_inside_the_data_folder(server, data_tr
             await tab.press("ctrl+u")  # keys typed straight after Ctrl+U can be lost (in a terminal too): wait
             await tab.wait_until(lambda: path_field(tab) == "", "the path field to empty")
             await tab.press(typed, "enter")
-            refusal = f"{typed}: outside the server's data folder"
-            await tab.wait_until(lambda refusal=refusal: refusal in tab.notices, refusal)
+            refusal = "".join(f"{typed}: outside the server's data folder".split())  # a long path wraps anywhere
+            await tab.wait_until(lambda refusal=refusal: refusal in "".join(tab.notices.split()), refusal)
             assert "Log loaded" not in tab.text
         await tab.press("ctrl+u")
         await tab.wait_until(lambda: path_field(tab) == "", "the path field to empty")
