@@ -64,6 +64,13 @@ def deliver_export(app: App, stem: str, document: dict, svg: str) -> tuple[str, 
     return names
 
 
+def deliver_report(app: App, stem: str, page: str) -> str:
+    """Send the report page (Ctrl+R) to the browser as a download; its file name."""
+    name = f"{stem}.html"
+    app.deliver_text(io.StringIO(page), save_filename=name, mime_type="text/html")
+    return name
+
+
 def deliver_motion(app: App, name: str, text: str) -> None:
     """Send a designed motion file to the browser as a download."""
     app.deliver_text(io.StringIO(text), save_filename=name, mime_type="application/json")

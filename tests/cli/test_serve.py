@@ -82,6 +82,11 @@ def test_the_browser_sees_the_lesson_and_downloads_the_fit_and_the_session_ends_
         svg = files[".svg"][2].decode()
         assert svg.lstrip().startswith("<svg") and svg.rstrip().endswith("</svg>")
         assert "-1.607788" in svg.replace("&#160;", " ")  # the screen with slow motion's fit
+        await tab.press("ctrl+r")  # the report page: a third download, not a file on the server
+        await tab.wait_until(lambda: len(tab.deliveries) == 3, "the report's download")
+        name, kind, content = await tab.download(tab.deliveries[2])
+        assert name == "jointid-slow-0.20-24-7-report.html" and kind.startswith("text/html")
+        assert b"-1.607788" in content and content.rstrip().endswith(b"</html>")
         await tab.close()
         server.session_ended(pid, start)
         assert not process_alive(pid)

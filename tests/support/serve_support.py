@@ -26,7 +26,7 @@ import pyte
 DEADLINE = 60.0
 """Seconds any one awaited event may take on a loaded machine before the test fails."""
 
-KEYS = {"ctrl+s": "\x13", "ctrl+o": "\x0f", "ctrl+u": "\x15", "enter": "\r", "escape": "\x1b", "end": "\x1b[F"}
+KEYS = {"ctrl+s": "\x13", "ctrl+r": "\x12", "ctrl+o": "\x0f", "ctrl+u": "\x15", "enter": "\r", "escape": "\x1b", "end": "\x1b[F"}
 """The bytes a browser's terminal sends for the keys the tests press."""
 
 

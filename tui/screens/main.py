@@ -807,7 +807,8 @@ class MainScreen(Screen):
         self.notify(f"Wrote {json_path} and {svg_path}", title="Exported")
 
     def action_write_report(self) -> None:
-        """Write the report of what is shown (`jointid report` of the same source) into the current folder."""
+        """Write the report of what is shown (`jointid report` of the same source) into the current folder (in a
+        browser: a download)."""
         self.notify("Drawing the charts; a notification says where the report is.", title="Writing the report")
         # The source as it is now: the worker reads only these immutable results, never the screen.
         self.write_report(self.export_stem().removesuffix("-fit") + "-report", self.runs, self.logs, self.result,
@@ -822,6 +823,17 @@ class MainScreen(Screen):
 
         from .export import write_report_page
 
+        if self.app.is_web:  # in a browser the page is a download, never a file on the server
+            from ..web import deliver_report
+
+            try:
+                page = report_page(runs, logs, result, settings)
+            except ReportExtraMissing as error:
+                self.app.call_from_thread(self.notify, str(error), title="No report written", severity="error")
+                return
+            name = self.app.call_from_thread(deliver_report, self.app, stem, page)
+            self.app.call_from_thread(self.notify, f"Your browser downloads {name}", title="Report written")
+            return
         try:
             folder = os.getcwd()
         except OSError:  # the folder was removed under the explorer: the write says so, in one line
