@@ -26,7 +26,7 @@ from .version import VersionAction
 SUBCOMMANDS = {"fit": "fit_command", "compare": "compare_command", "torque": "torque_command",
                "sweep": "sweep_command", "matrix": "matrix_command", "simulate": "simulate_command",
                "design": "design_command", "export": "export_command", "report": "report_command",
-               "bag-info": "bag_info_command", "log-info": "log_info_command"}
+               "bag-info": "bag_info_command", "log-info": "log_info_command", "serve": "serve_command"}
 """Each subcommand's name and the module that defines it (its NAME), in help order."""
 
 
@@ -61,8 +61,11 @@ def build_parser() -> OneLineParser:
 
 
 def parse(argv: list[str]):
-    """The arguments' namespace (`command` None for the explorer)."""
-    return build_parser().parse_args(argv)
+    """The arguments' namespace (`command` None for the explorer), with the words as typed in `argv`: `serve`
+    hands the explorer's flags on to each session as they were written."""
+    args = build_parser().parse_args(argv)
+    args.argv = list(argv)
+    return args
 
 
 def console_script(explorer=None) -> None:

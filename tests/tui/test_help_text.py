@@ -47,3 +47,16 @@ def test_the_tour_and_the_reset_and_the_sweep_are_as_the_code_has_them():
     assert f"K = {DEFAULT_SEED_COUNT} to start" in sweep
     assert f"change it by {SEED_COUNT_RANGE.step}, Shift by {SEED_COUNT_RANGE.big_step}" in sweep
     assert f"type {SEED_COUNT_RANGE.low} to {SEED_COUNT_RANGE.high}" in sweep
+
+
+def test_the_browser_section_says_what_differs_as_the_code_does_it():
+    from jointid.cli.serve_command import DEFAULT_IDLE_TIMEOUT
+    from tui.web import NO_DATA_FOLDER
+
+    assert "## In a browser" not in HELP  # a terminal's help is as it was
+    section = " ".join(help_markdown(MainScreen.BINDINGS, web=True).split())
+    section = section[section.index("## In a browser"):]
+    assert "Ctrl+S** downloads the JSON and the SVG" in section
+    assert "`jointid serve --data DIR`" in section and "without `--data`, Ctrl+O is off" in section
+    assert "jointid serve --data DIR" in NO_DATA_FOLDER  # the notification names the same flag
+    assert f"for {DEFAULT_IDLE_TIMEOUT // 60} minutes (the server's `--idle-timeout`)" in section

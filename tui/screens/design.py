@@ -296,12 +296,22 @@ class DesignScreen(Screen):
         self.dismiss()
 
     def action_save(self) -> None:
-        """Save the design as a motion file in the current folder, under a name not yet taken."""
+        """Save the design as a motion file in the current folder, under a name not yet taken (in a browser: a
+        download)."""
         if self.result is None:
             self.notify("Run a design first (g).", severity="warning")
             return
         from jointid.files import AlreadyExists, ExportError
-        from jointid.synthetic.fourier import save_motion
+        from jointid.synthetic.fourier import motion_text, save_motion
+
+        if self.app.is_web:  # in a browser the file is a download, never the server's
+            from ..web import deliver_motion
+
+            name = f"jointid-design-{self.criterion}.json"
+            deliver_motion(self.app, name, motion_text(self.result.motion))
+            self.notify(f"Your browser downloads {name}: train on it with `jointid fit --motion-file {name}`.",
+                        title="Saved")
+            return
 
         for number in range(1, 1000):
             path = Path(f"jointid-design-{self.criterion}{'' if number == 1 else f'-{number}'}.json")

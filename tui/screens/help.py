@@ -10,6 +10,7 @@ from textual.containers import VerticalScroll
 from textual.screen import Screen
 from textual.widgets import Markdown
 
+from jointid.cli.serve_command import DEFAULT_IDLE_TIMEOUT
 from jointid.options import DEFAULT_ORDER
 
 from ..palette import PHYSICS_STOPS, TOUR
@@ -20,6 +21,8 @@ from ..widgets.stepper import Stepper
 HELP_FILE = Path(__file__).parent.parent / "help.md"
 """Markdown source of the help text; `{keys}`, the ranges, the tour's length and the smoothing order are filled
 in from the code."""
+WEB_HELP_FILE = Path(__file__).parent.parent / "help_web.md"
+"""What differs in a browser (`jointid serve`), added to the help there; `{idle_minutes}` is filled in."""
 
 
 def keys_table(bindings: list[Binding]) -> str:
@@ -40,9 +43,13 @@ def sentence_start(phrase: str) -> str:
     return phrase[:1].upper() + phrase[1:]
 
 
-def help_markdown(bindings: list[Binding]) -> str:
-    """The help text with the main screen's keys (`bindings`), the ranges and the defaults taken from the code."""
-    return HELP_FILE.read_text(encoding="utf-8").format(
+def help_markdown(bindings: list[Binding], web: bool = False) -> str:
+    """The help text with the main screen's keys (`bindings`), the ranges and the defaults taken from the code; in
+    a browser (`web`) followed by what differs there."""
+    text = HELP_FILE.read_text(encoding="utf-8")
+    if web:
+        text += "\n" + WEB_HELP_FILE.read_text(encoding="utf-8")
+    return text.format(
         keys=keys_table(bindings),
         noise_range=sentence_start(NOISE_RANGE.describe()),
         samples_range=sentence_start(SAMPLES_RANGE.describe()),
@@ -50,6 +57,7 @@ def help_markdown(bindings: list[Binding]) -> str:
         tour_stops=len(TOUR) + len(PHYSICS_STOPS),
         lesson_stops=len(TOUR),
         order=DEFAULT_ORDER,
+        idle_minutes=f"{DEFAULT_IDLE_TIMEOUT / 60:g}",
     )
 
 
@@ -77,7 +85,7 @@ class HelpScreen(Screen):
         """The help Markdown in a focused scroll view, and the footer."""
         with VerticalScroll() as scroll:
             scroll.border_title = "Help"
-            yield Markdown(help_markdown(self.main_bindings))
+            yield Markdown(help_markdown(self.main_bindings, web=self.app.is_web))
         yield KeyFooter()
 
     def on_mount(self) -> None:

@@ -656,11 +656,20 @@ class MainScreen(Screen):
         return True
 
     def action_open_log(self) -> None:
-        """Choose a training or held-out log to load."""
+        """Choose a training or held-out log to load (in a browser: from the server's --data folder only)."""
         from .open_log import OpenLogScreen
 
         folder = os.path.dirname(os.path.abspath(self.logs.training.path)) if self.logs else None
-        self.app.push_screen(OpenLogScreen(folder, on_request=self.start_loading,
+        data = None
+        if self.app.is_web:
+            from ..web import NO_DATA_FOLDER, data_folder, is_inside
+
+            data = data_folder()
+            if data is None:
+                self.notify(NO_DATA_FOLDER, title="Open log", severity="warning")
+                return
+            folder = folder if folder is not None and is_inside(folder, data) else str(data)
+        self.app.push_screen(OpenLogScreen(folder, data_folder=data, on_request=self.start_loading,
                                            heldout_allowed=self.logs is not None and self.runs is None,
                                            run_allowed=self.logs is not None,
                                            derivatives=self.app.derivatives, filtering=self.app.filtering,
@@ -671,6 +680,17 @@ class MainScreen(Screen):
         closes once it is shown, and stays, with its path, when it cannot be."""
         if request is None:
             return
+        if self.app.is_web:  # the dialog checks as the path is typed; this is the check no path can go around
+            from ..web import NO_DATA_FOLDER, OutsideDataFolder, data_folder, inside
+
+            data = data_folder()
+            try:
+                if data is None:
+                    raise OutsideDataFolder(NO_DATA_FOLDER)
+                inside(request.path, data)
+            except OutsideDataFolder as error:
+                self.notify(str(error), title="Log not loaded", severity="error")
+                return
         from .loading import LoadingScreen
 
         dialog = LoadingScreen(request.path, chooser)
@@ -783,6 +803,12 @@ class MainScreen(Screen):
 
         svg = self.app.export_screenshot()  # before the dialog covers the screen
         stem, document = self.export_content()
+        if self.app.is_web:  # in a browser the files are the browser's downloads, never the server's
+            from ..web import deliver_export
+
+            json_name, svg_name = deliver_export(self.app, stem, document, svg)
+            self.notify(f"Your browser downloads {json_name} and {svg_name}", title="Exported")
+            return
         self.app.push_screen(ExportScreen(stem), lambda folder: self.write_export(folder, stem, document, svg))
 
     def write_export(self, folder: str | None, stem: str, document: dict, svg: str) -> None:
@@ -801,7 +827,8 @@ class MainScreen(Screen):
         self.notify(f"Wrote {json_path} and {svg_path}", title="Exported")
 
     def action_write_report(self) -> None:
-        """Write the report of what is shown (`jointid report` of the same source) into the current folder."""
+        """Write the report of what is shown (`jointid report` of the same source) into the current folder (in a
+        browser: a download)."""
         self.notify("Drawing the charts; a notification says where the report is.", title="Writing the report")
         # The source as it is now: the worker reads only these immutable results, never the screen.
         self.write_report(self.export_stem().removesuffix("-fit") + "-report", self.runs, self.logs, self.result,
@@ -816,6 +843,17 @@ class MainScreen(Screen):
 
         from .export import write_report_page
 
+        if self.app.is_web:  # in a browser the page is a download, never a file on the server
+            from ..web import deliver_report
+
+            try:
+                page = report_page(runs, logs, result, settings)
+            except ReportExtraMissing as error:
+                self.app.call_from_thread(self.notify, str(error), title="No report written", severity="error")
+                return
+            name = self.app.call_from_thread(deliver_report, self.app, stem, page)
+            self.app.call_from_thread(self.notify, f"Your browser downloads {name}", title="Report written")
+            return
         try:
             folder = os.getcwd()
         except OSError:  # the folder was removed under the explorer: the write says so, in one line

@@ -34,11 +34,21 @@ from ..widgets.marks import ClearCheckbox, ClearRadioButton
 
 class LogTree(DirectoryTree):
     """The folder tree without hidden entries (`.git`, `.venv`), as file pickers show it; a hidden folder typed
-    into the path field is still shown, with its contents."""
+    into the path field is still shown, with its contents. In a browser, nothing that resolves outside the
+    server's data folder (a symlink out of it) is shown."""
+
+    def __init__(self, path: str | Path, *, data_folder: Path | None = None, **kwargs) -> None:
+        super().__init__(path, **kwargs)
+        self.data_folder = data_folder
 
     def filter_paths(self, paths: Iterable[Path]) -> Iterable[Path]:
-        """Leave out names starting with a dot."""
-        return [path for path in paths if not path.name.startswith(".")]
+        """Leave out names starting with a dot, and in a browser whatever lies outside the data folder."""
+        shown = [path for path in paths if not path.name.startswith(".")]
+        if self.data_folder is None:
+            return shown
+        from ..web import is_inside
+
+        return [path for path in shown if is_inside(path, self.data_folder)]
 
 
 class OpenLogScreen(ModalScreen[None]):
@@ -85,7 +95,7 @@ class OpenLogScreen(ModalScreen[None]):
 
     BINDINGS = [Binding("escape", "cancel", "Cancel", tooltip="Close without loading")]
 
-    def __init__(self, folder: str | os.PathLike | None = None, *,
+    def __init__(self, folder: str | os.PathLike | None = None, *, data_folder: Path | None = None,
                  on_request: Callable[[LoadRequest, OpenLogScreen], None] | None = None,
                  heldout_allowed: bool = False,
                  run_allowed: bool = False,
@@ -95,6 +105,8 @@ class OpenLogScreen(ModalScreen[None]):
 
         Args:
             folder: Folder the tree starts in (default: the current directory).
+            data_folder: In a browser, the only folder whose files may be opened (`jointid serve --data`);
+                None in a terminal, where any path may.
             on_request: Called with the load request and this dialog when a file is chosen; the owner loads it
                 and dismisses the dialog once it is shown (the dialog stays open if the file cannot be used).
                 None dismisses the dialog with the request instead.
@@ -108,6 +120,7 @@ class OpenLogScreen(ModalScreen[None]):
         """
         super().__init__()
         self.folder = Path(folder or os.getcwd())
+        self.data_folder = data_folder
         self.on_request = on_request
         self.heldout_allowed = heldout_allowed
         self.run_allowed = run_allowed
@@ -148,7 +161,7 @@ class OpenLogScreen(ModalScreen[None]):
                    else " With several runs each is predicted by the others: no held-out log."),
                 classes="dialog--hint", markup=False,
             )
-            yield LogTree(self.folder, id="open-tree")
+            yield LogTree(self.folder, data_folder=self.data_folder, id="open-tree")
         yield KeyFooter()  # the dialog's keys, over the explorer's
 
     def on_mount(self) -> None:
@@ -183,12 +196,27 @@ class OpenLogScreen(ModalScreen[None]):
         else:
             self.on_request(request, self)
 
+    def within_data_folder(self, path: str) -> str | None:
+        """The path to use: as it is in a terminal; in a browser resolved inside the data folder, or None (after
+        saying why) when it lies outside."""
+        if self.data_folder is None:
+            return path
+        from ..web import OutsideDataFolder, inside
+
+        try:
+            return inside(path, self.data_folder)
+        except OutsideDataFolder as error:
+            self.notify(str(error), title="No file chosen", severity="warning")
+            return None
+
     def choose(self, path: str) -> None:
         """Load a CSV log now; for a bag, pick its joint first (the dialog stays open behind the picker)."""
         from jointid.logs.bag import looks_like_bag
-
         from jointid.logs.wpilog import looks_like_wpilog
 
+        path = self.within_data_folder(path)
+        if path is None:
+            return
         if os.path.basename(path) == "metadata.yaml":  # chosen inside a ROS 2 bag folder: the folder is the bag
             path = os.path.dirname(path)
         if looks_like_wpilog(path):
@@ -228,6 +256,10 @@ class OpenLogScreen(ModalScreen[None]):
             self.notify("Type the path of a CSV log or ROS bag, or choose one in the folder tree.",
                         title="No file chosen", severity="warning")
             return
+        if self.data_folder is not None:  # in a browser relative paths start in the data folder, and stay in it
+            path = self.within_data_folder(path)
+            if path is None:
+                return
         if os.path.isdir(path) and not os.path.exists(os.path.join(path, "metadata.yaml")):
             self.query_one(DirectoryTree).path = path
             return
