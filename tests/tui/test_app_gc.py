@@ -58,6 +58,7 @@ def test_the_collector_is_paused_while_the_screen_is_built_and_runs_from_the_fir
 
 
 def test_a_run_that_crashes_leaves_the_collector_as_it_was():
+    gc.unfreeze()  # as above: an earlier in-process explorer run in this worker may have left its freeze
     before = collector_state()
 
     def fail() -> None:
