@@ -6,53 +6,23 @@ import os
 
 from textual import work
 from textual.app import ComposeResult
-from textual.binding import Binding
 from textual.containers import Vertical
-from textual.screen import ModalScreen
 from textual.widgets import Label, OptionList, Static
 from textual.widgets.option_list import Option
 
 from ..widgets.footer import KeyFooter
+from .picker import SurveyPicker
 
 SURVEY_MESSAGES = 2000
 """Messages read per JointState topic to list its joints: enough to see every joint, quick on a huge bag."""
 
 
-class BagJointScreen(ModalScreen[tuple[str, str] | None]):
+class BagJointScreen(SurveyPicker):
     """Lists the joints of a bag's JointState topics with their filled fields; Enter picks (joint, topic)."""
 
-    DEFAULT_CSS = """
-    BagJointScreen {
-        align: center middle;
-    }
-    BagJointScreen > Vertical {
-        width: 90%;
-        max-width: 100;
-        height: auto;
-        max-height: 90%;
-        border: round $primary;
-        border-title-align: left;
-        padding: 0 1;
-    }
-    BagJointScreen OptionList {
-        height: auto;
-        max-height: 16;
-    }
-    BagJointScreen Static {
-        color: $text-muted;
-    }
-    """
-
-    BINDINGS = [Binding("escape", "cancel", "Cancel", tooltip="Close without loading")]
-
     def __init__(self, path: str) -> None:
-        """Create the picker.
-
-        Args:
-            path: The bag (ROS 2 folder, .bag, .mcap or .db3).
-        """
-        super().__init__()
-        self.path = path
+        """Create the picker of the bag at `path` (a ROS 2 folder, .bag, .mcap or .db3)."""
+        super().__init__(path)
         self.choices: list[tuple[str, str]] = []
 
     def compose(self) -> ComposeResult:
@@ -64,10 +34,6 @@ class BagJointScreen(ModalScreen[tuple[str, str] | None]):
             yield Static("Up/Down choose a joint, Enter loads it (q from position, tau from effort, qd from "
                          "velocity when filled). Escape cancels.", markup=False)
         yield KeyFooter()
-
-    def on_mount(self) -> None:
-        """Survey the bag off the main thread."""
-        self.survey()
 
     @work(thread=True, exclusive=True, group="bag-survey")
     def survey(self) -> None:
@@ -100,15 +66,6 @@ class BagJointScreen(ModalScreen[tuple[str, str] | None]):
         options.highlighted = 0
         options.focus()
 
-    def fail(self, problem: str) -> None:
-        """Say why the bag cannot be used and close."""
-        self.notify(problem, title="Log not loaded", severity="error")
-        self.dismiss(None)
-
     def on_option_list_option_selected(self, message: OptionList.OptionSelected) -> None:
         """Enter on a joint: load it."""
         self.dismiss(self.choices[message.option_index])
-
-    def action_cancel(self) -> None:
-        """Close without loading."""
-        self.dismiss(None)

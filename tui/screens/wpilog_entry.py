@@ -9,17 +9,15 @@ names no angle unit, a third list asks for it.
 from __future__ import annotations
 
 import os
-import threading
 
 from textual import work
 from textual.app import ComposeResult
-from textual.binding import Binding
 from textual.containers import Vertical
-from textual.screen import ModalScreen
 from textual.widgets import Label, OptionList, Static
 from textual.widgets.option_list import Option
 
 from ..widgets.footer import KeyFooter
+from .picker import SurveyPicker
 
 SYSID = "sysid"
 """The picker's result for a SysId routine log: open it as its tests."""
@@ -27,43 +25,12 @@ SYSID = "sysid"
 UNIT_CHOICES = ("radians", "rotations", "degrees")
 
 
-class WpilogEntryScreen(ModalScreen[tuple | None]):
+class WpilogEntryScreen(SurveyPicker):
     """Picks the entries of a data log; dismisses with (SYSID,), (q entry, tau entry, unit or None) or None."""
 
-    DEFAULT_CSS = """
-    WpilogEntryScreen {
-        align: center middle;
-    }
-    WpilogEntryScreen > Vertical {
-        width: 90%;
-        max-width: 100;
-        height: auto;
-        max-height: 90%;
-        border: round $primary;
-        border-title-align: left;
-        padding: 0 1;
-    }
-    WpilogEntryScreen OptionList {
-        height: auto;
-        max-height: 16;
-    }
-    WpilogEntryScreen Static {
-        color: $text-muted;
-    }
-    """
-
-    BINDINGS = [Binding("escape", "cancel", "Cancel", tooltip="Close without loading")]
-
     def __init__(self, path: str) -> None:
-        """Create the picker.
-
-        Args:
-            path: The data log (.wpilog).
-        """
-        super().__init__()
-        self.path = path
-        self.closed = threading.Event()
-        """Set when the picker closes, so a survey of a long log stops at its next progress check."""
+        """Create the picker of the data log (.wpilog) at `path`."""
+        super().__init__(path)
         self.entries: list = []
         self.chosen: list[str] = []
         self.stage = "q"
@@ -78,10 +45,6 @@ class WpilogEntryScreen(ModalScreen[tuple | None]):
                          "a voltage). A SysId routine log opens as its tests without asking. Escape cancels.",
                          markup=False)
         yield KeyFooter()
-
-    def on_mount(self) -> None:
-        """Survey the log off the main thread."""
-        self.survey()
 
     @work(thread=True, exclusive=True, group="wpilog-survey")
     def survey(self) -> None:
@@ -135,11 +98,6 @@ class WpilogEntryScreen(ModalScreen[tuple | None]):
         options.highlighted = 0
         options.focus()
 
-    def fail(self, problem: str) -> None:
-        """Say why the log cannot be used and close."""
-        self.notify(problem, title="Log not loaded", severity="error")
-        self.dismiss(None)
-
     def on_option_list_option_selected(self, message: OptionList.OptionSelected) -> None:
         """Enter: take the angle, then the effort, then (if needed) the unit."""
         from jointid.logs.wpilog import angle_unit
@@ -166,12 +124,3 @@ class WpilogEntryScreen(ModalScreen[tuple | None]):
             options.add_option(Option(unit, id=unit))
         self.query_one("#wpilog-status", Label).update(f"{angle.name} names no angle unit; choose it:")
         options.highlighted = 0
-
-    def on_unmount(self) -> None:
-        """Stop a survey still reading."""
-        self.closed.set()
-
-    def action_cancel(self) -> None:
-        """Close without loading."""
-        self.closed.set()
-        self.dismiss(None)
