@@ -33,11 +33,16 @@ ENTRY_POINT_NAME = "explorer"
 status."""
 
 
-def load_explorer():
-    """The registered explorer entry function; UserError when no UI is installed."""
+CHECK_ENTRY_POINT_NAME = "check-settings"
+"""The function in that group that raises SettingsError for settings outside the explorer's (narrower) ranges."""
+
+
+def load_explorer(name: str = ENTRY_POINT_NAME):
+    """The registered explorer entry function (or another of the face's functions by name); UserError when no UI
+    is installed."""
     from importlib.metadata import entry_points  # here: no subcommand needs it (version.py has the figure)
 
-    found = entry_points(group=ENTRY_POINT_GROUP, name=ENTRY_POINT_NAME)
+    found = entry_points(group=ENTRY_POINT_GROUP, name=name)
     if not found:
         raise UserError("the terminal explorer is not installed; reinstall jointid with `pip install -e .`")
     return next(iter(found)).load()

@@ -102,9 +102,16 @@ def session_command(words: list[str]) -> list[str]:
 def check_explorer_flags(words: list[str]) -> None:
     """Refuse, before any browser connects, the explorer flags `jointid` itself would refuse (a bad log too)."""
     from . import parse
+    from .explorer_command import CHECK_ENTRY_POINT_NAME, load_explorer
     from .explorer_command import run as run_explorer
 
-    run_explorer(parse(words), explore=lambda *args, **kwargs: ExitStatus.SUCCESS)
+    check_settings = load_explorer(CHECK_ENTRY_POINT_NAME)  # the explorer's ranges, narrower than `fit`'s
+
+    def explore(settings, *args, **kwargs) -> int:
+        check_settings(settings)  # a SettingsError becomes run_explorer's one line, as `jointid` itself gives
+        return ExitStatus.SUCCESS
+
+    run_explorer(parse(words), explore=explore)
 
 
 def data_folder(path: str | None) -> str | None:

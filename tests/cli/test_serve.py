@@ -208,6 +208,8 @@ def test_serve_refuses_a_port_in_use_a_missing_folder_bad_flags_and_a_missing_ex
     assert refused("serve", "--data", str(tmp_path / "file")) == f"jointid: --data {tmp_path / 'file'}: not a folder\n"
     assert refused("serve", "--csv", "nowhere.csv") == "jointid: nowhere.csv: cannot open: No such file or directory\n"
     assert refused("--noise", "0.2", "serve").startswith("jointid: put the explorer's flags after `serve`")
+    # `jointid fit` takes 500 samples, the explorer 2 to 240: refused at start, not by each tab's session ending.
+    assert refused("serve", "--samples", "500").startswith("jointid: the explorer's --samples is from 2 to 240")
     assert "--max-sessions: must be a whole number from 1" in refused("serve", "--max-sessions", "0")
     import jointid.cli
 
