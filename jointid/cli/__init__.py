@@ -7,6 +7,7 @@ Errors a user can cause print one line on stderr and exit with status 2.
 
 from __future__ import annotations
 
+import argparse
 import sys
 from importlib import import_module
 
@@ -17,26 +18,22 @@ from .arguments import (
     add_settings_arguments,
     print_error_line,
 )
+from .commands import SUBCOMMANDS
 from .exit_status import ExitStatus
 from .floating_point import strict_arithmetic
 from .log_arguments import add_log_arguments
 from .output import end_process, output_error_line
 from .version import VersionAction
 
-SUBCOMMANDS = {"fit": "fit_command", "compare": "compare_command", "torque": "torque_command",
-               "sweep": "sweep_command", "matrix": "matrix_command", "simulate": "simulate_command",
-               "design": "design_command", "export": "export_command", "report": "report_command",
-               "bag-info": "bag_info_command", "log-info": "log_info_command", "serve": "serve_command"}
-"""Each subcommand's name and the module that defines it (its NAME), in help order."""
-
 
 def subcommand(name: str):
     """The module that defines subcommand `name` (a key of SUBCOMMANDS)."""
-    return import_module(f".{SUBCOMMANDS[name]}", __name__)
+    return import_module(f".{SUBCOMMANDS[name].module}", __name__)
 
 
-def build_parser() -> OneLineParser:
-    """The top-level parser with every subcommand attached."""
+def build_parser(chosen: str | None = None) -> OneLineParser:
+    """The top-level parser with every subcommand attached: `chosen`'s with all its flags, the others as their
+    help line, taking any words (enough to list them and to find which one a command line names)."""
     parser = OneLineParser(
         prog="jointid",
         # Whole option names only here: with --heldout, torque's --h would be read as an ambiguous prefix.
@@ -55,15 +52,21 @@ def build_parser() -> OneLineParser:
     add_model_argument(parser)
     add_log_arguments(parser)
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", parser_class=OneLineParser)
-    for name in SUBCOMMANDS:
-        subcommand(name).add_parser(subparsers)
+    for name, command in SUBCOMMANDS.items():
+        if name == chosen:
+            subcommand(name).add_parser(subparsers)
+        else:
+            subparsers.add_parser(name, help=command.summary, add_help=False).add_argument(
+                "words", nargs=argparse.REMAINDER)
     return parser
 
 
 def parse(argv: list[str]):
     """The arguments' namespace (`command` None for the explorer), with the words as typed in `argv`: `serve`
     hands the explorer's flags on to each session as they were written."""
-    args = build_parser().parse_args(argv)
+    parser = build_parser()
+    chosen = parser.parse_known_args(argv)[0].command  # argparse's own reading of which word is the command
+    args = (parser if chosen is None else build_parser(chosen)).parse_args(argv)
     args.argv = list(argv)
     return args
 

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from .arguments import UserError
+from .commands import SUBCOMMANDS
 from .exit_status import ExitStatus
 
 NAME = "bag-info"
@@ -14,7 +15,7 @@ def add_parser(subparsers) -> None:
     """Attach the `bag-info` subcommand."""
     parser = subparsers.add_parser(
         NAME,
-        help="list a ROS bag's topics and the joints of its JointState topics (for --bag/--joint)",
+        help=SUBCOMMANDS[NAME].summary,
         description="Read a ROS bag (ROS 1 .bag, ROS 2 folder with sqlite3 or MCAP storage, or a .mcap/.db3 file; "
         "needs pip install 'jointid[ros]') and print every topic with its type and message count, then for each "
         "sensor_msgs/JointState topic its joints, which of position, velocity and effort each has filled, the "
@@ -26,7 +27,9 @@ def add_parser(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Survey the bag and print text or JSON; exit status 0 (2 with one line for an unreadable bag)."""
-    from ..logs.bag import bag_info  # numpy and rosbags only now, so `jointid --help` stays light
+    from ..logs.bag import (
+        bag_info,  # numpy and rosbags only now, so `jointid --help` stays light
+    )
     from ..logs.table import LogError
     from ..present.baginfo import bag_info_text
     from .output import print_json

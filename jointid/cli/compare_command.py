@@ -6,6 +6,7 @@ import argparse
 
 from ..options import LADDER
 from .arguments import UserError, add_settings_arguments, settings_from
+from .commands import SUBCOMMANDS
 from .exit_status import ExitStatus
 from .log_arguments import (
     add_log_arguments,
@@ -25,7 +26,7 @@ def add_parser(subparsers) -> None:
     """Attach the `compare` subcommand."""
     parser = subparsers.add_parser(
         NAME,
-        help="fit every model of the ladder on the same data and say which one BIC prefers",
+        help=SUBCOMMANDS[NAME].summary,
         description=f"Fit the models {', '.join(LADDER)} on the same training data (a synthetic "
         "experiment or a --csv log) and print one row each: terms, rank, training and held-out RMSE, "
         "BIC = N ln(RSS/N) + k ln N, the condition number of the column-scaled regressor and the worst "

@@ -18,7 +18,14 @@ from ..options import (
     RICH_ENVELOPE,
     STARTS_LIMITS,
 )
-from .arguments import UserError, bounded_number, positive_number, setting_type, whole_number
+from .arguments import (
+    UserError,
+    bounded_number,
+    positive_number,
+    setting_type,
+    whole_number,
+)
+from .commands import SUBCOMMANDS
 from .exit_status import ExitStatus
 
 NAME = "design"
@@ -39,7 +46,7 @@ def add_parser(subparsers) -> None:
     """Attach the `design` subcommand."""
     parser = subparsers.add_parser(
         NAME,
-        help="design the periodic motion that determines the parameters best within the joint's limits",
+        help=SUBCOMMANDS[NAME].summary,
         description="Optimise a finite Fourier series q(t) = q_c + sum_k [a_k/(k w) sin(k w t) - b_k/(k w) "
         "cos(k w t)], w = 2 pi/T, for --criterion (d: D-optimal, a: A-optimal, cond: the column-scaled "
         "condition number, shown as the counter-example it is) subject to the limits on a 400-point grid "
@@ -86,7 +93,14 @@ def run(args: argparse.Namespace) -> int:
     """Design the motion, print text or JSON, and write --out; exit status 0."""
     from ..files import ExportError
     from ..present.design import design_document, design_text
-    from ..studies.design import DesignError, DesignSpec, Limits, design_motion, design_seconds, over_budget
+    from ..studies.design import (
+        DesignError,
+        DesignSpec,
+        Limits,
+        design_motion,
+        design_seconds,
+        over_budget,
+    )
     from ..synthetic.fourier import save_motion
     from ..synthetic.settings import Settings
     from .output import print_json

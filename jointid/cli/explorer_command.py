@@ -40,7 +40,9 @@ CHECK_ENTRY_POINT_NAME = "check-settings"
 def load_explorer(name: str = ENTRY_POINT_NAME):
     """The registered explorer entry function (or another of the face's functions by name); UserError when no UI
     is installed."""
-    from importlib.metadata import entry_points  # here: no subcommand needs it (version.py has the figure)
+    from importlib.metadata import (
+        entry_points,  # here: no subcommand needs it (version.py has the figure)
+    )
 
     found = entry_points(group=ENTRY_POINT_GROUP, name=name)
     if not found:

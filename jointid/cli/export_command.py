@@ -21,6 +21,7 @@ from .arguments import (
     finite_float,
     positive_number,
 )
+from .commands import SUBCOMMANDS
 from .exit_status import ExitStatus
 from .log_arguments import LOG_ONLY_FLAGS, SETTING_FLAGS, add_log_arguments, has_log
 
@@ -52,7 +53,7 @@ def add_parser(subparsers) -> None:
     """Attach the `export` subcommand."""
     parser = subparsers.add_parser(
         NAME,
-        help="write the identified joint as a MuJoCo model (MJCF) and/or a URDF robot",
+        help=SUBCOMMANDS[NAME].summary,
         description="Fit as `jointid fit` does (or read a fit's JSON with --from-json) and write one rigid link on "
         "a hinge: the joint's damping B, friction Fc (frictionloss in MJCF) and armature, and the link's mass, "
         "centre of mass and inertia about it. I and h = m r do not reveal the mass, so give --mass (or "

@@ -5,9 +5,20 @@ from __future__ import annotations
 import argparse
 
 from ..options import DEFAULT_HORIZON, HORIZON_LIMITS
-from .arguments import add_model_argument, add_settings_arguments, bounded_number, settings_from
+from .arguments import (
+    add_model_argument,
+    add_settings_arguments,
+    bounded_number,
+    settings_from,
+)
+from .commands import SUBCOMMANDS
 from .exit_status import ExitStatus
-from .log_arguments import add_log_arguments, has_log, run_log_fit, with_default_settings
+from .log_arguments import (
+    add_log_arguments,
+    has_log,
+    run_log_fit,
+    with_default_settings,
+)
 from .output import print_json
 
 NAME = "fit"
@@ -17,7 +28,7 @@ def add_parser(subparsers) -> None:
     """Attach the `fit` subcommand."""
     parser = subparsers.add_parser(
         NAME,
-        help="fit a joint model (I, h, B and any --model terms) to one experiment or log",
+        help=SUBCOMMANDS[NAME].summary,
         description="Fit I (kg m²), h (kg m) and B (N m s/rad) (and any extra terms of --model) by "
         "column-scaled, pivoted Householder least squares; report the rank, the fit, training RMSE "
         "against the noisy torques and held-out RMSE on 16 noiseless states of a separate motion.",
@@ -39,7 +50,9 @@ def run(args: argparse.Namespace) -> int:
     """Run the experiment (or fit the --csv log) and print text or JSON; exit status 0."""
     if has_log(args):
         return run_log_fit(args)
-    from ..studies.experiment import run_experiment  # numpy and the numeric modules load only to run
+    from ..studies.experiment import (
+        run_experiment,  # numpy and the numeric modules load only to run
+    )
 
     settings = settings_from(with_default_settings(args))
     result = run_experiment(settings)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from .arguments import UserError
+from .commands import SUBCOMMANDS
 from .exit_status import ExitStatus
 
 NAME = "log-info"
@@ -14,7 +15,7 @@ def add_parser(subparsers) -> None:
     """Attach the `log-info` subcommand."""
     parser = subparsers.add_parser(
         NAME,
-        help="list a WPILib data log's entries and any SysId routine in it (for --wpilog/--entry)",
+        help=SUBCOMMANDS[NAME].summary,
         description="Read a WPILib data log (.wpilog; needs pip install 'jointid[wpilib]') and print every entry "
         "with its type, record count, mean rate and the unit its metadata names; then, when the log is a SysId "
         "routine log (sysid-test-state-<routine> with voltage-, position- and velocity-<motor>-<routine> "

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from .arguments import add_model_argument, add_settings_arguments, settings_from
+from .commands import SUBCOMMANDS
 from .exit_status import ExitStatus
 from .output import print_json
 
@@ -15,7 +16,7 @@ def add_parser(subparsers) -> None:
     """Attach the `matrix` subcommand."""
     parser = subparsers.add_parser(
         NAME,
-        help="fit each training motion and predict every motion: a table of torque RMSE",
+        help=SUBCOMMANDS[NAME].summary,
         description="Fit rich, slow and holds at the given noise, samples and seed (--motion is "
         "ignored: every motion gets a row) and predict the noiseless torque of the rich and slow "
         "motions (at the same sample count) and of the 16 validation states. An entry on a row's "
@@ -30,7 +31,9 @@ def run(args: argparse.Namespace) -> int:
     """Build the table and print text or JSON; exit status 0."""
     from ..present.documents import matrix_document
     from ..present.tables import matrix_text
-    from ..studies.cross_excitation import cross_excitation  # numpy and the numeric modules load only to run
+    from ..studies.cross_excitation import (
+        cross_excitation,  # numpy and the numeric modules load only to run
+    )
 
     table = cross_excitation(settings_from(args))
     if args.json:

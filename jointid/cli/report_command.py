@@ -14,6 +14,7 @@ from .arguments import (
     bounded_number,
     settings_from,
 )
+from .commands import SUBCOMMANDS
 from .exit_status import ExitStatus
 from .log_arguments import (
     add_log_arguments,
@@ -31,7 +32,7 @@ def add_parser(subparsers) -> None:
     """Attach the `report` subcommand: `fit`'s inputs, plus where to write and whether to add the ladder."""
     parser = subparsers.add_parser(
         NAME,
-        help="write the fit as one self-contained HTML report (and optionally Markdown) to hand in",
+        help=SUBCOMMANDS[NAME].summary,
         description="Fit as `jointid fit` does (a synthetic experiment, a --csv log, several runs or a --bag joint) "
         "and write one HTML file that needs no network to view: the settings or the logs with their notes, "
         "the parameter table with standard errors, intervals and verdicts, the training and held-out torque "

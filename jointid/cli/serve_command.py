@@ -13,7 +13,6 @@ from __future__ import annotations
 import argparse
 import errno
 import os
-import socket
 import sys
 
 from .arguments import (
@@ -24,6 +23,7 @@ from .arguments import (
     positive_number,
     whole_number,
 )
+from .commands import SUBCOMMANDS
 from .exit_status import ExitStatus
 from .log_arguments import add_log_arguments
 
@@ -75,7 +75,7 @@ def add_parser(subparsers) -> None:
     """Attach the `serve` subcommand: the explorer's flags and the server's."""
     parser = subparsers.add_parser(
         NAME,
-        help="serve the explorer to web browsers, one session per tab (needs pip install 'jointid[web]')",
+        help=SUBCOMMANDS[NAME].summary,
         description="Serve the explorer to web browsers (textual-serve): each browser tab gets its own "
         "explorer, opened as `jointid` would be with the same flags. In a browser Ctrl+S downloads the "
         "JSON and the SVG, and Ctrl+O opens logs from the --data folder only.",
@@ -154,6 +154,8 @@ def sessions_sentence(max_sessions: int | None, memory: int) -> tuple[int, str]:
 
 def check_port_free(host: str, port: int) -> None:
     """UserError (one line) if nothing can listen on host:port (in use, or an address this machine lacks)."""
+    import socket  # here: its import alone cost `jointid serve --help` 2 ms, 0.1 of its start
+
     try:
         addresses = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM, flags=socket.AI_PASSIVE)
     except socket.gaierror as error:

@@ -28,6 +28,7 @@ from .arguments import (
     setting_type,
     whole_number,
 )
+from .commands import SUBCOMMANDS
 from .effort_arguments import efficiency_number
 from .exit_status import ExitStatus
 
@@ -80,7 +81,7 @@ def add_parser(subparsers) -> None:
     """Attach the `simulate` subcommand."""
     parser = subparsers.add_parser(
         NAME,
-        help="write a synthetic joint log (CSV) to try fit --csv on",
+        help=SUBCOMMANDS[NAME].summary,
         description="Sample a motion, compute the true torque (I = 0.8, h = 0.4, B = 0.15) plus the lesson's "
         "seeded uniform noise, and write t, q, qd, qdd, tau as CSV (or, with --encoder-counts, only t, "
         "a quantised q and tau). Times are duration*i/(samples-1): any two of --samples, --rate and --duration "

@@ -6,7 +6,14 @@ import argparse
 import sys
 
 from ..options import DEFAULT_SEED_COUNT, SEED_COUNT_LIMITS, WORK_BUDGET
-from .arguments import UserError, add_model_argument, add_settings_arguments, settings_from, whole_number
+from .arguments import (
+    UserError,
+    add_model_argument,
+    add_settings_arguments,
+    settings_from,
+    whole_number,
+)
+from .commands import SUBCOMMANDS
 from .exit_status import ExitStatus
 from .output import print_json
 
@@ -20,7 +27,7 @@ def add_parser(subparsers) -> None:
     """Attach the `sweep` subcommand."""
     parser = subparsers.add_parser(
         NAME,
-        help="repeat one experiment over many noise seeds and summarise the estimates",
+        help=SUBCOMMANDS[NAME].summary,
         description="Fit the chosen motion, noise and samples for K seeds starting at --seed "
         "(wrapping past 4294967295 to 0), with one factorisation for all of them; print the mean, "
         "standard deviation and 5/50/95 % percentiles of every parameter and both RMSEs, the share of "
@@ -44,7 +51,9 @@ def add_parser(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run the sweep and print text or JSON; exit status 0."""
-    from ..present.documents import sweep_document  # numpy and the numeric modules load only to run
+    from ..present.documents import (
+        sweep_document,  # numpy and the numeric modules load only to run
+    )
     from ..present.tables import sweep_text
     from ..studies.sweep import run_sweep, sweep_work
 

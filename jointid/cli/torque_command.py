@@ -7,6 +7,7 @@ import math
 
 from ..options import TRUE_VALUES
 from .arguments import UserError, finite_float
+from .commands import SUBCOMMANDS
 from .exit_status import ExitStatus
 from .output import print_json
 
@@ -26,7 +27,7 @@ def add_parser(subparsers) -> None:
     """Attach the `torque` subcommand."""
     parser = subparsers.add_parser(
         NAME,
-        help="actuator torque at one state, with each contribution",
+        help=SUBCOMMANDS[NAME].summary,
         description="Inverse dynamics tau = I*qdd + h*g*cos(q) + B*qd at one state, with the "
         "power B*qd² that the damper dissipates.",
     )
