@@ -219,3 +219,24 @@ def test_every_readout_fits_the_side_panel_without_scrolling(size, settings, cho
     text = "\n".join(lines)
     assert "Cond" in text and "Held-out RMSE" in text  # the last readouts are in the panel, which is all on screen
     assert ("tau0" in text or "torque bias" in text) == (choose_model or settings.model == "coulomb+bias")
+
+
+def test_slow_motions_sign_failures_share_a_row_when_a_designed_motion_takes_one():
+    """The last case that scrolled at 80x24: a designed motion in the list (a fourth row), then slow motion at noise
+    0.2 under coulomb+bias, whose h and Fc both fail their signs and whose tau0 row wraps. The two failures then
+    share one row, and every readout stays on screen."""
+
+    async def scenario(pilot, app):
+        main = app.screen
+        await pilot.press("2")
+        await pilot.pause()
+        side, panel = main.query_one("#side"), main.query_one(ReadoutPanel)
+        lines = [line.plain for line in panel.lines(panel.content_region.width)]
+        return main.settings.motion_name, side.max_scroll_y, lines
+
+    settings = replace(DEFAULT_SETTINGS, motion=DESIGNED_MOTION, noise=0.2, model="coulomb+bias")
+    motion, scroll, lines = run(scenario, settings, size=(80, 24))
+    assert motion == "slow" and scroll == 0
+    failures = [line for line in lines if "✗" in line]
+    assert [line.strip() for line in failures] == ["✗ h ≥ 0, Fc ≥ 0 fail"]
+    assert any("Cond" in line for line in lines) and any("Held-out RMSE" in line for line in lines)

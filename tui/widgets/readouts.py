@@ -78,7 +78,8 @@ def closing_content(precision: Precision | None, label_width: int) -> list[Conte
     ]
 
 
-def compact_parameter_lines(item: Readout, note: PrecisionNote, width: int) -> list[Content]:
+def compact_parameter_lines(item: Readout, note: PrecisionNote, width: int,
+                            failure_row: bool = True) -> list[Content]:
     """A parameter's compact row: symbol, value ± standard error and verdict, wrapped only if too wide.
 
     One-letter symbols keep their values right-aligned in COMPACT_VALUE_WIDTH so the ± line up;
@@ -95,7 +96,7 @@ def compact_parameter_lines(item: Readout, note: PrecisionNote, width: int) -> l
         tail += Content(" ") + verdict_content(note.verdict)
     row = head + Content(" ") + tail
     lines = [row] if row.cell_length <= width else [head, Content("  ") + tail]
-    if item.sign_failure:
+    if item.sign_failure and failure_row:
         failed = Content.from_markup("[bold $text-error]✗ $note[/]", note=failure_note(item))
         if lines[0].cell_length + 2 + failed.cell_length <= width:
             lines[0] += Content("  ") + failed
@@ -204,18 +205,26 @@ class ReadoutPanel(RowStrips):
         items = self.compact_items()
         lines = self._compact_lines(items, width)
         if len(lines) > self.reserved_rows():  # sign failures and long values need more rows: the motion's give way
-            lines = self._compact_lines(tuple(item for item in items if item.key not in MOTION_RMS_KEYS), width)
+            items = tuple(item for item in items if item.key not in MOTION_RMS_KEYS)
+            lines = self._compact_lines(items, width)
+        if len(lines) > self.reserved_rows():  # still more: several sign failures share one row
+            lines = self._compact_lines(items, width, shared_failures=True)
         return lines
 
-    def _compact_lines(self, items: tuple[Readout, ...], width: int) -> list[Content]:
+    def _compact_lines(self, items: tuple[Readout, ...], width: int, shared_failures: bool = False) -> list[Content]:
         notes = {} if self.precision is None else {note.key: note for note in self.precision.notes}
+        failed = [item for item in items if item.sign_failure and item.key in notes]
+        shared = shared_failures and len(failed) > 1
         lines = []
         for item in items:
             note = notes.get(item.key)
             if note is None:  # rank and the RMS readouts keep their labels
                 lines.append(Content(item.label.ljust(COMPACT_LABEL_WIDTH) + item.text))
-            else:
-                lines.extend(compact_parameter_lines(item, note, width))
+                continue
+            lines.extend(compact_parameter_lines(item, note, width, failure_row=not shared))
+            if shared and item is failed[-1]:  # after the last failed parameter: 'x h >= 0, Fc >= 0 fail'
+                names = ", ".join(failure.failed_requirement for failure in failed)
+                lines.append(Content("  ") + Content.from_markup("[bold $text-error]✗ $note[/]", note=f"{names} fail"))
         if self.precision is not None and self.precision.compact_closing:
             lines.append(Content(self.precision.compact_closing))
         return lines
