@@ -10,7 +10,8 @@ add terms (`jointid.model.terms`, e.g. ``Settings(model="bias")``). Typical use:
     result.heldout_rmse    # 2.261864...
     print(result.summary())
 
-For a recorded log, `fit_log(path_or_arrays)` does what `jointid fit --csv` does; for samples of your own,
+For a recorded log, `fit_log(path_or_arrays)` does what `jointid fit --csv` does (`fit_wpilog(path)` what
+`jointid fit --wpilog` does); for samples of your own,
 build a `JointData` and call `fit_joint` (with `model=` for another model). See docs/library.md.
 """
 
@@ -40,6 +41,7 @@ _HOMES = {
     "LeastSquaresSolution": "estimation.solver",
     "solve_least_squares": "estimation.solver",
     "fit_log": "studies.log_fit",
+    "fit_wpilog": "studies.sysid",
     "LoadedLogs": "studies.log_fit",
     "LogError": "logs.table",
 }
@@ -47,22 +49,23 @@ _HOMES = {
 line's help need no numpy: that buys 0.67 of `jointid --help`'s start (bench_startup_budget lazy-package-names)."""
 
 __all__ = [
-    "G",
     "PARAMETER_NAMES",
     "PLAIN",
-    "JointModel",
-    "Term",
-    "model_named",
     "TRUE_PARAMETERS",
     "FitResult",
+    "G",
     "JointData",
+    "JointModel",
     "LeastSquaresSolution",
-    "Settings",
-    "SettingsError",
-    "fit_joint",
-    "fit_log",
     "LoadedLogs",
     "LogError",
+    "Settings",
+    "SettingsError",
+    "Term",
+    "fit_joint",
+    "fit_log",
+    "fit_wpilog",
+    "model_named",
     "predict_torque",
     "regressor",
     "run_experiment",

@@ -18,10 +18,11 @@ tests/support/sysid_arm.py, against 0.5 % without, so the low-pass is off unless
 
 from __future__ import annotations
 
+from ..checks import checked, flag, optional, real, text, whole
 from ..estimation.exclusion import ExclusionRequest
 from ..estimation.low_pass import FilterRequest
 from ..logs.pipeline import JointLog
-from ..model.terms import JointModel, model_named
+from ..model.terms import JointModel, model_argument, model_named
 from .runs import POOLED_FIT, PooledRuns, fit_runs
 
 SYSID_MODEL = "coulomb+angle-offset"
@@ -64,3 +65,62 @@ def load_training_request(request, model: JointModel, constrained: bool = False,
     if len(logs) == 1:
         return fit_logs(logs[0], None, model, constrained, request.filtering)
     return fit_sysid_runs(logs, None, request.filtering, constrained=constrained)
+
+
+@checked(entry=optional(text), units=optional(text), model=optional(model_argument), cutoff=optional(real(0.0)),
+         decimate=optional(whole(1)), sensitivity=flag)
+def fit_wpilog(source, *, entry: str | None = None, units: str | None = None, model: str | JointModel | None = None,
+               cutoff: float | None = None, decimate: int | None = None, sensitivity: bool = True):
+    """Fit a WPILib data log as `jointid fit --wpilog` does.
+
+    Parameters
+    ----------
+    source : str or os.PathLike
+        The .wpilog file's path (named as fit_log's is).
+    entry : str, optional
+        Which entries give which quantity, e.g. ``"q=/Arm/Position,tau=/Arm/Volts"`` (`--entry`); None reads a
+        SysId routine's entries by their names.
+    units : {'rotations', 'radians', 'degrees'}, optional
+        The angle's unit over the entries' metadata (`--units`).
+    model : str or JointModel, optional
+        'coulomb+angle-offset' (WPILib's arm feedforward) by default.
+    cutoff, decimate : float, int
+        The low-pass (`--cutoff`, `--decimate`); a SysId routine's tests are not low-passed unless a cutoff is
+        given, since each dynamic test starts with a step.
+    sensitivity : bool
+        Refit with the derivative window and the cutoff halved and doubled.
+
+    Returns
+    -------
+    PooledRuns or LoadedLogs
+        A SysId routine's tests fitted alone and pooled (`params` and `bse` are the pooled gains kA, kG, kV, kS and
+        the offset q0, `names` the tests); any other log's one fit.
+
+    Raises
+    ------
+    LogError
+        A problem with the log (one line naming the file), as the command line reports it.
+    """
+    import os
+
+    from ..logs.conventions import ColumnMapError, EntryMap
+    from ..logs.request import LoadRequest, load_joint_logs
+    from .log_fit import fit_logs
+
+    if not isinstance(source, (str, os.PathLike)):
+        raise TypeError(f"fit_wpilog()'s source must be a file's path (str or os.PathLike); got "
+                        f"{type(source).__name__}")
+    try:
+        entries = None if entry is None else EntryMap.parse(entry, "entry")
+    except ColumnMapError as error:
+        raise ValueError(str(error)) from None
+    if units not in (None, "rotations", "radians", "degrees"):
+        raise ValueError(f"units: one of 'rotations', 'radians', 'degrees'; got {units!r}")
+    filtering = FilterRequest(cutoff, decimate)
+    request = LoadRequest(os.fspath(source), wpilog=True, entries=entries, units=units, filtering=filtering)
+    logs = load_joint_logs(request)
+    chosen = model_named(model) if isinstance(model, str) else model
+    if len(logs) == 1:
+        return fit_logs(logs[0], None, chosen or model_named(SYSID_MODEL), filtering=filtering,
+                        sensitivity=sensitivity)
+    return fit_sysid_runs(logs, chosen, filtering, sensitivity=sensitivity)

@@ -5,21 +5,23 @@ from __future__ import annotations
 
 import doctest
 import math
+import shutil
 from pathlib import Path
 
 import numpy as np
 import pytest
 from scipy import stats
+from support.robot_logs import robot_log, write_log
 
 import jointid
 from jointid.cli import main
-from support.robot_logs import robot_log, write_log
 
 ROOT = Path(__file__).resolve().parents[2]
 
 
 def test_the_library_page_runs_as_written(tmp_path, monkeypatch):
-    monkeypatch.chdir(tmp_path)  # its example writes robot.csv
+    monkeypatch.chdir(tmp_path)  # its example writes robot.csv, and reads the example SysId log from here
+    shutil.copy(ROOT / "docs" / "examples" / "sysid_arm.wpilog", tmp_path)
     result = doctest.testfile(str(ROOT / "docs" / "library.md"), module_relative=False,
                               optionflags=doctest.ELLIPSIS)
     assert result.attempted >= 25 and result.failed == 0

@@ -49,6 +49,14 @@ BAD_CALLS = {
         (lambda: jointid.fit_log({**LOG, "q": LOG["q"] + 0j}), jointid.LogError, "must be a 1-D array of real"),
         (lambda: jointid.fit_log({**LOG, "t": T[:5]}), jointid.LogError, "has 400 values where 't' has 5"),
     ],
+    "fit_wpilog": [
+        (lambda: jointid.fit_wpilog(None), TypeError, "fit_wpilog()'s source must be a file's path"),
+        (lambda: jointid.fit_wpilog("arm.wpilog", cutoff=-1), ValueError, "fit_wpilog()'s cutoff must be at least 0"),
+        (lambda: jointid.fit_wpilog("arm.wpilog", decimate="2"), TypeError, "decimate must be a whole number"),
+        (lambda: jointid.fit_wpilog("arm.wpilog", sensitivity="yes"), TypeError, "sensitivity must be True or"),
+        (lambda: jointid.fit_wpilog("arm.wpilog", units="furlongs"), ValueError, "units: one of 'rotations'"),
+        (lambda: jointid.fit_wpilog("arm.wpilog", model=3), TypeError, "fit_wpilog()'s model must be a model name"),
+    ],
     "model_named": [
         (lambda: jointid.model_named(5), TypeError, "model_named()'s name must be a str; got int"),
         (lambda: jointid.model_named("x"), ValueError, "unknown model 'x'"),

@@ -8,7 +8,13 @@ import math
 
 import numpy as np
 import pytest
-from support.sysid_arm import ADVANTAGEKIT_NAMES, GAINS, TESTS, routine_samples, write_routine_log
+from support.sysid_arm import (
+    ADVANTAGEKIT_NAMES,
+    GAINS,
+    TESTS,
+    routine_samples,
+    write_routine_log,
+)
 
 from jointid.logs.conventions import EntryMap
 from jointid.logs.request import LoadRequest, load_joint_log, load_joint_logs
@@ -160,3 +166,25 @@ def test_degrees_convert_by_pi_over_180(tmp_path):
     writer.stop()
     table = read_wpilog_table(path, EntryMap.parse("q=q,tau=v"))
     np.testing.assert_allclose(table.columns["q"], np.arange(50) * math.pi / 180)
+
+
+def test_the_library_fits_a_data_log_as_the_command_line_does(routine):
+    """jointid.fit_wpilog: a SysId log's pooled gains within 3 % or 3 SEs of the simulated arm's (as above, from
+    the library's one call), an AdvantageKit log through an entry map, and bad arguments named."""
+    import jointid
+
+    arm = jointid.fit_wpilog(routine["rotations"])
+    assert arm.names == tuple(test for test, _ in TESTS)
+    for name in ("kA", "kG", "kV", "kS"):
+        assert abs(arm.params[name] - GAINS[name]) <= max(0.03 * GAINS[name], 3 * arm.bse[name]), name
+    names = ADVANTAGEKIT_NAMES
+    mapped = jointid.fit_wpilog(routine["advantagekit"], units="radians", sensitivity=False,
+                                entry=f"q={names['position']},tau={names['voltage']},state={names['state']}")
+    for name in ("kA", "kG", "kV", "kS"):
+        assert abs(mapped.params[name] - GAINS[name]) <= max(0.03 * GAINS[name], 3 * mapped.bse[name]), name
+    with pytest.raises(ValueError, match="units"):
+        jointid.fit_wpilog(routine["rotations"], units="furlongs")
+    with pytest.raises(ValueError, match="QUANTITY=NAME"):
+        jointid.fit_wpilog(routine["rotations"], entry="position")
+    with pytest.raises(LogError, match="nowhere.wpilog"):
+        jointid.fit_wpilog("nowhere.wpilog")
