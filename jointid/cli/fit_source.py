@@ -15,13 +15,7 @@ import os
 from dataclasses import dataclass, field, replace
 
 from .arguments import UserError, settings_from
-from .log_arguments import (
-    fit_loaded_logs,
-    fit_pooled_runs,
-    has_log,
-    several_runs,
-    with_default_settings,
-)
+from .log_arguments import fit_any_logs, has_log, with_default_settings
 
 JSON_LIMIT = 64 * 1024 * 1024
 """Largest fit JSON read (bytes): a fit's document is a few kilobytes, several runs' a few hundred."""
@@ -66,10 +60,10 @@ def identified_from_fit(args: argparse.Namespace) -> Identified:
         return _from_result(result, f"a fit of the synthetic {settings.motion_name} experiment",
                             f"noise {settings.noise:g} N m, {settings.samples} samples, seed {settings.seed}; ")
     zero, clockwise = getattr(args, "zero", None) or "right", bool(getattr(args, "clockwise", False))
-    if several_runs(args):
-        pooled = fit_pooled_runs(args)
-        return _through_motor(_from_pooled(pooled, zero, clockwise), pooled, pooled.runs[0].result.model, args)
-    logs = fit_loaded_logs(args)
+    fitted = fit_any_logs(args)  # several runs (repeated --csv, a SysId log's tests) or one log
+    if hasattr(fitted, "runs"):
+        return _through_motor(_from_pooled(fitted, zero, clockwise), fitted, fitted.runs[0].result.model, args)
+    logs = fitted
     identified = _from_result(logs.result, f"a fit of {logs.name}", zero=zero, clockwise=clockwise)
     return _through_motor(identified, logs, logs.result.model, args)
 
@@ -166,15 +160,7 @@ def _from_fit_document(document: dict, shown: str, name: str) -> Identified:
     verdicts = document.get("verdicts") if isinstance(document.get("verdicts"), dict) else {}
     zero, clockwise = _conventions(document, shown)
     if (document.get("effort") or {}).get("name") == "voltage":  # the physical parameters its --motor gave
-        motor = document.get("motor") if isinstance(document.get("motor"), dict) else {}
-        physical = motor.get("parameters")
-        if not isinstance(physical, dict):
-            raise UserError(f"{shown}: a voltage log's fit {VOLTS_NEED_A_MOTOR.split(': give')[0]}: fit it with "
-                            "its motor (--motor NAME --gear G) and export that JSON")
-        parameters = _numbers({k: v.get("value") if isinstance(v, dict) else v for k, v in physical.items()},
-                              shown, "motor.parameters")
-        verdicts = {k: v.get("verdict") for k, v in physical.items() if isinstance(v, dict)}
-        model = f"{model} through {motor.get('motor', 'a motor')}"
+        parameters, verdicts, model = _through_motor_document(document, shown, model)
     return Identified(parameters, model, f"the fit in {name} (model {model})",
                       {key: value if isinstance(value, str) else None for key, value in verdicts.items()},
                       zero, clockwise)
@@ -193,10 +179,26 @@ def _from_runs_document(document: dict, shown: str, name: str) -> Identified:
     errors = pooled.get("std_error") if isinstance(pooled.get("std_error"), dict) else {}
     verdicts = {key: _verdict_of(value, float(errors[key]), verdict) if _is_number(errors.get(key)) else None
                 for key, value in parameters.items()}
+    if "I" not in parameters and "kA" in parameters:  # runs in volts: the physical parameters their --motor gave
+        parameters, verdicts, model = _through_motor_document(document, shown, model)
     runs = document["runs"]
     zero, clockwise = _conventions(runs[0], shown) if runs and isinstance(runs[0], dict) else ("right", False)
     return Identified(parameters, model, f"the pooled fit of {len(runs)} runs in {name} (model {model})",
                       verdicts, zero, clockwise)
+
+
+def _through_motor_document(document: dict, shown: str, model: str) -> tuple[dict[str, float], dict, str]:
+    """(parameters, verdicts, model) of a voltage fit's document from the physical parameters its --motor gave;
+    UserError when it was fitted without a motor."""
+    motor = document.get("motor") if isinstance(document.get("motor"), dict) else {}
+    physical = motor.get("parameters")
+    if not isinstance(physical, dict):
+        raise UserError(f"{shown}: a voltage log's fit {VOLTS_NEED_A_MOTOR.split(': give')[0]}: fit it with "
+                        "its motor (--motor NAME --gear G) and export that JSON")
+    parameters = _numbers({k: v.get("value") if isinstance(v, dict) else v for k, v in physical.items()},
+                          shown, "motor.parameters")
+    verdicts = {k: v.get("verdict") for k, v in physical.items() if isinstance(v, dict)}
+    return parameters, verdicts, f"{model} through {motor.get('motor', 'a motor')}"
 
 
 def _numbers(values, shown: str, key: str) -> dict[str, float]:

@@ -18,10 +18,8 @@ from .commands import SUBCOMMANDS
 from .exit_status import ExitStatus
 from .log_arguments import (
     add_log_arguments,
-    fit_loaded_logs,
-    fit_pooled_runs,
+    fit_any_logs,
     has_log,
-    several_runs,
     with_default_settings,
 )
 
@@ -133,7 +131,8 @@ def long_fit(args: argparse.Namespace) -> bool:
     experiment of a million samples or more."""
     if not has_log(args):
         return (args.samples or 0) >= LONG_FIT_SAMPLES
-    paths = [args.bag] if args.bag is not None else list(getattr(args, "runs", None) or [args.csv])
+    paths = ([args.bag] if args.bag is not None else [args.wpilog] if getattr(args, "wpilog", None) is not None
+             else list(getattr(args, "runs", None) or [args.csv]))
     if args.heldout is not None:
         paths.append(args.heldout)
     total = 0
@@ -189,13 +188,11 @@ def build_report(args: argparse.Namespace):
     if has_log(args):
         from .effort_arguments import effort_extras
 
-        if several_runs(args):
-            pooled = fit_pooled_runs(args)
-            return report.runs_report(pooled, comparison=comparison, comparison_heading=heading,
-                                      extras=tuple(effort_extras(args, pooled)[0]))
-        logs = fit_loaded_logs(args)
-        return report.logs_report(logs, comparison=comparison, comparison_heading=heading,
-                                  extras=tuple(effort_extras(args, logs)[0]))
+        fitted = fit_any_logs(args)  # several runs (repeated --csv, a SysId log's tests) or one log
+        extras = tuple(effort_extras(args, fitted)[0])
+        if hasattr(fitted, "runs"):
+            return report.runs_report(fitted, comparison=comparison, comparison_heading=heading, extras=extras)
+        return report.logs_report(fitted, comparison=comparison, comparison_heading=heading, extras=extras)
     from ..studies.experiment import run_experiment
 
     settings = settings_from(with_default_settings(args))

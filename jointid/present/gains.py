@@ -152,6 +152,11 @@ def motor_parts(motor: MotorParameters) -> tuple[str, str, str]:
                      f"{format_number(motor.load_inertia)} kg m².")
     lines.append(f"B is the mechanical damping: the back-EMF adds {format_number(drive.electrical_damping)} N m s/rad "
                  f"more when the motor is driven by a voltage ({format_number(drive.back_emf)} V s/rad of kV).")
+    damping = next((p for p in motor.parameters if p.name == "B"), None)
+    if damping is not None and damping.value + 2 * damping.std_error < 0:  # no joint damps negatively
+        lines.append(f"B is negative by more than two standard errors, which no joint is: the fitted kV is below "
+                     f"the back-EMF of the drive described ({format_number(drive.back_emf)} V s/rad). Check the "
+                     f"gear (--gear, {drive.gear:g}:1 here), the motor and their count.")
     return heading, table, "\n".join(lines)
 
 

@@ -321,3 +321,21 @@ def test_a_report_of_a_voltage_log_draws_volts_and_holds_the_gains(tmp_path, cap
     html = page.read_text()
     assert "Voltage (V)" in html and "Training residuals (V)" in html and "Torque (N m)" not in html
     assert "new ArmFeedforward(0.2, 0.9, 1.8, 0.12" in html
+
+
+def test_a_gear_that_makes_the_damping_negative_is_named(tmp_path, capsys, times):
+    """2 NEOs at 50:1 fitted as if at 100:1: the back-EMF G/Kv the text assumes exceeds the fitted kV, so B comes
+    out negative (c (kV - G/Kv) with the closed form's kV = B/c + 50/Kv < 100/Kv), and the text says to check the
+    gear rather than calling a negative damping well determined without a word."""
+    q, qd, qdd = motion(times)
+    tau = PHYSICAL["I"] * qdd + PHYSICAL["h"] * G * np.cos(q) + PHYSICAL["B"] * qd
+    c = 50 * 2 * NEO_KT / NEO_R
+    assert PHYSICAL["B"] / c + 50 / NEO_KV < 100 / NEO_KV  # the premise, from the closed form
+    log = write(tmp_path / "arm.csv", times, q, qd, qdd, tau / c + 50 / NEO_KV * qd, "effort")
+    status, out, err = run(capsys, "fit", "--csv", log, "--effort", "voltage", "--motor", "NEO", "--motor-count", "2",
+                           "--gear", "100", "--no-robust")
+    assert status == 0, err
+    assert "B is negative by more than two standard errors" in out and "--gear, 100:1 here" in out
+    status, out, err = run(capsys, "fit", "--csv", log, "--effort", "voltage", "--motor", "NEO", "--motor-count", "2",
+                           "--gear", "50", "--no-robust")
+    assert status == 0 and "B is negative" not in out

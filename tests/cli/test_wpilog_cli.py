@@ -154,3 +154,35 @@ def test_the_explorer_opens_on_a_sysid_logs_tests_in_their_model(arm_log):
     assert main(["--wpilog", str(arm_log)], explorer=explore) == 0
     assert opened["settings"].model == "coulomb+angle-offset"
     assert [run.name for run in opened["loaded"].runs] == [test for test, _ in TESTS]
+
+
+def test_report_and_export_take_a_sysid_log_as_fit_does(capsys, arm_log, tmp_path):
+    """A user's path from a SysId log: the report holds the pooled gains and the constructor line (it was a
+    traceback), and the export writes the physical joint behind them through the motor, by the log or by the fit's
+    JSON alike (it was refused as 'not one log', and the JSON as 'no I, h, B')."""
+    import xml.etree.ElementTree as ET
+
+    page = tmp_path / "arm.html"
+    status, _, err = run(capsys, "report", "--wpilog", str(arm_log), "--gains", "wpilib", "--out", str(page))
+    assert status == 0, err
+    status, out, err = run(capsys, "fit", "--wpilog", str(arm_log), "--gains", "wpilib", "--motor", "NEO", "--gear",
+                           "60", "--json")
+    assert status == 0, err
+    fitted = json.loads(out)
+    html = page.read_text()
+    assert fitted["gains"]["constructors"]["java"] in html and "Voltage (V)" in html
+    drive = ("--motor", "NEO", "--gear", "60", "--mass", "4")
+    status, _, err = run(capsys, "export", "--wpilog", str(arm_log), *drive, "--urdf", str(tmp_path / "a.urdf"))
+    assert status == 0, err
+    (tmp_path / "fit.json").write_text(out)
+    status, _, err = run(capsys, "export", "--from-json", str(tmp_path / "fit.json"), "--mass", "4", "--urdf",
+                         str(tmp_path / "b.urdf"))
+    assert status == 0, err
+    physical = fitted["motor"]["parameters"]
+    for name in ("a.urdf", "b.urdf"):
+        dynamics = ET.parse(tmp_path / name).find(".//dynamics")
+        assert float(dynamics.get("damping")) == pytest.approx(physical["B"]["value"], rel=1e-9)
+        assert float(dynamics.get("friction")) == pytest.approx(physical["Fc"]["value"], rel=1e-9)
+    status, out, err = run(capsys, "export", "--wpilog", str(arm_log), "--mass", "4", "--urdf",
+                           str(tmp_path / "c.urdf"))
+    assert status == 2 and "gives gains in volts" in err and not (tmp_path / "c.urdf").exists()
