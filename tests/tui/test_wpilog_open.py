@@ -81,6 +81,30 @@ async def test_ctrl_o_on_a_sysid_log_shows_its_four_tests_as_runs(logs):
 
 
 @synchronous
+async def test_ctrl_r_on_a_sysid_log_writes_its_pooled_gains_and_constructor(logs, tmp_path, monkeypatch):
+    """The explorer's report of a SysId log holds the gains `jointid report --gains wpilib` gives (it had only the
+    runs table and each test's own fit, so not what a team came for)."""
+    from jointid.present.gains import gains_text
+    from jointid.studies.gains import arm_gains
+
+    monkeypatch.chdir(tmp_path)
+    app = make_app()
+    async with app.run_test(size=SIZE) as pilot:
+        await open_path(pilot, logs["sysid"])
+        await settle(pilot, lambda: isinstance(app.screen, MainScreen) and app.screen.runs is not None)
+        runs = main_screen(app).runs
+        await pilot.press("ctrl+r")
+        for _ in range(2000):  # the page is drawn in a worker: wait for its file
+            if list(tmp_path.glob("*.html")):
+                break
+            await pilot.pause(0.02)
+    pages = list(tmp_path.glob("*.html"))
+    assert len(pages) == 1
+    constructor = next(line for line in gains_text(arm_gains(runs)).splitlines() if line.startswith("Java:"))
+    assert constructor.removeprefix("Java:").strip() in pages[0].read_text()
+
+
+@synchronous
 async def test_another_log_asks_for_the_angle_the_effort_and_the_unit(logs, monkeypatch):
     import jointid.logs.wpilog as wpilog
 

@@ -92,18 +92,37 @@ def cached_experiment(settings: Settings) -> FitResult:
     return run_experiment(settings)
 
 
-def report_page(runs, logs, result, settings) -> str:
-    """The HTML report of what the explorer shows: several runs, a log, or the synthetic experiment's fit."""
+def report_page(runs, logs, result, settings, drive=None) -> str:
+    """The HTML report of what the explorer shows: several runs, a log (with the gains of a voltage log, and of a
+    torque log when the session has a motor `drive`), or the synthetic experiment's fit."""
     from jointid.present import report
     from jointid.present.report_writers import html_page, made_by
 
     if runs is not None:
-        page = report.runs_report(runs)
+        page = report.runs_report(runs, extras=gains_texts(runs, drive))
     elif logs is not None:
-        page = report.logs_report(logs)
+        page = report.logs_report(logs, extras=gains_texts(logs, drive))
     else:
         page = report.synthetic_report(result, settings)
     return html_page(report.draw(page), made_by("the explorer (Ctrl+R)"))
+
+
+def gains_texts(fit, drive) -> tuple[str, ...]:
+    """The gains view's texts for a report (`jointid report --gains wpilib` and its motor's): none for a torque log
+    without a motor, which has no gains."""
+    from jointid.present.gains import gains_text, motor_text
+    from jointid.studies.gains import GainsError, arm_gains, motor_parameters
+
+    model = (fit.runs[0] if hasattr(fit, "runs") else fit).result.model
+    if model.effort.is_torque and drive is None:
+        return ()
+    try:
+        texts = [gains_text(arm_gains(fit, drive))]
+        if drive is not None and not model.effort.is_torque:
+            texts.append(motor_text(motor_parameters(fit, drive)))
+    except GainsError:  # no unique fit: the report's tables say so
+        return ()
+    return tuple(texts)
 
 
 def known_parameters_text(joint: TrueJoint = LESSON_JOINT, compact: bool = False) -> str:
@@ -613,6 +632,11 @@ class MainScreen(Screen):
 
         self.app.push_screen(NotesScreen(self.logs))
 
+    def session_drive(self):
+        """The motor the explorer was started with (`--motor`), or None."""
+        conventions = self.app.conventions
+        return None if conventions is None else conventions.motor
+
     def action_gains(self) -> None:
         """Open the gains view: WPILib's ArmFeedforward gains of the log shown (and the motor's physical parameters
         behind a voltage log's); a notification when the fit gives none (a torque log without a motor)."""
@@ -621,8 +645,7 @@ class MainScreen(Screen):
 
         from .gains import GainsScreen  # only a log's fit has gains
 
-        conventions = self.app.conventions
-        drive = None if conventions is None else conventions.motor
+        drive = self.session_drive()
         fit = self.logs if self.runs is None else self.runs  # several runs: their pooled fit's gains
         try:
             sections = [gains_parts(arm_gains(fit, drive))]
@@ -847,7 +870,7 @@ class MainScreen(Screen):
             from ..web import deliver_report
 
             try:
-                page = report_page(runs, logs, result, settings)
+                page = report_page(runs, logs, result, settings, self.session_drive())
             except ReportExtraMissing as error:
                 self.app.call_from_thread(self.notify, str(error), title="No report written", severity="error")
                 return
@@ -859,7 +882,7 @@ class MainScreen(Screen):
         except OSError:  # the folder was removed under the explorer: the write says so, in one line
             folder = os.curdir
         try:
-            path = write_report_page(folder, stem, report_page(runs, logs, result, settings))
+            path = write_report_page(folder, stem, report_page(runs, logs, result, settings, self.session_drive()))
         except (ExportError, ReportExtraMissing) as error:
             self.app.call_from_thread(self.notify, str(error), title="No report written", severity="error")
             return
