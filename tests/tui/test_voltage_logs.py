@@ -47,6 +47,8 @@ async def test_a_voltage_log_shows_volts_and_its_gains(tmp_path):
         # The footer has no room for g: the log's note names it, in a line no wider than a torque log's note.
         note = str(screen.query_one("#log-note").render()).splitlines()
         assert note[0] == "From log: c or 1/2/3; g: gains"
+        # The command palette lists it too (typing 'gains' there started a tour, which replaced the log).
+        assert "Gains" in [command.title for command in app.get_system_commands(screen)]
         await pilot.press("g")
         await pilot.pause()
         assert isinstance(app.screen, GainsScreen)

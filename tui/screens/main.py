@@ -211,14 +211,17 @@ class MainScreen(Screen):
                 tooltip="Fit subject to the sign rules, or not (toggle)"),
         # c is active only while a log is shown (check_action).
         Binding("ctrl+o", "open_log", "Open log", priority=True,
-                tooltip="Load a CSV joint log or a ROS bag joint as training or held-out data, or as another run"),
+                tooltip="Load a CSV log, a ROS bag joint or a WPILib data log as training or held-out data, or as "
+                "another run"),
         Binding("c", "close_log", "Close log",
                 tooltip="Leave the log and return to the synthetic experiment"),
         # Not in the footer (80 columns have no room): the status under the charts names it.
         Binding("n", "notes", "Notes", priority=True, show=False,
                 tooltip="The log's notes: how it was read, filtered and checked, and what the fit left out"),
-        # Not in the footer or the help's key list (80 columns have no room): the command palette has it.
-        Binding("g", "gains", "Gains", priority=True, show=False),
+        # Not in the footer (80 columns have no room): a voltage log's note names it, the help and the palette list it.
+        Binding("g", "gains", "Gains", priority=True, show=False,
+                tooltip="A log's WPILib ArmFeedforward gains: kS, kG, kV, kA (a voltage log, or a torque log with "
+                "--motor)"),
         # Only with several runs (check_action); the log note names it.
         Binding("u", "runs", "Runs", priority=True, show=False,
                 tooltip="Several runs: each run's fit beside the pooled one; a digit there shows a run"),
