@@ -40,6 +40,9 @@ SESSION_MEMORY_MIB = 110
 measured; 57 MiB after the lesson's keys alone), rounded up: bench_serve.py, benchmarks/README.md."""
 MEMORY_SHARE = 0.75
 """Share of the memory available at start that the sessions may take by default; the rest is the system's."""
+SESSIONS_PER_CORE = 10
+"""Sessions a core serves by default: 20 sessions pressing a key a second answered within 2x of one alone on a
+2-core machine (p95 key to frame; bench_serve.py, benchmarks/README.md), more were not measured."""
 
 DATA_ENVIRONMENT = "JOINTID_WEB_DATA"
 """Environment variable through which a session learns the --data folder (tui/web.py reads it)."""
@@ -138,18 +141,24 @@ def available_memory() -> int:
     return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
 
 
-def default_max_sessions(memory: int) -> int:
-    """How many sessions MEMORY_SHARE of `memory` bytes holds at SESSION_MEMORY_MIB each (at least 1)."""
-    return max(1, int(memory * MEMORY_SHARE / (SESSION_MEMORY_MIB * 2**20)))
+def default_max_sessions(memory: int, cores: int = 1) -> int:
+    """The fewer of the sessions MEMORY_SHARE of `memory` bytes holds at SESSION_MEMORY_MIB each and
+    SESSIONS_PER_CORE for each of `cores` (at least 1)."""
+    by_memory = int(memory * MEMORY_SHARE / (SESSION_MEMORY_MIB * 2**20))
+    return max(1, min(by_memory, SESSIONS_PER_CORE * cores))
 
 
-def sessions_sentence(max_sessions: int | None, memory: int) -> tuple[int, str]:
+def sessions_sentence(max_sessions: int | None, memory: int, cores: int | None = None) -> tuple[int, str]:
     """The session limit and the line the server prints about it at start."""
     if max_sessions is not None:
         return max_sessions, f"At most {max_sessions} sessions at once (--max-sessions)."
-    limit = default_max_sessions(memory)
-    return limit, (f"At most {limit} sessions at once: {MEMORY_SHARE:.0%} of the {memory / 2**30:.1f} GiB of memory "
-                   f"available now, at about {SESSION_MEMORY_MIB} MiB a session (--max-sessions to change).")
+    cores = cores or os.cpu_count() or 1
+    limit = default_max_sessions(memory, cores)
+    by_memory = int(memory * MEMORY_SHARE / (SESSION_MEMORY_MIB * 2**20))
+    return limit, (f"At most {limit} sessions at once: the fewer of {by_memory} ({MEMORY_SHARE:.0%} of the "
+                   f"{memory / 2**30:.1f} GiB of memory available now, at about {SESSION_MEMORY_MIB} MiB a session) "
+                   f"and {SESSIONS_PER_CORE * cores} ({SESSIONS_PER_CORE} for each of {cores} cores, as measured); "
+                   "--max-sessions to change.")
 
 
 def check_port_free(host: str, port: int) -> None:

@@ -138,7 +138,7 @@ def fit_blocks(result: FitResult, prefix: str, unsettled: dict[str, str] | tuple
         Heading("Readouts", 3, f"{prefix}readouts"),
         readout_table(result),
         Preformatted(uncertainty_text(result, unsettled)),
-        Heading("Training and held-out torques", 3, f"{prefix}torques"),
+        Heading(f"Training and held-out {result.model.effort.name}s", 3, f"{prefix}torques"),  # or voltages
     ]
     training = training_chart or synthetic_training_chart(result, columns=MAX_POINTS)
     count = result.training.count if training_count is None else training_count

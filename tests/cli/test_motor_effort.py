@@ -320,6 +320,7 @@ def test_a_report_of_a_voltage_log_draws_volts_and_holds_the_gains(tmp_path, cap
     assert status == 0, err
     html = page.read_text()
     assert "Voltage (V)" in html and "Training residuals (V)" in html and "Torque (N m)" not in html
+    assert "Training and held-out voltages" in html and "held-out torques" not in html
     assert "new ArmFeedforward(0.2, 0.9, 1.8, 0.12" in html
 
 

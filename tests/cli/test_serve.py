@@ -216,3 +216,16 @@ def test_serve_refuses_a_port_in_use_a_missing_folder_bad_flags_and_a_missing_ex
     monkeypatch.setitem(sys.modules, "jointid.cli.web_server", None)  # as if textual-serve were not installed
     monkeypatch.delattr(jointid.cli, "web_server", raising=False)  # imported by the port's check above
     assert refused("serve") == "jointid: jointid serve needs textual-serve: pip install 'jointid[web]'\n"
+
+
+def test_the_default_session_limit_is_the_fewer_of_memory_and_cores():
+    """Memory alone allowed 160 sessions on this 2-core machine, where 20 were measured (10 a core): the default
+    takes the fewer, and says both."""
+    from jointid.cli.serve_command import sessions_sentence
+
+    gib = 2**30
+    limit, sentence = sessions_sentence(None, 24 * gib, cores=2)
+    assert limit == 20 and "the fewer of 167" in sentence and "20 (10 for each of 2 cores" in sentence
+    assert sessions_sentence(None, 4 * gib, cores=16)[0] == int(4 * gib * 0.75 / (110 * 2**20)) == 27
+    assert sessions_sentence(None, 100 * 2**20, cores=8)[0] == 1  # never none
+    assert sessions_sentence(50, 4 * gib, cores=2) == (50, "At most 50 sessions at once (--max-sessions).")
