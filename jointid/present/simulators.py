@@ -207,9 +207,9 @@ def mujoco_check_text(check, path: str) -> str:
 
 def undetermined_warning(names: tuple[str, ...]) -> str:
     """The one stderr line when exported parameters are not determined by the fit."""
-    verb = "is" if len(names) == 1 else "are"
+    verb, them = ("is", "it") if len(names) == 1 else ("are", "them")
     return (f"jointid export: warning: {join_words(list(names))} {verb} not determined by this fit (standard error "
-            "above 30 %); the files hold them all the same")
+            f"above 30 %); the files hold {them} all the same")
 
 
 def convention_text(zero: str, clockwise: bool) -> str:
