@@ -142,8 +142,11 @@ def omitted_sentence(logs: LoadedLogs, compact: bool = False) -> str | None:
                   f"errors, so {'they are' if len(moves) > 1 else 'it is'} not well determined")
     else:
         effect = "; adding it moves no estimate beyond its errors"
+    # An angle offset of a quarter or half turn is most often a log whose angle 0 is not horizontal.
+    zero = (" If the log's angle 0 does not point horizontally right, --zero down, up or left reads it as jointid's "
+            "q." if any(name in ("h_s", "kG_s") for name in test.followed) else "")
     return (f"The residuals follow {named}, which the model lacks ({strength} against {test.threshold:.1f} for "
-            f"{test.effective_count:.0f} independent samples){effect}{suggestion}.")
+            f"{test.effective_count:.0f} independent samples){effect}{suggestion}.{zero}")
 
 
 def omitted_object(logs: LoadedLogs) -> dict | None:

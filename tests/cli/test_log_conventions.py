@@ -179,3 +179,17 @@ def test_plain_logs_are_read_as_before(capsys, tmp_path):
     assert not any("columns read as" in note or "angle 0" in note or "wrapped" in note for note in document["notes"])
     assert document["conventions"]["training"]["zero"] == "right"
     assert document["conventions"]["training"]["q_from_log"] == "q = logged q"
+
+
+def test_a_log_read_without_its_zero_is_pointed_to_zero(capsys, tmp_path):
+    """A log whose angle 0 hangs down, read as if it were horizontal: cos q of the logged angle is -sin q of
+    jointid's, so the residuals follow an angle offset, and the text names --zero as well as the model."""
+    t = np.arange(1500) * 0.004
+    a, ad, add, tau_a = logged(t, "down", clockwise=False)
+    path = write_csv(tmp_path / "down.csv", "time,position,velocity,acceleration,effort", t, a, ad, add, tau_a)
+    status, out, err = run(capsys, "fit", "--csv", path, "--model", "plain")
+    assert status == 0, err
+    sentence = next(line for line in out.splitlines() if line.startswith("The residuals follow"))
+    assert "an angle offset" in sentence and "--zero down, up or left" in sentence
+    status, out, err = run(capsys, "fit", "--csv", path, "--model", "plain", "--zero", "down")
+    assert status == 0 and "--zero down, up or left" not in out
