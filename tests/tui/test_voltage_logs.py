@@ -112,3 +112,30 @@ async def test_the_open_dialog_reads_a_log_as_voltage_when_asked(tmp_path):
         await pilot.pause()
         assert dialog.query_one("#open-effort", RadioSet).pressed_button.id == "effort-voltage"
         assert dialog.request(str(tmp_path / "x.csv")).effort.kind == "voltage"
+
+
+@synchronous
+async def test_at_80_columns_end_and_home_reach_the_ends_of_a_wide_gains_line(tmp_path):
+    """The C++ constructor is wider than 80 columns: End shows its end and Home its start (Right moves one column,
+    and End scrolled down instead)."""
+    from tui.widgets.wide_scroll import WideScroll
+
+    app = make_app()
+    app.conventions = LogConventions(effort=EffortReading("voltage"))
+    async with app.run_test(size=(80, 24)) as pilot:
+        pilot.app.screen.start_loading(LoadRequest(voltage_log(tmp_path / "arm.csv"), **app.conventions.request_fields()))
+        await pilot.app.workers.wait_for_complete()
+        await pilot.pause()
+        await pilot.press("g")
+        await pilot.pause()
+        assert isinstance(app.screen, GainsScreen)
+        wide = [scroll for scroll in app.screen.query(WideScroll) if scroll.max_scroll_x > 0]
+        assert wide  # at 80 columns the constructor lines do not fit
+        scroll = wide[-1]
+        scroll.focus()
+        await pilot.press("end")
+        await pilot.pause()
+        assert scroll.scroll_x == scroll.max_scroll_x
+        await pilot.press("home")
+        await pilot.pause()
+        assert scroll.scroll_x == 0

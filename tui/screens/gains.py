@@ -7,11 +7,12 @@ from pathlib import Path
 
 from textual.app import ComposeResult
 from textual.binding import Binding
-from textual.containers import HorizontalScroll, VerticalScroll
+from textual.containers import VerticalScroll
 from textual.screen import Screen
 from textual.widgets import Static
 
 from ..widgets.footer import KeyFooter
+from ..widgets.wide_scroll import WideScroll
 
 
 class GainsScreen(Screen):
@@ -46,11 +47,11 @@ class GainsScreen(Screen):
         """Each section's heading, its wide parts in sideways scrolls, its sentences; the footer."""
         with VerticalScroll() as scroll:
             scroll.border_title = f"Gains: {self.title_text}"
-            scroll.border_subtitle = "Tab: the tables, ←/→ their columns"
+            scroll.border_subtitle = "Tab: the tables, ←/→ their columns, End/Home"
             for heading, *wide, sentences in self.sections:
                 yield Static(heading, markup=False)
                 for part in wide:
-                    with HorizontalScroll(classes="gains--wide"):  # tables and code keep their lines whole
+                    with WideScroll(classes="gains--wide"):  # tables and code keep their lines whole
                         yield Static(part, markup=False)
                 if sentences:
                     yield Static(sentences + "\n", markup=False)

@@ -7,13 +7,14 @@ from typing import Callable
 
 from textual.app import ComposeResult
 from textual.binding import Binding
-from textual.containers import HorizontalScroll, VerticalScroll
+from textual.containers import VerticalScroll
 from textual.screen import Screen
 from textual.widgets import Static
 
 from jointid.present.runs import runs_parts
 
 from ..widgets.footer import KeyFooter
+from ..widgets.wide_scroll import WideScroll
 
 MAX_KEYED_RUNS = 9
 """Runs the digit keys reach (1 to 9); further runs are in the table, shown with their own key only."""
@@ -51,7 +52,7 @@ class RunsScreen(Screen):
             scroll.border_title = f"{len(self.runs.runs)} runs of one joint"
             scroll.border_subtitle = "Tab: the table, ←/→ its columns"
             yield Static(heading, markup=False)
-            with HorizontalScroll(id="runs-table"):  # the table keeps its columns; a narrow screen scrolls it
+            with WideScroll(id="runs-table"):  # the table keeps its columns; a narrow screen scrolls it
                 yield Static(table, markup=False)
             yield Static("\n".join(sentences), markup=False)
             yield Static(f"Show a run's own fit on the main screen: {keys}.", id="runs-keys", markup=False)
