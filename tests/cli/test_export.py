@@ -15,28 +15,11 @@ import xml.etree.ElementTree as ET
 
 import numpy as np
 import pytest
+from support.cli_support import refused, run
 
 from jointid.cli import main
 
 G = 9.81
-
-
-def run(capsys, *argv):
-    """`jointid ARGV` in this process: (exit status, stdout, stderr)."""
-    try:
-        status = main(list(map(str, argv)))
-    except SystemExit as stop:  # argparse's own refusals
-        status = stop.code
-    out, err = capsys.readouterr()
-    return status, out, err
-
-
-def refused(capsys, *argv) -> str:
-    """The one line of a refusal: exit 2, nothing on stdout, no traceback."""
-    status, out, err = run(capsys, *argv)
-    assert status == 2 and out == "", (status, out, err)
-    assert err.count("\n") == 1 and "Traceback" not in err and err.startswith("jointid"), err
-    return err.strip()
 
 
 def floats(text: str) -> list[float]:

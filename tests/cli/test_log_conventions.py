@@ -10,36 +10,13 @@ import os
 
 import numpy as np
 import pytest
+from support.cli_support import fit_json, refused, run
 from support.conventions_support import TRUE, joint, logged, lstsq
 
 from jointid.cli import main
 
 REAL = "/work/shared/real-logs"
 REAL_LOGS = ("pendulum_pd.csv", "pendulum_ddp.csv", "pendulum_energy_shaping.csv")
-
-
-def run(capsys, *argv):
-    """(status, stdout, stderr) of one in-process command; argparse's refusals included."""
-    try:
-        status = main([str(a) for a in argv])
-    except SystemExit as stop:
-        status = stop.code
-    captured = capsys.readouterr()
-    return status, captured.out, captured.err
-
-
-def fit_json(capsys, *argv):
-    status, out, err = run(capsys, "fit", *argv, "--json")
-    assert (status, err) == (0, ""), err
-    return json.loads(out)
-
-
-def refused(capsys, *argv) -> str:
-    """The one line of a refusal: exit 2, nothing on stdout, no traceback."""
-    status, out, err = run(capsys, *argv)
-    assert status == 2 and out == "", (status, out, err)
-    assert err.count("\n") == 1 and "Traceback" not in err and err.startswith("jointid"), err
-    return err.strip()
 
 
 def write_csv(path, header, *columns):

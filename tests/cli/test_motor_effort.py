@@ -3,14 +3,12 @@ wpilib), checked against models written here: closed forms from the motor's cons
 
 from __future__ import annotations
 
-import json
 import math
 import re
 
 import numpy as np
 import pytest
-
-from jointid.cli import main
+from support.cli_support import fit_json, refused, run
 
 G = 9.81
 PHYSICAL = {"I": 0.8, "h": 0.4, "B": 0.15}
@@ -36,29 +34,6 @@ def write(path, t, q, qd, qdd, effort, name="tau"):
     np.savetxt(path, np.column_stack([t, q, qd, qdd, effort]), delimiter=",", header=f"t,q,qd,qdd,{name}",
                comments="", fmt="%.17g")
     return str(path)
-
-
-def run(capsys, *argv):
-    try:
-        status = main(list(argv))
-    except SystemExit as stop:
-        status = stop.code
-    captured = capsys.readouterr()
-    return status, captured.out, captured.err
-
-
-def fit_json(capsys, *argv) -> dict:
-    status, out, err = run(capsys, "fit", *argv, "--json")
-    assert (status, err) == (0, ""), err
-    return json.loads(out)
-
-
-def refused(capsys, *argv) -> str:
-    """The one line of a refusal: exit 2, nothing on stdout, no traceback."""
-    status, out, err = run(capsys, *argv)
-    assert status == 2 and out == "", (status, out, err)
-    assert err.count("\n") == 1 and "Traceback" not in err, err
-    return err.strip()
 
 
 @pytest.fixture

@@ -3,18 +3,18 @@
 import json
 
 import pytest
-from support.sysid_arm import GAINS, TESTS, routine_samples, sysid_names, write_routine_log
+from support.cli_support import run
+from support.sysid_arm import (
+    GAINS,
+    TESTS,
+    routine_samples,
+    sysid_names,
+    write_routine_log,
+)
 
 from jointid.cli import main
 
 wpiutil = pytest.importorskip("wpiutil")
-
-
-def run(capsys, *argv):
-    """(status, stdout, stderr) of one in-process command."""
-    status = main([str(a) for a in argv])
-    captured = capsys.readouterr()
-    return status, captured.out, captured.err
 
 
 @pytest.fixture(scope="module")
