@@ -107,22 +107,28 @@ def report_page(runs, logs, result, settings, drive=None) -> str:
     return html_page(report.draw(page), made_by("the explorer (Ctrl+R)"))
 
 
-def gains_texts(fit, drive) -> tuple[str, ...]:
-    """The gains view's texts for a report (`jointid report --gains wpilib` and its motor's): none for a torque log
-    without a motor, which has no gains."""
-    from jointid.present.gains import gains_text, motor_text
-    from jointid.studies.gains import GainsError, arm_gains, motor_parameters
+def gains_sections(fit, drive) -> list[tuple[str, ...]]:
+    """The parts of the gains a log's fit (or several runs pooled) gives, and of the physical parameters behind a
+    voltage fit's gains through the session's motor `drive`: what the gains view and the report show. GainsError
+    when the fit gives none (a torque log without a motor, no unique fit)."""
+    from jointid.present.gains import gains_parts, motor_parts
+    from jointid.studies.gains import arm_gains, motor_parameters
 
-    model = (fit.runs[0] if hasattr(fit, "runs") else fit).result.model
-    if model.effort.is_torque and drive is None:
-        return ()
+    sections = [gains_parts(arm_gains(fit, drive))]
+    if drive is not None and not (fit.runs[0] if hasattr(fit, "runs") else fit).result.model.effort.is_torque:
+        sections.append(motor_parts(motor_parameters(fit, drive)))
+    return sections
+
+
+def gains_texts(fit, drive) -> tuple[str, ...]:
+    """gains_sections as the report's texts (`jointid report --gains wpilib` and its motor's); none when the fit
+    gives no gains."""
+    from jointid.studies.gains import GainsError
+
     try:
-        texts = [gains_text(arm_gains(fit, drive))]
-        if drive is not None and not model.effort.is_torque:
-            texts.append(motor_text(motor_parameters(fit, drive)))
-    except GainsError:  # no unique fit: the report's tables say so
+        return tuple("\n".join(part for part in section if part) for section in gains_sections(fit, drive))
+    except GainsError:  # a torque log without a motor, or no unique fit: the report's tables say so
         return ()
-    return tuple(texts)
 
 
 def known_parameters_text(joint: TrueJoint = LESSON_JOINT, compact: bool = False) -> str:
@@ -643,17 +649,13 @@ class MainScreen(Screen):
     def action_gains(self) -> None:
         """Open the gains view: WPILib's ArmFeedforward gains of the log shown (and the motor's physical parameters
         behind a voltage log's); a notification when the fit gives none (a torque log without a motor)."""
-        from jointid.present.gains import gains_parts, motor_parts
-        from jointid.studies.gains import GainsError, arm_gains, motor_parameters
+        from jointid.studies.gains import GainsError
 
         from .gains import GainsScreen  # only a log's fit has gains
 
-        drive = self.session_drive()
         fit = self.logs if self.runs is None else self.runs  # several runs: their pooled fit's gains
         try:
-            sections = [gains_parts(arm_gains(fit, drive))]
-            if drive is not None and not self.logs.result.model.effort.is_torque:
-                sections.append(motor_parts(motor_parameters(fit, drive)))
+            sections = gains_sections(fit, self.session_drive())
         except GainsError as error:
             self.notify(str(error), title="No gains", severity="warning")
             return
