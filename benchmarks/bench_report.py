@@ -63,12 +63,12 @@ def wall(command: list[str]) -> float:
 def split_in_process(log: Path) -> dict[str, float]:
     """Seconds of the report's steps, in this process: the fit with the chart process starting beside it, the
     blocks, the drawing in the child; then matplotlib's import and the drawing here, for comparison."""
-    from jointid.cli import build_parser
+    from jointid.cli import parse
     from jointid.cli.log_arguments import fit_loaded_logs
     from jointid.present.chart_process import ChartProcess
     from jointid.present.report import draw, logs_report
 
-    args = build_parser().parse_args(["report", "--csv", str(log), "--out", "unused.html"])
+    args = parse(["report", "--csv", str(log), "--out", "unused.html"])
     times = {}
     start = time.perf_counter()
     charts = ChartProcess()
