@@ -186,3 +186,26 @@ def test_report_and_export_take_a_sysid_log_as_fit_does(capsys, arm_log, tmp_pat
     status, out, err = run(capsys, "export", "--wpilog", str(arm_log), "--mass", "4", "--urdf",
                            str(tmp_path / "c.urdf"))
     assert status == 2 and "gives gains in volts" in err and not (tmp_path / "c.urdf").exists()
+
+
+@pytest.mark.parametrize("case", ["entry-name-not-utf8", "extra-header-not-utf8", "double-of-4-bytes",
+                                  "unit-nested-200000-deep"])
+def test_a_damaged_log_is_one_line_and_status_two_in_every_command(capsys, tmp_path, case):
+    """Written byte by byte from the specification: each command that reads the log refuses it in one line (they
+    were UnicodeDecodeError, TypeError and RecursionError tracebacks)."""
+    from support.cli_support import refused
+    from support.datalog_bytes import damaged_logs
+
+    data, word = damaged_logs()[case]
+    path = tmp_path / f"{case}.wpilog"
+    path.write_bytes(data)
+    entries = ("--entry", "q=q,tau=tau")
+    commands = [("fit", "--wpilog", path, *entries),
+                ("report", "--wpilog", path, *entries, "--out", tmp_path / "r.html"),
+                ("export", "--wpilog", path, *entries, "--mass", "1", "--mujoco", tmp_path / "j.xml")]
+    if case != "double-of-4-bytes":  # log-info counts records without decoding their numbers
+        commands.append(("log-info", path))
+    for command in commands:
+        line = refused(capsys, *command)
+        assert f"{path}: is damaged: " in line and word in line, (command[0], line)
+    assert not (tmp_path / "r.html").exists() and not (tmp_path / "j.xml").exists()
