@@ -59,7 +59,7 @@ def add_parser(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Fit, build the report, write it (HTML, and Markdown with its charts) as one group; print where."""
-    from ..files import ExportError, write_texts
+    from ..files import ExportError, shown_path, write_texts
     from ..present.report_charts import ReportExtraMissing
 
     check_destinations(report_paths(args), args.force)
@@ -81,8 +81,8 @@ def run(args: argparse.Namespace) -> int:
         hint = " (add --force to replace it)" if "already exists" in str(error) else ""
         raise UserError(f"{error}{hint}") from None
     chart_files = len(texts) - 2
-    written = args.out if args.markdown is None else \
-        f"{args.out}, {args.markdown} and {chart_files} chart{'s' if chart_files != 1 else ''} beside it"
+    written = shown_path(args.out) if args.markdown is None else \
+        f"{shown_path(args.out)}, {shown_path(args.markdown)} and {chart_files} chart{'s' if chart_files != 1 else ''} beside it"
     print(f"Wrote {written}.")
     return ExitStatus.SUCCESS
 
@@ -156,10 +156,13 @@ def report_paths(args: argparse.Namespace) -> list[str]:
 
 
 def command_line(argv: list[str]) -> str:
-    """The command as typed, for the report's footer: 'jointid report --motion slow ...'."""
+    """The command as typed, for the report's footer: 'jointid report --motion slow ...' (a word holding a character
+    that is not printable escaped as every name is, by shown_path)."""
     import shlex
 
-    return " ".join(["jointid", *map(shlex.quote, argv)])
+    from ..files import shown_path
+
+    return " ".join(["jointid", *(shlex.quote(word) if word.isprintable() else shown_path(word) for word in argv)])
 
 
 def report_texts(args: argparse.Namespace, command: str, charts=None) -> dict[str, str]:

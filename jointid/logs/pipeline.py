@@ -9,6 +9,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..files import shown_path
 from ..model.effort import Effort, effort_named
 from ..norms import all_finite
 from ..options import DEFAULT_ORDER, DEFAULT_WINDOW
@@ -59,9 +60,10 @@ class JointLog:
 
     @property
     def name(self) -> str:
-        """The log's name in lists: its file's name, or the SysId test a run of a data log is."""
+        """The log's name in lists: its file's name, or the SysId test a run of a data log is (escaped as every
+        face shows a name it did not choose: files.shown_path)."""
         run = None if self.source is None else getattr(self.source.table, "run", None)
-        return run or os.path.basename(os.path.normpath(self.path))
+        return shown_path(run or os.path.basename(os.path.normpath(self.path)))
 
     def with_window(self, window: int | None, order: int | None = None) -> JointLog:
         """The same log with its missing derivatives estimated by another window (and order); self if none."""
@@ -107,7 +109,7 @@ class JointLog:
     def source_text(self) -> str:
         """One line describing what was read, e.g. for the line above the readouts."""
         units = "degrees converted to radians" if self.degrees else "radians"
-        return f"{self.path}: {self.read_text or f'{self.rows} rows'} ({units}), {self.data.count} samples fitted"
+        return f"{shown_path(self.path)}: {self.read_text or f'{self.rows} rows'} ({units}), {self.data.count} samples fitted"
 
 
 

@@ -2,14 +2,15 @@
 
 from __future__ import annotations
 
+from ..files import shown_path
 from .text import COLUMN_GAP
 
 
 def entry_line(entry) -> str:
     """"/Arm/Position: double, 1000 records at 250 Hz, Rotation" for a wpilog.Entry."""
     rate = "" if entry.rate is None else f" at {entry.rate:.4g} Hz"
-    unit = "" if entry.unit is None else f", {entry.unit}"
-    return f"{entry.name}: {entry.type}, {entry.records} records{rate}{unit}"
+    unit = "" if entry.unit is None else f", {shown_path(entry.unit)}"
+    return f"{shown_path(entry.name)}: {shown_path(entry.type)}, {entry.records} records{rate}{unit}"
 
 
 def _columns(header: list[str], rows: list[list[str]], right: tuple[int, ...]) -> str:
@@ -24,21 +25,24 @@ def _columns(header: list[str], rows: list[list[str]], right: tuple[int, ...]) -
 def wpilog_info_text(info) -> str:
     """The text of `jointid log-info` for a wpilog.WpilogInfo."""
     count = len(info.entries)
-    lines = [f"{info.path}: WPILib data log, {info.duration:.6g} s, {count} entr{'y' if count == 1 else 'ies'}", ""]
+    lines = [f"{shown_path(info.path)}: WPILib data log, {info.duration:.6g} s, {count} entr{'y' if count == 1 else 'ies'}", ""]
     start = info.start_us
-    rows = [[e.name, e.type, str(e.records), "-" if e.rate is None else f"{e.rate:.4g}",
-             "-" if e.first_us is None else f"{(e.first_us - start) * 1e-6:.6g}", e.unit or "-"]
+    # Names, types and units are the log's, not the program's: escaped (a raw ESC would drive the terminal).
+    rows = [[shown_path(e.name), shown_path(e.type), str(e.records), "-" if e.rate is None else f"{e.rate:.4g}",
+             "-" if e.first_us is None else f"{(e.first_us - start) * 1e-6:.6g}",
+             "-" if e.unit is None else shown_path(e.unit)]
             for e in info.entries]
     lines.append(_columns(["entry", "type", "records", "rate (Hz)", "from (s)", "unit"], rows, (2, 3, 4)))
     if not any(entry.numeric for entry in info.entries):
         lines += ["", "No numeric entry (double, float or int64): nothing jointid can fit."]
     for routine in info.lacking_voltage:
-        lines += ["", (f"SysId routine {routine!r} has a test-state entry but no voltage-<motor>-{routine} entry: "
+        lines += ["", (f"SysId routine {routine!r} has a test-state entry but no voltage-<motor>-{shown_path(routine)} entry: "
                   "without the voltage there is no effort to fit.")]
     for routine in info.routines:
-        velocity = f", qd from {routine.velocity}" if routine.velocity else ""
-        lines += ["", (f"SysId routine {routine.routine!r}, motor {routine.motor!r}: q from {routine.position}"
-                  f"{velocity}, effort from {routine.voltage}; `jointid fit --wpilog {info.path}` fits its tests "
+        velocity = f", qd from {shown_path(routine.velocity)}" if routine.velocity else ""
+        lines += ["", (f"SysId routine {routine.routine!r}, motor {routine.motor!r}: q from "
+                  f"{shown_path(routine.position)}{velocity}, effort from {shown_path(routine.voltage)}; "
+                  f"`jointid fit --wpilog {shown_path(info.path)}` fits its tests "
                   "as runs of one joint:")]
         runs = info.runs.get(routine.routine, ())
         lines.append(_columns(["test", "from (s)", "to (s)", "state records"],

@@ -23,6 +23,7 @@ from ..estimation.fit import FitResult, fit_joint
 from ..estimation.low_pass import FilterRequest, FilterRequestError, ParallelFilter, choose_filter
 from ..estimation.omitted import OmittedTerms, omitted_terms_test
 from ..estimation.solver import NonFiniteError
+from ..files import shown_path
 from ..logs.derivatives import MAX_WINDOW, smooth
 from ..logs.pipeline import JointLog
 from ..logs.request import HELDOUT, TRAINING, LoadRequest, load_joint_log
@@ -124,7 +125,7 @@ class LoadedLogs:
     @property
     def heldout_name(self) -> str | None:
         """The held-out file's name, or None."""
-        return None if self.heldout is None else os.path.basename(os.path.normpath(self.heldout.path))
+        return None if self.heldout is None else shown_path(os.path.basename(os.path.normpath(self.heldout.path)))
 
     @property
     def logs(self) -> tuple[JointLog, ...]:

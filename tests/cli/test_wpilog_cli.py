@@ -209,3 +209,19 @@ def test_a_damaged_log_is_one_line_and_status_two_in_every_command(capsys, tmp_p
         line = refused(capsys, *command)
         assert f"{path}: is damaged: " in line and word in line, (command[0], line)
     assert not (tmp_path / "r.html").exists() and not (tmp_path / "j.xml").exists()
+
+
+def test_log_info_escapes_the_logs_names_and_units_as_every_message_does(capsys, tmp_path):
+    """Entry names and units are the log's: a raw ESC, BEL or CR would drive the terminal (they were printed raw)."""
+    from support.datalog_bytes import joint_log
+
+    from jointid.files import shown_path
+
+    name, unit = "q\x1b[2J\x07", "rad\rians\u202e"
+    path = tmp_path / "odd\x1b]0;title\x07.wpilog"
+    path.write_bytes(joint_log(q_name=name, q_unit=unit))
+    status, out, err = run(capsys, "log-info", path)
+    assert (status, err) == (0, "")
+    assert not {c for c in out if not c.isprintable() and c != "\n"}, out
+    for shown in (shown_path(name), shown_path(unit), shown_path(path)):
+        assert shown in out
