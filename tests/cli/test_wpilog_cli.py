@@ -1,6 +1,7 @@
 """Command line for WPILib data logs: log-info, fit --wpilog on a SysId routine, and bad logs refused in one line."""
 
 import json
+import socket
 
 import pytest
 from support.cli_support import run
@@ -205,9 +206,13 @@ def test_a_damaged_log_is_one_line_and_status_two_in_every_command(capsys, tmp_p
                 ("export", "--wpilog", path, *entries, "--mass", "1", "--mujoco", tmp_path / "j.xml")]
     if case != "double-of-4-bytes":  # log-info counts records without decoding their numbers
         commands.append(("log-info", path))
-    for command in commands:
-        line = refused(capsys, *command)
-        assert f"{path}: is damaged: " in line and word in line, (command[0], line)
+    with socket.socket() as taken:  # serve reads the log before it listens: a taken port is never reached
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        commands.append(("serve", "--port", taken.getsockname()[1], "--wpilog", path, *entries))
+        for command in commands:
+            line = refused(capsys, *command)
+            assert f"{path}: is damaged: " in line and word in line, (command[0], line)
     assert not (tmp_path / "r.html").exists() and not (tmp_path / "j.xml").exists()
 
 
