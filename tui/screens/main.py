@@ -25,6 +25,7 @@ from textual.screen import Screen
 from textual.widgets import Static
 
 from jointid.estimation.fit import FitResult
+from jointid.files import shown_path
 from jointid.model.terms import PLAIN, G
 from jointid.model.truth import LESSON_JOINT, TrueJoint
 from jointid.present.charts import heldout_chart, log_training_chart, training_chart
@@ -781,13 +782,14 @@ class MainScreen(Screen):
             return
         if dialog.chooser is not None and dialog.chooser.is_attached:
             dialog.chooser.dismiss()
-        if hasattr(logs, "runs") and logs.runs[0].training.name != os.path.basename(logs.runs[0].training.path) \
+        first = logs.runs[0].training if hasattr(logs, "runs") else None
+        if first is not None and first.name != shown_path(os.path.basename(first.path)) \
                 and all(run.training.path == dialog.path for run in logs.runs):
             # A SysId data log's tests (no other runs come from one file): shown from the first, in the model
             # they were fitted with.
             self.settings = replace(self.settings, model=logs.runs[0].result.model.name)
             self.set_runs(logs, 0)
-            self.notify(f"{len(logs.runs)} SysId tests of {dialog.path}, fitted alone and pooled; u: every test",
+            self.notify(f"{len(logs.runs)} SysId tests of {shown_path(dialog.path)}, fitted alone and pooled; u: every test",
                         title="SysId log loaded")
             return
         if hasattr(logs, "runs"):
@@ -852,7 +854,7 @@ class MainScreen(Screen):
         except ExportError as error:
             self.notify(str(error), title="Nothing exported", severity="error")
             return
-        self.notify(f"Wrote {json_path} and {svg_path}", title="Exported")
+        self.notify(f"Wrote {shown_path(json_path)} and {shown_path(svg_path)}", title="Exported")
 
     def action_write_report(self) -> None:
         """Write the report of what is shown (`jointid report` of the same source) into the current folder (in a
