@@ -136,7 +136,9 @@ def run(args: argparse.Namespace) -> int:
     else:
         print(design_text(result))
         if args.out is not None:
-            print(f"\nWrote {args.out}: train on it with --motion-file {args.out}.")
+            from ..files import shown_path
+
+            print(f"\nWrote {shown_path(args.out)}: train on it with --motion-file {shown_path(args.out)}.")
     return ExitStatus.SUCCESS
 
 

@@ -199,7 +199,7 @@ def run(args: argparse.Namespace) -> int:
     """Write the log; print one line saying what was written; exit status 0."""
     import numpy as np  # numpy and the numeric modules load only to run
 
-    from ..files import ExportError, atomic_output
+    from ..files import ExportError, atomic_output, shown_path
     from ..model.truth import TrueJoint
     from ..synthetic.motions import ALL_MOTIONS
     from ..synthetic.noise import torque_noise
@@ -241,5 +241,5 @@ def run(args: argparse.Namespace) -> int:
     except ExportError as error:
         hint = " (add --force to replace it)" if "already exists" in str(error) else ""
         raise UserError(f"{error}{hint}") from None
-    print(f"Wrote {args.out}: {samples} samples of {', '.join(names)} ({motion.name} motion, {duration:g} s).")
+    print(f"Wrote {shown_path(args.out)}: {samples} samples of {', '.join(names)} ({motion.name} motion, {duration:g} s).")
     return ExitStatus.SUCCESS
