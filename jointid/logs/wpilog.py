@@ -360,6 +360,7 @@ def _control(path: str, record, entries, by_id, sinks, collected, wanted) -> Non
         if entry is None:
             entry = entries[data.name] = Entry(data.entry, data.name, data.type, data.metadata)
         by_id[data.entry] = entry
+        sinks.pop(data.entry, None)  # a Start (re)assigns the id: what its records were decoded as before is gone
         decode = NUMERIC_TYPES.get(data.type, "getString" if data.type == "string" else None)
         if decode is not None and data.type == entry.type and wanted(data.name, data.type):
             times, values = collected.setdefault(data.name, ([], []))

@@ -233,3 +233,12 @@ def test_entry_ids_of_2_to_the_31_and_more_are_a_whole_log(tmp_path):
     path.write_bytes(data[:-3])  # and one cut inside its last record is still seen
     with pytest.raises(LogError, match="cut short or damaged"):
         read_wpilog_table(path, EntryMap.parse("q=q,tau=tau"), units="radians")
+
+
+def test_an_id_started_again_as_another_type_is_not_decoded_as_the_first(tmp_path):
+    from support.datalog_bytes import start, string
+
+    path = tmp_path / "restarted.wpilog"
+    path.write_bytes(joint_log() + start(1, "q", "string", "", 9_000_000) + string(1, 9_000_001, "hi"))
+    entries, series = read_entries(path, lambda name, kind: True)
+    assert len(series["q"].values) == 40 and entries["q"].type == "double"  # the string record is not q's
