@@ -81,8 +81,9 @@ def run(args: argparse.Namespace) -> int:
         hint = " (add --force to replace it)" if "already exists" in str(error) else ""
         raise UserError(f"{error}{hint}") from None
     chart_files = len(texts) - 2
+    charts = f"{chart_files} chart{'s' if chart_files != 1 else ''} beside it"
     written = shown_path(args.out) if args.markdown is None else \
-        f"{shown_path(args.out)}, {shown_path(args.markdown)} and {chart_files} chart{'s' if chart_files != 1 else ''} beside it"
+        f"{shown_path(args.out)}, {shown_path(args.markdown)} and {charts}"
     print(f"Wrote {written}.")
     return ExitStatus.SUCCESS
 

@@ -241,5 +241,6 @@ def run(args: argparse.Namespace) -> int:
     except ExportError as error:
         hint = " (add --force to replace it)" if "already exists" in str(error) else ""
         raise UserError(f"{error}{hint}") from None
-    print(f"Wrote {shown_path(args.out)}: {samples} samples of {', '.join(names)} ({motion.name} motion, {duration:g} s).")
+    print(f"Wrote {shown_path(args.out)}: {samples} samples of {', '.join(names)} ({motion.name} motion, "
+          f"{duration:g} s).")
     return ExitStatus.SUCCESS

@@ -109,7 +109,8 @@ class JointLog:
     def source_text(self) -> str:
         """One line describing what was read, e.g. for the line above the readouts."""
         units = "degrees converted to radians" if self.degrees else "radians"
-        return f"{shown_path(self.path)}: {self.read_text or f'{self.rows} rows'} ({units}), {self.data.count} samples fitted"
+        read = self.read_text or f"{self.rows} rows"
+        return f"{shown_path(self.path)}: {read} ({units}), {self.data.count} samples fitted"
 
 
 

@@ -6,7 +6,6 @@ import math
 from typing import TYPE_CHECKING
 
 from ..estimation.low_pass import ATTENUATION_DB, FILTER_NAME, FLATNESS
-from ..files import shown_path
 from .text import ordinal
 
 if TYPE_CHECKING:
@@ -16,6 +15,8 @@ if TYPE_CHECKING:
 
 def log_notes(logs: LoadedLogs) -> tuple[str, ...]:
     """The loaders' notes (ignored columns, timing, estimated derivatives) and the filter's, training log first."""
+    from ..files import shown_path  # a log's only: not loaded with the explorer's first frame
+
     notes = list(logs.training.notes)
     if logs.filter is not None:
         notes.append(f"{shown_path(logs.training.path)}: {low_pass_note(logs.filter, logs.result.model.effort.name)}")

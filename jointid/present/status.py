@@ -11,7 +11,6 @@ import os
 from typing import TYPE_CHECKING
 
 from ..estimation.uncertainty import NOT_DETERMINED, WEAK, WELL_DETERMINED
-from ..files import shown_path
 from .text import capitalise, format_number, join_words
 
 if TYPE_CHECKING:
@@ -284,6 +283,8 @@ def simulation_text(check, label_width: int = 28) -> str:
 
 def log_sources(logs) -> tuple[str, ...]:
     """What was read, one short line per log, file names only: 'test.csv: 200 rows, radians'."""
+    from ..files import shown_path  # a log's only: not loaded with the explorer's first frame
+
     roles = ("", "Held-out ")
     return tuple(
         f"{role}{shown_path(os.path.basename(os.path.normpath(log.path)))}: {log.read_brief or f'{log.rows} rows'}, "

@@ -25,7 +25,8 @@ def _columns(header: list[str], rows: list[list[str]], right: tuple[int, ...]) -
 def wpilog_info_text(info) -> str:
     """The text of `jointid log-info` for a wpilog.WpilogInfo."""
     count = len(info.entries)
-    lines = [f"{shown_path(info.path)}: WPILib data log, {info.duration:.6g} s, {count} entr{'y' if count == 1 else 'ies'}", ""]
+    lines = [f"{shown_path(info.path)}: WPILib data log, {info.duration:.6g} s, {count} "
+             f"entr{'y' if count == 1 else 'ies'}", ""]
     start = info.start_us
     # Names, types and units are the log's, not the program's: escaped (a raw ESC would drive the terminal).
     rows = [[shown_path(e.name), shown_path(e.type), str(e.records), "-" if e.rate is None else f"{e.rate:.4g}",
@@ -36,8 +37,8 @@ def wpilog_info_text(info) -> str:
     if not any(entry.numeric for entry in info.entries):
         lines += ["", "No numeric entry (double, float or int64): nothing jointid can fit."]
     for routine in info.lacking_voltage:
-        lines += ["", (f"SysId routine {routine!r} has a test-state entry but no voltage-<motor>-{shown_path(routine)} entry: "
-                  "without the voltage there is no effort to fit.")]
+        lines += ["", (f"SysId routine {routine!r} has a test-state entry but no "
+                  f"voltage-<motor>-{shown_path(routine)} entry: without the voltage there is no effort to fit.")]
     for routine in info.routines:
         velocity = f", qd from {shown_path(routine.velocity)}" if routine.velocity else ""
         lines += ["", (f"SysId routine {routine.routine!r}, motor {routine.motor!r}: q from "

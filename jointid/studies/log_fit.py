@@ -366,8 +366,9 @@ def _exclusions(training: JointLog, model: JointModel, chosen: ParallelFilter, X
         pushes |= inside
     left = int((~pushes).sum())
     if request.by_hand and left < X.shape[1]:  # said here: the robust step would take the median of nothing
-        raise LogError(training.path, f"--exclude leaves {left or 'none'} of its {len(t)} samples to fit; the model's {X.shape[1]} parameters need at least as many (the log spans "
-                       f"0 to {float(since[-1]):.6g} s from its start)")
+        raise LogError(training.path, f"--exclude leaves {left or 'none'} of its {len(t)} samples to fit; the "
+                       f"model's {X.shape[1]} parameters need at least as many (the log spans 0 to "
+                       f"{float(since[-1]):.6g} s from its start)")
     level = estimate = None
     if found is not None:
         for start, end in found:

@@ -25,7 +25,6 @@ from textual.screen import Screen
 from textual.widgets import Static
 
 from jointid.estimation.fit import FitResult
-from jointid.files import shown_path
 from jointid.model.terms import PLAIN, G
 from jointid.model.truth import LESSON_JOINT, TrueJoint
 from jointid.present.charts import heldout_chart, log_training_chart, training_chart
@@ -782,6 +781,8 @@ class MainScreen(Screen):
             return
         if dialog.chooser is not None and dialog.chooser.is_attached:
             dialog.chooser.dismiss()
+        from jointid.files import shown_path  # not on the first frame's path
+
         first = logs.runs[0].training if hasattr(logs, "runs") else None
         if first is not None and first.name != shown_path(os.path.basename(first.path)) \
                 and all(run.training.path == dialog.path for run in logs.runs):
@@ -789,8 +790,8 @@ class MainScreen(Screen):
             # they were fitted with.
             self.settings = replace(self.settings, model=logs.runs[0].result.model.name)
             self.set_runs(logs, 0)
-            self.notify(f"{len(logs.runs)} SysId tests of {shown_path(dialog.path)}, fitted alone and pooled; u: every test",
-                        title="SysId log loaded")
+            self.notify(f"{len(logs.runs)} SysId tests of {shown_path(dialog.path)}, fitted alone and pooled; u: "
+                        "every test", title="SysId log loaded")
             return
         if hasattr(logs, "runs"):
             self.set_runs(logs, len(logs.runs) - 1)
@@ -854,6 +855,8 @@ class MainScreen(Screen):
         except ExportError as error:
             self.notify(str(error), title="Nothing exported", severity="error")
             return
+        from jointid.files import shown_path
+
         self.notify(f"Wrote {shown_path(json_path)} and {shown_path(svg_path)}", title="Exported")
 
     def action_write_report(self) -> None:
