@@ -391,7 +391,7 @@ def _check_metadata(path: str, name: str, metadata: str) -> None:
 
 def _damaged(path: str, record, by_id: dict, error: Exception) -> LogError:
     """The one-line LogError for a record the reader failed to decode: texts that are not UTF-8, or a number's
-    record of the wrong size; `error` itself again when it is neither (a fault of this program, not the file's)."""
+    record of the wrong size; raises `error` again when it is neither (a fault of this program, not the file's)."""
     stamp = f"{(record.getTimestamp() & (2**64 - 1)) * 1e-6:.6f} s"
     raw = bytes(record.getRaw())
     if record.getEntry() == 0:
