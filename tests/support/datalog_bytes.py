@@ -71,12 +71,13 @@ def string(entry: int, timestamp: int, text) -> bytes:
 
 
 def joint_log(*, q_id: int = 1, tau_id: int = 2, q_name="q", tau_name="tau", q_unit="radians", extra=b"",
-              samples: int = 40, tau_payload=None) -> bytes:
+              samples: int = 40, tau_payload=None, first: bytes = b"") -> bytes:
     """A whole, valid log of two double entries (an angle and a torque) sampled together every 20 ms.
 
-    `tau_payload`, when given, is the payload of every torque record instead of its 8-byte double.
+    `tau_payload`, when given, is the payload of every torque record instead of its 8-byte double; `first` are
+    records put before all others.
     """
-    out = [header(_bytes(extra)), start(q_id, q_name, "double", q_unit), start(tau_id, tau_name, "double")]
+    out = [header(_bytes(extra)), first, start(q_id, q_name, "double", q_unit), start(tau_id, tau_name, "double")]
     for k in range(samples):
         stamp = 1_000_000 + 20_000 * k
         out.append(double(q_id, stamp, 0.5 * (k / samples) ** 2))
@@ -98,7 +99,7 @@ def damaged_logs() -> dict[str, tuple[bytes, str]]:
     return {
         "extra-header-not-utf8": (joint_log(extra=NOT_UTF8), "UTF-8"),
         "entry-name-not-utf8": (joint_log(q_name=b"q" + NOT_UTF8), "UTF-8"),
-        "entry-type-not-utf8": (b"".join([header(), start(3, "x", b"dou" + NOT_UTF8)]) + joint_log()[12:], "UTF-8"),
+        "entry-type-not-utf8": (joint_log(first=start(3, "x", b"dou" + NOT_UTF8)), "UTF-8"),
         "metadata-not-utf8": (joint_log(q_unit=b"rad" + NOT_UTF8), "UTF-8"),
         "set-metadata-not-utf8": (joint_log() + set_metadata(1, NOT_UTF8, 9_000_000), "UTF-8"),
         "string-record-not-utf8": (joint_log() + start(5, "sysid-test-state-arm", "string", "", 9_000_000)
