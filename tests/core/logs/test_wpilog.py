@@ -1,8 +1,9 @@
 """WPILib data logs: read through robotpy-wpiutil, put on one time base, a SysId routine's tests fitted as runs.
 
 The logs are written with robotpy-wpiutil's own writer, but for the damaged ones (and big entry ids), written byte
-by byte from the format's specification (tests/support/datalog_bytes.py); the SysId routine comes from an independent simulation
-of the arm behind known gains (tests/support/sysid_arm.py), and the gains are checked against those numbers.
+by byte from the format's specification (tests/support/datalog_bytes.py); the SysId routine comes from an
+independent simulation of the arm behind known gains (tests/support/sysid_arm.py), and the gains are checked against
+those numbers.
 """
 
 import math
