@@ -188,6 +188,9 @@ class AngleOffset:
         h_c, h_s = float(theta[self.cosine]), float(theta[self.sine])
         h = math.hypot(h_c, h_s)  # h_c**2 would overflow beyond 1e154 (and underflow below 1e-162)
         c, s = self.cosine, self.sine
+        if h == 0.0:  # no gravity term at all: h's slope is 1 along h_c, and q0 has no direction, so no error
+            jacobian[s, c] = jacobian[s, s] = math.nan
+            return jacobian
         jacobian[c, c], jacobian[c, s] = h_c / h, h_s / h
         jacobian[s, c], jacobian[s, s] = h_s / h / h, -h_c / h / h
         return jacobian
