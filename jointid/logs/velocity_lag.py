@@ -66,8 +66,12 @@ def _mean_squared_difference(pairs, lag: int) -> float:
 
 
 def lag_note(entry: str, lag: float) -> str:
-    """The sentence the fit's notes give about the logged velocity's lag."""
+    """The sentence the fit's notes give about the logged velocity's lag (s)."""
     return (f"The logged velocity {entry!r} lags the position's derivative by {lag * 1e3:.0f} ms (cross-correlation "
-            "over the tests): the fit takes its speed from the position, not from this velocity. SysId's analysis "
-            "takes the logged velocity, so its kA differs where this lag is large (a SPARK MAX averages position "
-            "changes over 32 ms, eight deep).")
+            "over the tests): the fit takes its speed from the position, not from this velocity"
+            + (". SysId's analysis takes the logged velocity, so its kA differs where this lag is large (a SPARK MAX "
+               "averages position changes over 32 ms, eight deep)." if abs(lag) >= NOTABLE_LAG_S else "."))
+
+
+NOTABLE_LAG_S = 0.01
+"""A lag from which the note explains what it does to SysId's kA (a 50 Hz loop's half step)."""

@@ -155,8 +155,14 @@ def run_starts(routine: MotorRoutine = MotorRoutine()) -> list[float]:
     return starts
 
 
-if __name__ == "__main__":  # docs/examples: python tests/support/sysid_motor_logs.py PATH
+DRIVE_EXAMPLE = MotorRoutine(motors={"left": GAINS, "Moteur Droite": {"kS": 0.18, "kV": 2.55, "kA": 0.32}},
+                             delay=0.12, repeat_first=1.2)
+"""docs/sysid.md's drive: two motors in metres (one named with a space), a velocity 120 ms late, quasistatic-forward
+run twice."""
+
+
+if __name__ == "__main__":  # docs/sysid.md's sysid_drive.wpilog: python tests/support/sysid_motor_logs.py PATH
     import sys
 
-    write_motor_log(Path(sys.argv[1]), MotorRoutine(motors={"left": GAINS, "Moteur Droite": GAINS}))
+    write_motor_log(Path(sys.argv[1]), DRIVE_EXAMPLE)
     print(f"wrote {sys.argv[1]}")
