@@ -160,8 +160,10 @@ def cut_time_window(table, window: TimeWindow, role: str = TRAINING):
     base = time_base(table)
     inside = np.flatnonzero((since >= window.start) & (since <= window.end))
     if len(inside) == 0:
-        raise LogError(table.path, f"no samples in the {ROLE_WORDS[role]} window {window.text} s; the samples span "
-                       f"{float(np.min(since)):.6g} to {float(np.max(since)):.6g} s {base}")
+        span = f"{float(np.min(since)):.6g} to {float(np.max(since)):.6g} s"
+        raise LogError(table.path, f"no samples in the {ROLE_WORDS[role]} window {window.text} s; " + (
+            f"the log spans {span} from its start" if base == "from the log's start" else
+            f"the samples span {span} {base}"))
     rows = slice(int(inside[0]), int(inside[-1]) + 1)
     kept = rows.stop - rows.start
     note = (f"{ROLE_WORDS[role]} window {window.text} s {base}: {kept} of {table.count} samples "

@@ -164,6 +164,9 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
     otherwise be shown as if it were a result) or the filter cannot apply.
     """
     model = model.in_effort(training.effort)
+    from .sysid import check_angle_model  # every face fits here: no cos(q) of metres or of an integrated velocity
+
+    check_angle_model(training, model)
     if heldout is not None and heldout.effort != training.effort:
         raise LogError(heldout.path, f"holds {heldout.effort.name} ({heldout.effort.unit}) but the training log "
                        f"{training.effort.name} ({training.effort.unit}); read both alike (--effort)")
@@ -363,9 +366,11 @@ def _exclusions(training: JointLog, model: JointModel, chosen: ParallelFilter, X
         if not inside.any() and getattr(table, "run", None) is None:  # a SysId test's: checked against every test
             from ..logs.request import time_base
 
+            base = "from the log's start" if table is None else time_base(table)
+            span = f"{float(since[0]):.6g} to {float(since[-1]):.6g} s"
             raise LogError(training.path, f"--exclude {start:g}:{'' if math.isinf(end) else f'{end:g}'} holds no "
-                           f"sample; the samples span {float(since[0]):.6g} to {float(since[-1]):.6g} s "
-                           + ("from the log's start" if table is None else time_base(table)))
+                           f"sample; " + (f"the log spans {span} from its start" if base == "from the log's start"
+                                          else f"the samples span {span} {base}"))
         pushes |= inside
     level = estimate = None
     if found is not None:

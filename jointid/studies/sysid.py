@@ -48,15 +48,20 @@ def no_angle(log: JointLog) -> str | None:
 def sysid_model(logs: list[JointLog], model: JointModel | None) -> JointModel:
     """The model to fit a data log's runs with: the one asked for, else SYSID_MODEL, or NO_ANGLE_MODEL where q is
     no angle; LogError when the model asked for takes cos(q) of a q that is no angle."""
-    reason = no_angle(logs[0])
-    if reason is None:
+    if no_angle(logs[0]) is None:
         return model or model_named(SYSID_MODEL)
     if model is None:
         return NO_ANGLE_MODEL
-    if any(term.kind in ("h", "h_c", "h_s") for term in model.terms):
-        raise LogError(logs[0].path, f"--model {model.name}: its gravity term takes cos(q), and q here is "
-                       f"{reason}, not an angle in radians; leave --model out (kA, kV and kS, no gravity)")
+    check_angle_model(logs[0], model)
     return model
+
+
+def check_angle_model(log: JointLog, model: JointModel) -> None:
+    """LogError when the model takes cos(q) or sin(q) of a log whose q is no angle in radians."""
+    reason = no_angle(log)
+    if reason is not None and any(term.kind in ("h", "h_c", "h_s") for term in model.terms):
+        raise LogError(log.path, f"--model {model.name}: its gravity term takes cos(q), and q here is "
+                       f"{reason}, not an angle in radians; leave --model out (kA, kV and kS, no gravity)")
 
 
 def is_sysid_run(log: JointLog) -> bool:
