@@ -46,7 +46,8 @@ class LoadRequest:
     topic: str | None = None
     """The bag's JointState topic (`--topic`); None picks the only one, or /joint_states."""
     time_window: TimeWindow | None = None
-    """Seconds from the log's start to keep (`--train-window`, `--heldout-window`); None keeps all."""
+    """Seconds from the log's start (a data log's: of its own time stamps) to keep (`--train-window`,
+    `--heldout-window`); None keeps all."""
     effort_scale: float = 1.0
     """Torque (N m) per unit of the logged effort or tau (`--effort-scale`)."""
     columns: ColumnMap | None = None
