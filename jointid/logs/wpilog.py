@@ -9,7 +9,7 @@ that start an entry (its name, type and metadata), finish it or change its
 metadata.
 
 Entries are sampled at their own times, so they are put on one time base: the
-position entry's time stamps, because q is what the derivatives are estimated
+position entry's time stamps (the velocity's without one), because q is what the derivatives are estimated
 from and interpolating it would smooth the very signal they come from; every
 other entry is interpolated linearly at those times (a SysId loop logs its
 voltage, position and velocity microseconds apart, so this is their own value),
@@ -24,7 +24,13 @@ SysId routine logs (what WPILib's SysIdRoutineLog writes): a string entry
 the unit's name (Java: "Volt", "Rotation", "Rotation per Second"; C++: "volt",
 "turn", "turns_per_second"). Such a log is split into one run per test: a sample
 belongs to the last state recorded up to STATE_LAG after it, because
-SysIdRoutine records the state just after the motor's values in each loop.
+SysIdRoutine records the state just after the motor's values in each loop,
+and a test run twice is two runs (split where another state was recorded
+between two samples, or at a time gap). Teams' logs also hold lengths
+("Meter": read in metres, never as an angle), routines with a velocity and
+no position (q is the velocity integrated), and several motors of one
+routine (read together, pooled as one mechanism). Times are the log's own
+time stamps in seconds, as log-info lists them and windows take them.
 Other logs (AdvantageKit, CTRE) name their entries with an EntryMap
 (`--entry q=/Arm/Position,tau=/Arm/Voltage`, and `state=` for a test-state
 entry), and their unit with `--units` when the metadata does not say.
