@@ -381,7 +381,8 @@ def fit_any_logs(args: argparse.Namespace):
         from ..logs.request import load_joint_log
         from ..studies.log_fit import fit_logs
 
-        from ..studies.sysid import no_angle, sysid_model
+        from ..studies.angle_models import no_angle
+        from ..studies.sysid import sysid_model
 
         try:
             other = None if heldout is None else load_joint_log(heldout)

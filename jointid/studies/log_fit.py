@@ -31,6 +31,7 @@ from ..model.terms import CANDIDATE_TERMS, PLAIN, JointModel, in_effort, model_a
 from ..norms import rms
 from ..options import DEFAULT_ORDER, LOG_MODEL
 from ..samples import JointData
+from .angle_models import check_angle_model
 from .sensitivity import FACTORS, SensitivityCheck, Variant, sensitivity_check
 
 
@@ -164,9 +165,7 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
     otherwise be shown as if it were a result) or the filter cannot apply.
     """
     model = model.in_effort(training.effort)
-    from .sysid import check_angle_model  # every face fits here: no cos(q) of metres or of an integrated velocity
-
-    check_angle_model(training, model)
+    check_angle_model(training, model)  # every face fits here: no cos(q) of metres, nor of a velocity's sum
     if heldout is not None and heldout.effort != training.effort:
         raise LogError(heldout.path, f"holds {heldout.effort.name} ({heldout.effort.unit}) but the training log "
                        f"{training.effort.name} ({training.effort.unit}); read both alike (--effort)")

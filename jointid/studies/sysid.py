@@ -24,6 +24,7 @@ from ..estimation.low_pass import FilterRequest
 from ..logs.pipeline import JointLog
 from ..logs.table import LogError
 from ..model.terms import COULOMB, DAMPING, INERTIA, JointModel, model_argument, model_named
+from .angle_models import check_angle_model, no_angle
 from .runs import POOLED_FIT, PooledRuns, fit_runs
 
 SYSID_MODEL = "coulomb+angle-offset"
@@ -32,17 +33,6 @@ SYSID_MODEL = "coulomb+angle-offset"
 NO_ANGLE_MODEL = JointModel("coulomb, no gravity", (INERTIA, DAMPING, COULOMB))
 """The model of a routine whose q is no angle (a length, or an integrated velocity): kA, kV, kS with no cos(q)
 term, which only an angle in radians can feed."""
-
-
-def no_angle(log: JointLog) -> str | None:
-    """Why the log's q is no absolute angle in radians ("a length in metres", "the logged velocity integrated"),
-    or None when it is one."""
-    table = None if log.source is None else log.source.table
-    if getattr(table, "position_source", "logged") != "logged":
-        return "the logged velocity integrated (no position was logged)"
-    if getattr(table, "linear", False):
-        return "a length in metres"
-    return None
 
 
 def sysid_model(logs: list[JointLog], model: JointModel | None) -> JointModel:
@@ -54,14 +44,6 @@ def sysid_model(logs: list[JointLog], model: JointModel | None) -> JointModel:
         return NO_ANGLE_MODEL
     check_angle_model(logs[0], model)
     return model
-
-
-def check_angle_model(log: JointLog, model: JointModel) -> None:
-    """LogError when the model takes cos(q) or sin(q) of a log whose q is no angle in radians."""
-    reason = no_angle(log)
-    if reason is not None and any(term.kind in ("h", "h_c", "h_s") for term in model.terms):
-        raise LogError(log.path, f"--model {model.name}: its gravity term takes cos(q), and q here is "
-                       f"{reason}, not an angle in radians; leave --model out (kA, kV and kS, no gravity)")
 
 
 def is_sysid_run(log: JointLog) -> bool:
