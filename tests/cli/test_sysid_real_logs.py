@@ -9,6 +9,8 @@ acceleration and to end at 90 % of its top speed; then FeedforwardAnalysis' ordi
 acceleration on velocity, voltage and sgn(velocity): kV = -alpha/beta, kA = 1/beta, kS = -gamma/beta.
 """
 
+import contextlib
+import io
 import json
 import shlex
 from pathlib import Path
@@ -99,9 +101,6 @@ def sysid_reference(path: Path, motor: str) -> dict[str, float]:
 def swerve_fit():
     """`jointid fit --wpilog swerve_drive_sysid.wpilog --json` with no other flag."""
     from jointid.cli import main
-
-    import contextlib
-    import io
 
     out = io.StringIO()
     with contextlib.redirect_stdout(out):
