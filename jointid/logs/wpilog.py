@@ -738,8 +738,8 @@ def _missing_motor_entries(entries: dict[str, Entry], routine: str) -> str:
     if not motors:
         return (f"no voltage entry for routine {routine!r}, nor any position- or velocity-<motor>-{routine}: its "
                 f"test-state entry {state!r} has no numeric entry beside it (the routine's log callback wrote only "
-                "the state), so there is no effort and no motion to fit; name the joint's entries with --entry "
-                f"q=ENTRY,tau=ENTRY,state={state} (jointid log-info lists them)")
+                "the state): without the voltage there is no effort to fit; name the joint's entries with --entry "
+                f"{shlex.quote('q=ENTRY,tau=ENTRY,state=' + state)} (jointid log-info lists them)")
     if not any("voltage" in kinds for kinds in motors.values()):
         return (f"no voltage entry for routine {routine!r} (voltage-<motor>-{routine}; it logged "
                 f"{', '.join(logged)}): without the voltage there is no effort to fit (name one with --entry)")
