@@ -183,3 +183,18 @@ def test_an_entry_map_naming_a_string_entry_is_refused(logs):
 
 def test_the_no_angle_model_has_no_gravity():
     assert NO_ANGLE_MODEL.index_of("h") is None and NO_ANGLE_MODEL.angle_offset is None
+
+
+def test_a_state_recorded_between_two_samples_ends_a_run_with_no_gap():
+    from jointid.logs.wpilog import test_runs
+
+    # Samples every 20 ms without a pause; the routine records "none" once between samples 49 and 50 and starts
+    # the same test again: two runs, though no sample took the "none" and no time gap shows it.
+    samples = np.arange(100) * 20_000
+    times = np.concatenate([samples[:50] + 45, [samples[49] + 10_000], samples[50:] + 45])
+    states = np.array(["quasistatic-forward"] * 50 + ["none"] + ["quasistatic-forward"] * 50, dtype=object)
+    runs = test_runs(times, states, samples)
+    assert [(test, rows.start, rows.stop) for test, rows in runs] == [
+        ("quasistatic-forward", 0, 50), ("quasistatic-forward", 50, 100)]
+    steady = np.array(["quasistatic-forward"] * 100, dtype=object)  # the same without the "none": one run
+    assert [(rows.start, rows.stop) for _, rows in test_runs(samples + 45, steady, samples)] == [(0, 100)]
