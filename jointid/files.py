@@ -77,6 +77,18 @@ def shown_path(path) -> str:
     return text if text.isprintable() else repr(text)
 
 
+def shown_command(words) -> str:
+    """A command line as shown: each word quoted for a shell, or, when it holds a character that is not printable,
+    escaped as `shown_path` does (a raw ESC in a file name would drive the terminal that shows the line).
+
+    >>> shown_command(["jointid", "fit", "--csv", "run 1.csv"]), shown_command(["--out", "a\\x1bb"])
+    ("jointid fit --csv 'run 1.csv'", "--out 'a\\\\x1bb'")
+    """
+    import shlex
+
+    return " ".join(shlex.quote(word) if word.isprintable() else shown_path(word) for word in map(str, words))
+
+
 def file_kind(mode: int) -> str | None:
     """None for a regular file, else what a `stat` mode is: 'a directory', 'a named pipe (FIFO)', ..."""
     if stat.S_ISREG(mode):

@@ -78,4 +78,10 @@ def _defaults(args, loaded):
     if args.model is None:  # the explorer refits the log with its model setting: the model it was fitted with
         runs = getattr(loaded, "runs", None)
         args.model = (runs[0] if runs else loaded).result.model.name if loaded is not None else model
+        from ..options import ModelError, model_extras
+
+        try:
+            model_extras(args.model)
+        except ModelError:  # a SysId log in metres: its model has no name the settings take (its refits say so)
+            args.model = model
     return with_default_settings(args)

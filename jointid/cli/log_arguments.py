@@ -35,13 +35,13 @@ SETTING_FLAGS = ("motion", "noise", "samples", "seed", "true_coulomb", "true_bia
 
 LOG_ONLY_FLAGS = ("heldout", "degrees", "window", "order", "cutoff", "decimate", "exclude", "no_robust", "joint",
                   "topic", "train_window", "heldout_window", "effort_scale", "columns", "zero", "clockwise", "entry",
-                  "units", *EFFORT_FLAGS)
+                  "units", "sysid_motor", "sysid_runs", *EFFORT_FLAGS)
 """Options that mean something only with --csv or --bag."""
 
 BAG_ONLY_FLAGS = ("joint", "topic")
 """Options that mean something only with --bag."""
 
-WPILOG_ONLY_FLAGS = ("entry", "units")
+WPILOG_ONLY_FLAGS = ("entry", "units", "sysid_motor", "sysid_runs")
 """Options that mean something only with --wpilog."""
 
 SYNTHETIC_ONLY_FLAGS = ("simulate", "horizon")
@@ -71,15 +71,23 @@ def add_log_arguments(parser: argparse.ArgumentParser) -> None:
                        "tau=/Arm/Voltage (quantities: q, qd, qdd, tau, and state for a SysId test-state entry); "
                        "default: a SysId routine's entries (`jointid log-info` lists them)")
     group.add_argument("--units", choices=UNIT_CHOICES, default=None,
-                       help="the data log's angle unit for q, qd and qdd, over any unit its metadata names; "
-                       "default: the metadata's (WPILib's SysIdRoutineLog writes it)")
+                       help="the data log's unit for q, qd and qdd, over any unit its metadata names (meters: a "
+                       "length, kept as one; the others are angles); default: the metadata's (WPILib's "
+                       "SysIdRoutineLog writes it)")
+    group.add_argument("--sysid-motor", metavar="NAME", default=None,
+                       help="fit one motor of a SysId routine that logs several (voltage-NAME-ROUTINE...), or name "
+                       "the routine to fit; default: every motor of the log's routine, pooled as one mechanism")
+    group.add_argument("--sysid-runs", choices=("all", "first"), default=None,
+                       help="a SysId test run more than once: fit every run (all, the default), or each test's "
+                       "first run as SysId's analysis does (first)")
     group.add_argument("--joint", metavar="NAME", help="the bag's joint to fit (its name in JointState)")
     group.add_argument("--topic", metavar="TOPIC",
                        help="the bag's JointState topic; default: its only one, or /joint_states")
     group.add_argument("--heldout", metavar="TEST",
                        help="predict this log's measured torques with the fit (a CSV log, or a bag read like --bag)")
     group.add_argument("--train-window", type=_time_window, metavar="START:END",
-                       help="fit only the samples from START to END seconds after the log's start")
+                       help="fit only the samples from START to END seconds after the log's start (a data log's: "
+                       "seconds of its own time stamps, as log-info lists them)")
     group.add_argument("--heldout-window", type=_time_window, metavar="START:END",
                        help="predict the samples from START to END seconds after the start of the held-out log "
                        "(without --heldout: of the training log itself)")
@@ -109,7 +117,8 @@ def add_log_arguments(parser: argparse.ArgumentParser) -> None:
     group.add_argument("--decimate", type=whole_number(1), default=None, metavar="N",
                        help="keep every Nth sample after the low-pass; default: about 20 per cutoff hertz")
     group.add_argument("--exclude", type=_time_window, action="append", default=None, metavar="START:END",
-                       help="leave out the samples from START to END seconds after the log's start (repeatable), "
+                       help="leave out the samples from START to END seconds after the log's start (a data log's: "
+                       "seconds of its own time stamps) (repeatable), "
                        "e.g. where you know an outside torque acted")
     group.add_argument("--no-robust", action="store_true",
                        help="keep every sample: do not look for outside torques (pushes, collisions) to leave out")
@@ -139,7 +148,7 @@ def _time_window(text: str):
 
 
 ZERO_CHOICES = ("right", "up", "left", "down")
-UNIT_CHOICES = ("rotations", "radians", "degrees")
+UNIT_CHOICES = ("rotations", "radians", "degrees", "meters")
 """--units's choices, as jointid.logs.wpilog.UNITS names them (not imported: help starts without numpy)."""
 """--zero's choices, as jointid.logs.conventions.ZEROS names them (not imported: help starts without it)."""
 
@@ -293,7 +302,8 @@ def log_requests(args: argparse.Namespace):
                   effort_scale=1.0 if args.effort_scale is None else args.effort_scale, filtering=filter_options(args),
                   **_conventions_or_defaults(args).request_fields())
     if wpilog is not None:
-        common.update(wpilog=True, entries=args.entry, units=args.units)
+        common.update(wpilog=True, entries=args.entry, units=args.units, sysid_motor=args.sysid_motor,
+                      sysid_runs=args.sysid_runs or "all")
     path = args.bag if args.bag is not None else (wpilog if wpilog is not None else args.csv)
     training = LoadRequest(path, TRAINING, time_window=args.train_window, **common)
     if args.heldout is None and args.heldout_window is None:
@@ -371,9 +381,15 @@ def fit_any_logs(args: argparse.Namespace):
         from ..logs.request import load_joint_log
         from ..studies.log_fit import fit_logs
 
+        from ..studies.angle_models import no_angle
+        from ..studies.sysid import sysid_model
+
         try:
             other = None if heldout is None else load_joint_log(heldout)
-            return fit_logs(logs[0], other, model=model_named(args.model or log_model(args)),
+            model = model_named(args.model or log_model(args))
+            if no_angle(logs[0]) is not None:  # a length or an integrated velocity: no cos(q)
+                model = sysid_model(logs, model_named(args.model) if args.model else None)
+            return fit_logs(logs[0], other, model=model,
                             constrained=getattr(args, "constrained", False), filtering=filter_options(args),
                             exclusion=exclusion_options(args))
         except LogError as error:

@@ -159,11 +159,9 @@ def report_paths(args: argparse.Namespace) -> list[str]:
 def command_line(argv: list[str]) -> str:
     """The command as typed, for the report's footer: 'jointid report --motion slow ...' (a word holding a character
     that is not printable escaped as every name is, by shown_path)."""
-    import shlex
+    from ..files import shown_command
 
-    from ..files import shown_path
-
-    return " ".join(["jointid", *(shlex.quote(word) if word.isprintable() else shown_path(word) for word in argv)])
+    return shown_command(["jointid", *argv])
 
 
 def report_texts(args: argparse.Namespace, command: str, charts=None) -> dict[str, str]:

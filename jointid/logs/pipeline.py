@@ -106,9 +106,16 @@ class JointLog:
         """What the log's effort column holds once read: torque (N m; a current log's converted), or voltage (V)."""
         return effort_named("torque" if self.source is None else self.source.table.effort)
 
+    @property
+    def position_unit(self) -> str:
+        """The unit q was logged in, in words: 'radians', 'degrees' (converted), or 'metres' (a length, kept)."""
+        if getattr(None if self.source is None else self.source.table, "linear", False):
+            return "metres"
+        return "degrees" if self.degrees else "radians"
+
     def source_text(self) -> str:
         """One line describing what was read, e.g. for the line above the readouts."""
-        units = "degrees converted to radians" if self.degrees else "radians"
+        units = "degrees converted to radians" if self.position_unit == "degrees" else self.position_unit
         read = self.read_text or f"{self.rows} rows"
         return f"{shown_path(self.path)}: {read} ({units}), {self.data.count} samples fitted"
 

@@ -46,7 +46,8 @@ class LoadRequest:
     topic: str | None = None
     """The bag's JointState topic (`--topic`); None picks the only one, or /joint_states."""
     time_window: TimeWindow | None = None
-    """Seconds from the log's start to keep (`--train-window`, `--heldout-window`); None keeps all."""
+    """Seconds from the log's start (a data log's: of its own time stamps) to keep (`--train-window`,
+    `--heldout-window`); None keeps all."""
     effort_scale: float = 1.0
     """Torque (N m) per unit of the logged effort or tau (`--effort-scale`)."""
     columns: ColumnMap | None = None
@@ -60,7 +61,11 @@ class LoadRequest:
     entries: EntryMap | None = None
     """Which data-log entry gives which quantity (`--entry`); None: a SysId routine's, recognised by name."""
     units: str | None = None
-    """The data log's angle unit over its metadata's (`--units`): 'rotations', 'radians' or 'degrees'."""
+    """The data log's unit over its metadata's (`--units`): 'rotations', 'radians', 'degrees' or 'meters'."""
+    sysid_motor: str | None = None
+    """The SysId motor (or routine) to read (`--sysid-motor`); None: every motor of the log's routine, pooled."""
+    sysid_runs: str = "all"
+    """A test run more than once: 'all' its runs fitted, or 'first' (as SysId's analysis) (`--sysid-runs`)."""
 
     @property
     def is_bag(self) -> bool:
@@ -113,7 +118,7 @@ def load_joint_logs(request: LoadRequest, progress=None, cancel=None) -> list:
     from .derivatives import check_filter
     from .effort import read_effort
     from .pipeline import joint_log_from_table
-    from .wpilog import read_wpilog_table
+    from .wpilog import read_wpilog_tables
 
     check_filter(request.window, request.order)
     if request.columns is not None:
@@ -122,17 +127,20 @@ def load_joint_logs(request: LoadRequest, progress=None, cancel=None) -> list:
         raise LogError(request.path, f"{request.columns.flag}: only for a CSV log; a data log's entries are named "
                        "with --entry")
     units = request.units or ("degrees" if request.degrees else None)
-    table = read_wpilog_table(request.path, request.entries, units, progress=progress, cancel=cancel)
-    if request.time_window is not None:
-        table = cut_time_window(table, request.time_window, request.role)
-    # Each test on its own: a run's wraps and whole turns are its own, and its time checks see no other test.
-    tables = table.run_tables() if table.runs else [table]
+    read = read_wpilog_tables(request.path, request.entries, units, motor=request.sysid_motor,
+                              repeats=request.sysid_runs, progress=progress, cancel=cancel)
+    tables = []
+    for table in read:  # one per motor of a SysId routine (several pooled as runs of one mechanism)
+        if request.time_window is not None:
+            table = cut_time_window(table, request.time_window, request.role)
+        # Each test on its own: a run's wraps and whole turns are its own, and its time checks see no other test.
+        tables += table.run_tables() if table.runs else [table]
     effort = dataclasses.replace(request.effort, scale=request.effort_scale)
-    if (table.routine is not None or table.runs) and effort.kind == "torque":
+    if (read[0].routine is not None or read[0].runs) and effort.kind == "torque":
         effort = dataclasses.replace(effort, kind="voltage")  # a SysId routine's effort is its motor's voltage
     logs = []
     for part in tables:
-        part = read_angle(part, request.angle, False)  # already in radians
+        part = read_angle(part, request.angle, False)  # already in radians (or metres)
         part = read_effort(part, effort, False)
         logs.append(joint_log_from_table(part, degrees=False, window=request.window, order=request.order,
                                          cutoff=request.filtering.cutoff))
@@ -140,7 +148,8 @@ def load_joint_logs(request: LoadRequest, progress=None, cancel=None) -> list:
 
 
 def cut_time_window(table, window: TimeWindow, role: str = TRAINING):
-    """The table's samples from window.start to window.end seconds after its first sample; LogError if none."""
+    """The table's samples from window.start to window.end seconds after its start (a data log's: its own time
+    stamps); LogError if none."""
     import numpy as np
 
     from .table import LogError
@@ -148,13 +157,23 @@ def cut_time_window(table, window: TimeWindow, role: str = TRAINING):
     t = table.columns.get("t")
     if t is None:
         raise LogError(table.path, f"a time window ({window.text}) needs the log's t column")
-    since = t - t[0]
+    since = t - table.start_time
+    base = time_base(table)
     inside = np.flatnonzero((since >= window.start) & (since <= window.end))
     if len(inside) == 0:
-        raise LogError(table.path, f"no samples in the {ROLE_WORDS[role]} window {window.text} s; the log spans 0 to "
-                       f"{float(np.max(since)):.6g} s from its start")
+        span = f"{float(np.min(since)):.6g} to {float(np.max(since)):.6g} s"
+        raise LogError(table.path, f"no samples in the {ROLE_WORDS[role]} window {window.text} s; " + (
+            f"the log spans {span} from its start" if base == "from the log's start" else
+            f"the samples span {span} {base}"))
     rows = slice(int(inside[0]), int(inside[-1]) + 1)
     kept = rows.stop - rows.start
-    note = (f"{ROLE_WORDS[role]} window {window.text} s from the log's start: {kept} of {table.count} samples "
+    note = (f"{ROLE_WORDS[role]} window {window.text} s {base}: {kept} of {table.count} samples "
             f"(t = {float(since[rows.start]):.6g} to {float(since[rows.stop - 1]):.6g} s).")
     return dataclasses.replace(table.sliced(rows, note), time_window=window, time_origin=table.start_time)
+
+
+def time_base(table) -> str:
+    """How a table's times count, for messages: a data log's own time stamps, or seconds from the log's start."""
+    from .wpilog import WpilogTable
+
+    return "of the data log's own time stamps" if isinstance(table, WpilogTable) else "from the log's start"

@@ -1,4 +1,5 @@
-"""Time windows 'START:END' (seconds from a log's start) for --train-window and --heldout-window; stdlib only."""
+"""Time windows 'START:END' (seconds from a log's start; a data log's own time stamps) for --train-window and
+--heldout-window; stdlib only."""
 
 from __future__ import annotations
 
@@ -8,7 +9,8 @@ from dataclasses import dataclass
 
 @dataclass(frozen=True)
 class TimeWindow:
-    """The samples from `start` to `end` seconds after the log's first sample (both ends included)."""
+    """The samples from `start` to `end` seconds after the log's first sample, or of a data log's own clock (both
+    ends included)."""
 
     start: float = 0.0
     end: float = math.inf

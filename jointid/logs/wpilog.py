@@ -9,7 +9,7 @@ that start an entry (its name, type and metadata), finish it or change its
 metadata.
 
 Entries are sampled at their own times, so they are put on one time base: the
-position entry's time stamps, because q is what the derivatives are estimated
+position entry's time stamps (the velocity's without one), because q is what the derivatives are estimated
 from and interpolating it would smooth the very signal they come from; every
 other entry is interpolated linearly at those times (a SysId loop logs its
 voltage, position and velocity microseconds apart, so this is their own value),
@@ -24,7 +24,13 @@ SysId routine logs (what WPILib's SysIdRoutineLog writes): a string entry
 the unit's name (Java: "Volt", "Rotation", "Rotation per Second"; C++: "volt",
 "turn", "turns_per_second"). Such a log is split into one run per test: a sample
 belongs to the last state recorded up to STATE_LAG after it, because
-SysIdRoutine records the state just after the motor's values in each loop.
+SysIdRoutine records the state just after the motor's values in each loop,
+and a test run twice is two runs (split where another state was recorded
+between two samples, or at a time gap). Teams' logs also hold lengths
+("Meter": read in metres, never as an angle), routines with a velocity and
+no position (q is the velocity integrated), and several motors of one
+routine (read together, pooled as one mechanism). Times are the log's own
+time stamps in seconds, as log-info lists them and windows take them.
 Other logs (AdvantageKit, CTRE) name their entries with an EntryMap
 (`--entry q=/Arm/Position,tau=/Arm/Voltage`, and `state=` for a test-state
 entry), and their unit with `--units` when the metadata does not say.
@@ -44,14 +50,16 @@ import json
 import math
 import os
 import re
+import shlex
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..files import FileRefused, check_readable, open_for_reading
+from ..files import FileRefused, check_readable, open_for_reading, shown_command
 from .pipeline import check_finite
 from .table import LoadCancelled, LogError, LogTable
+from .velocity_lag import lag_note, velocity_lag
 
 EXTRA_HINT = "reading WPILib data logs needs the optional robotpy-wpiutil package: pip install 'jointid[wpilib]'"
 """The one line shown when robotpy-wpiutil is not installed."""
@@ -94,18 +102,31 @@ NEAR_STEPS = 0.1
 """A sample is kept beside a gap when another entry has a record this many of its median steps from it, whose
 value interpolation then all but gives (a SysId loop's records are microseconds apart)."""
 
+RUN_GAP_STEPS = 25.0
+"""A time gap of this many median steps between two samples of one test ends a run (0.5 s at 50 Hz): a test
+run again after a pause is a second run, never one run across the gap."""
+
 MIN_RUN_SAMPLES = 20
 """A test shorter than this (in position samples) is not made a run; a note names it."""
 
 UNITS = {"rotations": 2 * math.pi, "radians": 1.0, "degrees": math.pi / 180}
 """Angle units --units takes, and radians per unit."""
 
+LINEAR_UNIT = "meters"
+"""The unit a length is read in (--units meters): a linear coordinate, never converted to an angle."""
+
+UNIT_CHOICES = (*UNITS, LINEAR_UNIT)
+"""Every unit --units takes."""
+
 _UNIT_WORDS = {
     "rotations": ("rotation", "turn", "revolution", "rot", "rev", "tr", "r"),
     "radians": ("radian", "rad"),
     "degrees": ("degree", "deg", "°"),
 }
-_LINEAR_WORDS = ("meter", "metre", "m", "inch", "in", "foot", "feet", "ft", "centimeter", "millimeter", "mm", "cm")
+_LENGTHS = {"meter": 1.0, "metre": 1.0, "m": 1.0, "centimeter": 0.01, "centimetre": 0.01, "cm": 0.01,
+            "millimeter": 0.001, "millimetre": 0.001, "mm": 0.001, "inch": 0.0254, "in": 0.0254, "foot": 0.3048,
+            "feet": 0.3048, "ft": 0.3048}
+"""Length units a metadata may name, and metres per unit."""
 _PER_SECOND = re.compile(r"(\s*(/|_?per_?|\s+per\s+)\s*(s|sec|second)s?)$")
 
 RECORD_BYTES_GUESS = 16
@@ -164,12 +185,22 @@ def angle_unit(text: str | None, rate: bool = False) -> tuple[str | None, float]
     return None, 1.0
 
 
-def is_linear(text: str | None) -> bool:
-    """True when a unit's name is a length (a linear mechanism's, which is no rotating joint)."""
+def metres_per(text: str | None) -> float | None:
+    """Metres per unit of a length's (or a length per second's) name: 1.0 for 'Meter' or 'Meter per Second', 0.0254
+    for 'inches'; None when the name is no length."""
     if text is None:
-        return False
+        return None
     word = _PER_SECOND.sub("", text.strip().lower()).strip()
-    return word in _LINEAR_WORDS or (word.endswith("s") and word[:-1] in _LINEAR_WORDS)
+    if word in _LENGTHS:
+        return _LENGTHS[word]
+    if word.endswith("s") and word[:-1] in _LENGTHS:
+        return _LENGTHS[word[:-1]]
+    return None
+
+
+def is_linear(text: str | None) -> bool:
+    """True when a unit's name is a length: a drive's or an elevator's position, read in metres."""
+    return metres_per(text) is not None
 
 
 # ---------------------------------------------------------------------------------------------- opening
@@ -445,13 +476,13 @@ def _count(entry: Entry | None, record) -> None:
 
 @dataclass(frozen=True)
 class SysIdRoutine:
-    """The entries of one motor of a SysId routine log."""
+    """The entries of one motor of a SysId routine log (a position, a velocity, or both)."""
 
     routine: str
     motor: str
     state: str
     voltage: str
-    position: str
+    position: str | None
     velocity: str | None
 
     @property
@@ -459,32 +490,39 @@ class SysIdRoutine:
         """The same entries as a conventions.EntryMap."""
         from .conventions import EntryMap
 
-        pairs = [("q", self.position), *([("qd", self.velocity)] if self.velocity else []),
+        pairs = [*([("q", self.position)] if self.position else []), *([("qd", self.velocity)] if self.velocity
+                                                                         else []),
                  ("tau", self.voltage), ("state", self.state)]
         return EntryMap(tuple(pairs), "SysId")
 
 
 def sysid_routines(entries: dict[str, Entry]) -> tuple[list[SysIdRoutine], list[str]]:
-    """(each routine and motor with voltage and position entries, routines that have a test-state entry but no
-    voltage entry)."""
+    """(each routine and motor with a voltage entry and a position or velocity entry, routines that have a
+    test-state entry but no voltage entry)."""
     found, lacking = [], []
     for state in sorted(name for name, entry in entries.items()
                         if name.startswith(STATE_PREFIX) and entry.type == "string"):
         routine = state[len(STATE_PREFIX):]
-        motors: dict[str, dict[str, str]] = {}
-        for name, entry in entries.items():
-            if not entry.numeric or not name.endswith("-" + routine):
-                continue
-            for kind in MOTOR_KINDS:
-                if name.startswith(kind + "-") and len(name) > len(kind) + len(routine) + 2:
-                    motors.setdefault(name[len(kind) + 1: -len(routine) - 1], {})[kind] = name
+        motors = _motor_entries(entries, routine)
         complete = [(motor, kinds) for motor, kinds in sorted(motors.items())
-                    if "voltage" in kinds and "position" in kinds]
+                    if "voltage" in kinds and ("position" in kinds or "velocity" in kinds)]
         if not any("voltage" in kinds for kinds in motors.values()):
             lacking.append(routine)
-        found += [SysIdRoutine(routine, motor, state, kinds["voltage"], kinds["position"], kinds.get("velocity"))
+        found += [SysIdRoutine(routine, motor, state, kinds["voltage"], kinds.get("position"), kinds.get("velocity"))
                   for motor, kinds in complete]
     return found, lacking
+
+
+def _motor_entries(entries: dict[str, Entry], routine: str) -> dict[str, dict[str, str]]:
+    """Motor -> {kind: entry name} of the numeric `<kind>-<motor>-<routine>` entries of one routine."""
+    motors: dict[str, dict[str, str]] = {}
+    for name, entry in entries.items():
+        if not entry.numeric or not name.endswith("-" + routine):
+            continue
+        for kind in MOTOR_KINDS:
+            if name.startswith(kind + "-") and len(name) > len(kind) + len(routine) + 2:
+                motors.setdefault(name[len(kind) + 1: -len(routine) - 1], {})[kind] = name
+    return motors
 
 
 def _is_sysid_name(name: str, entry_type: str) -> bool:
@@ -495,7 +533,10 @@ def _is_sysid_name(name: str, entry_type: str) -> bool:
 
 def test_runs(times: np.ndarray, states: np.ndarray, samples: np.ndarray) -> list[tuple[str, slice]]:
     """(test, rows) of each stretch of samples (time stamps in us, sorted) under one of the TESTS, in time order:
-    each sample takes the last state recorded up to STATE_LAG after it."""
+    each sample takes the last state recorded up to STATE_LAG after it. A stretch ends where the state changes,
+    where a state record of another test (or "none") falls between two samples though no sample took it (a
+    routine logs only while a test runs), and at a time gap of RUN_GAP_STEPS loop periods: a test run twice is
+    two runs."""
     if not len(times) or not len(samples):
         return []
     lag = int(STATE_LAG * 1e6)
@@ -503,13 +544,34 @@ def test_runs(times: np.ndarray, states: np.ndarray, samples: np.ndarray) -> lis
     times, states = times[order], states[order]
     index = np.searchsorted(times, samples + lag, side="right") - 1
     labels = np.where(index >= 0, states[np.maximum(index, 0)], "none")
+    # changes[i]: how many times the state changed up to record i, so two samples with the same count saw one
+    # unbroken stretch of records.
+    changes = np.concatenate(([0], np.cumsum(states[1:] != states[:-1])))
+    seen = np.where(index >= 0, changes[np.maximum(index, 0)], -1)
+    steps = np.diff(samples)
+    positive = steps[steps > 0]
+    gap = RUN_GAP_STEPS * float(np.median(positive)) if len(positive) else math.inf
+    breaks = np.concatenate(([False], (seen[1:] != seen[:-1]) | (steps > gap)))
     runs, start = [], 0
     for k in range(1, len(labels) + 1):
-        if k == len(labels) or labels[k] != labels[start]:
+        if k == len(labels) or labels[k] != labels[start] or breaks[k]:
             if labels[start] in TESTS:
                 runs.append((str(labels[start]), slice(start, k)))
             start = k
     return runs
+
+
+def run_names(runs: list[tuple[str, slice]]) -> list[tuple[str, slice]]:
+    """The runs named by their test, "#1", "#2"... after the test's name when it was run more than once."""
+    counts: dict[str, int] = {}
+    for test, _ in runs:
+        counts[test] = counts.get(test, 0) + 1
+    seen: dict[str, int] = {}
+    named = []
+    for test, rows in runs:
+        seen[test] = seen.get(test, 0) + 1
+        named.append((test if counts[test] == 1 else f"{test} #{seen[test]}", rows))
+    return named
 
 
 # ---------------------------------------------------------------------------------------------- one joint
@@ -522,21 +584,45 @@ class WpilogTable(LogTable):
     entries: tuple[tuple[str, str], ...] = ()
     """(quantity, entry name) of each entry read."""
     stamps: np.ndarray | None = None
-    """(N,) int64 microseconds of each sample (the position entry's record)."""
+    """(N,) int64 microseconds of each sample (the position entry's record, or the velocity's without one)."""
     units: tuple[tuple[str, str], ...] = ()
-    """(quantity, unit the values were read in) of q and qd."""
+    """(quantity, unit the log gave it in) of q and qd: 'rotations', 'radians' or 'degrees' for an angle (the
+    column converted to radians), or 'meters' for a length (kept as a linear coordinate, in metres)."""
     run: str | None = None
-    """The SysId test this table is ("quasistatic-forward"), or None for the whole log."""
+    """The SysId test run this table is ("quasistatic-forward", "quasistatic-forward #2"), or None for the whole
+    log."""
     runs: tuple[tuple[str, slice], ...] = ()
-    """(test, rows) of each SysId test in the table, when a test-state entry was read."""
+    """(test run's name, rows) of each SysId test run in the table, when a test-state entry was read."""
     routine: SysIdRoutine | None = None
     """The SysId routine and motor read, when the log is one."""
+    position_source: str = "logged"
+    """Where q comes from: "logged" (a position entry) or "integrated velocity" (a routine that logged no
+    position: q is its velocity integrated, no absolute angle, so no model may take cos of it)."""
+    velocity_lag_s: float | None = None
+    """How far the logged velocity lags the position's derivative (s, cross-correlation over the routine); None
+    where it cannot be checked (no velocity or no position logged)."""
+    left_out: tuple[tuple[str, str], ...] = ()
+    """(test run, why) of each test run of the routine that is not a run of the fit."""
+    motors: tuple[str, ...] = ()
+    """The motors of the routine read together, when several are pooled (each run is then named by its motor)."""
+    sysid_notes: tuple[str, ...] = ()
+    """What reading the routine decided (motors, units, repeated tests, the velocity's lag, tests left out), for
+    the text of a SysId fit."""
+
+    @property
+    def linear(self) -> bool:
+        """True when q is a length in metres (a drive, an elevator), not an angle."""
+        return dict(self.units).get("q", dict(self.units).get("qd")) == LINEAR_UNIT
 
     @property
     def origin(self) -> dict:
-        """LogTable.origin with format "wpilog", the entries, units and SysId test."""
+        """LogTable.origin with format "wpilog", the entries, units, SysId test, where q came from and the logged
+        velocity's lag."""
         return {**super().origin, "format": "wpilog", "entries": dict(self.entries), "units": dict(self.units),
-                "sysid_test": self.run}
+                "sysid_test": self.run, "sysid_motor": None if self.routine is None else self.routine.motor,
+                "position_source": self.position_source, "velocity_lag_s": self.velocity_lag_s,
+                "time_base": "the data log's own time stamps (s)",
+                "sysid_left_out": [{"run": name, "why": why} for name, why in self.left_out]}
 
     def sliced(self, rows: slice, note: str) -> WpilogTable:
         """The table cut to a contiguous range of samples, with a note saying how."""
@@ -573,97 +659,195 @@ class WpilogTable(LogTable):
     @property
     def brief(self) -> str:
         """What was read in a few words."""
-        return f"{self.run or dict(self.entries).get('q', '')}, {self.count} samples"
+        return f"{self.run or dict(self.entries).get('q', dict(self.entries).get('qd', ''))}, {self.count} samples"
 
     def run_tables(self) -> list[WpilogTable]:
-        """One table per SysId test (each named by it, a second of one name numbered "(2)")."""
-        seen: dict[str, int] = {}
+        """One table per SysId test run, named by it (and by its motor when several motors are pooled)."""
         tables = []
-        for test, rows in self.runs:
-            seen[test] = seen.get(test, 0) + 1
-            name = test if seen[test] == 1 else f"{test} ({seen[test]})"
+        for name, rows in self.runs:
+            if len(self.motors) > 1 and self.routine is not None:
+                name = f"{self.routine.motor} {name}"
             start = self.stamps[rows.start] * 1e-6
             end = self.stamps[rows.stop - 1] * 1e-6
             cut = self.sliced(rows, f"SysId test {name}: {rows.stop - rows.start} samples, t = {start:.6g} to "
                               f"{end:.6g} s of the log.")
-            # Exclusions and windows still count from the log's start, as its times do.
-            tables.append(dataclasses.replace(cut, run=name, runs=(), time_origin=self.start_time))
+            # Exclusions and windows count in the log's own seconds, as its times do.
+            tables.append(dataclasses.replace(cut, run=name, runs=(), time_origin=0.0))
         return tables
 
 
-def read_wpilog_table(path, entry_map=None, units: str | None = None, *, progress=None, cancel=None
-                      ) -> WpilogTable:
-    """One joint's t (s from the log's first record), q and qd (radians), qdd and tau (as logged) from a data
-    log: the entries of `entry_map` (a conventions.EntryMap), or a SysId routine's; LogError on any problem.
+def read_wpilog_table(path, entry_map=None, units: str | None = None, *, motor: str | None = None,
+                      repeats: str = "all", progress=None, cancel=None) -> WpilogTable:
+    """One joint's table from a data log (read_wpilog_tables' only one); LogError when a SysId routine has several
+    motors and `motor` names none of them."""
+    tables = read_wpilog_tables(path, entry_map, units, motor=motor, repeats=repeats, progress=progress,
+                                cancel=cancel)
+    if len(tables) > 1:
+        choices = ", ".join(repr(table.routine.motor) for table in tables)
+        raise LogError(os.fspath(path), f"SysId routine {tables[0].routine.routine!r} has {len(tables)} motors "
+                       f"({choices}); read one at a time (`{fit_line(path, '--sysid-motor', tables[0].routine.motor)}`)"
+                       " or all pooled with load_joint_logs")
+    return tables[0]
 
-    `units` ('rotations', 'radians' or 'degrees') is the unit of q, qd and qdd, over their metadata's.
+
+def read_wpilog_tables(path, entry_map=None, units: str | None = None, *, motor: str | None = None,
+                       repeats: str = "all", progress=None, cancel=None) -> list[WpilogTable]:
+    """The joint's table from a data log, one per motor of a SysId routine: t (s, the log's own time stamps), q
+    and qd (radians, or metres for a length), qdd and tau (as logged); the entries of `entry_map` (a
+    conventions.EntryMap), or a SysId routine's; LogError on any problem.
+
+    `units` ('rotations', 'radians', 'degrees' or 'meters') is the unit of q, qd and qdd, over their metadata's.
+    `motor` names one motor of the routine (or the routine: all its motors); by default every motor of the log's
+    one routine is read, pooled as runs of one mechanism. `repeats` is 'all' (every run of a test repeated) or
+    'first' (each test's first run, as SysId's analysis takes).
     """
     path = os.fspath(path)
-    if units is not None and units not in UNITS:
-        raise LogError(path, f"unknown unit {units!r}; --units takes {', '.join(UNITS)}")
+    if units is not None and units not in UNIT_CHOICES:
+        raise LogError(path, f"unknown unit {units!r}; --units takes {', '.join(UNIT_CHOICES)}")
+    if repeats not in REPEATS:
+        raise LogError(path, f"unknown choice {repeats!r} for a repeated test; one of {', '.join(REPEATS)}")
     if entry_map is not None:
         names = {name for _, name in entry_map.pairs}
         wanted = lambda name, kind: name in names  # noqa: E731
     else:
         wanted = _is_sysid_name
     entries, series = read_entries(path, wanted, progress=progress, cancel=cancel)
-    routine = None
-    if entry_map is None:
-        routine = _choose_routine(path, entries)
-        entry_map = routine.entry_map
-    pairs = dict(entry_map.pairs)
+    if entry_map is not None:
+        if motor is not None:
+            raise LogError(path, "--sysid-motor: only for a SysId routine's entries, not with --entry")
+        return [_joint_table(path, entries, series, _checked_pairs(path, entries, entry_map), units, None,
+                             entry_map.flag, repeats)]
+    routines = _choose_routines(path, entries, motor)
+    tables = [_joint_table(path, entries, series, dict(routine.entry_map.pairs), units, routine, "SysId", repeats)
+              for routine in routines]
+    if len(tables) > 1:
+        motors = tuple(routine.motor for routine in routines)
+        notes = _pooled_notes(path, tables, motors)
+        tables = [dataclasses.replace(table, motors=motors, sysid_notes=notes) for table in tables]
+    return tables
+
+
+def _pooled_notes(path: str, tables: list[WpilogTable], motors: tuple[str, ...]) -> tuple[str, ...]:
+    """The reading notes of several motors pooled, each said once for all of them."""
+    notes = [f"SysId routine {tables[0].routine.routine!r} drives {len(motors)} motors "
+             f"({', '.join(map(repr, motors))}): pooled as one mechanism, each motor's tests its runs; one motor's "
+             f"own fit: `{fit_line(path, '--sysid-motor', motors[0])}` (or another motor's name)."]
+    if tables[0].linear:
+        notes.append("Their positions are lengths: q in metres, qd in m/s, a linear coordinate (the wheel or drum "
+                     "turns; the gains are per metre), never an angle.")
+    notes += [note for note in tables[0].sysid_notes if " was run " in note]
+    integrated = [t.routine.motor for t in tables if t.position_source != "logged"]
+    if integrated:
+        notes.append(f"No position entry for {', '.join(map(repr, integrated))}: q is the logged velocity "
+                     "integrated (trapezoids), no absolute angle; the velocity's lag cannot be checked there.")
+    lags = [(t.routine.motor, t.velocity_lag_s) for t in tables if t.velocity_lag_s is not None]
+    if lags:
+        notes.append("The logged velocities lag the positions' derivatives by " + ", ".join(
+            f"{lag * 1e3:.0f} ms ({motor})" for motor, lag in lags) + " (cross-correlation over the tests): the "
+            "fit takes its speed from the positions. SysId's analysis takes the logged velocity, so its kA differs "
+            "where this lag is large (a SPARK MAX averages position changes over 32 ms, eight deep).")
+    left = [f"{t.routine.motor} {name}, {why}" for t in tables for name, why in t.left_out]
+    if left:
+        notes.append("Left out: " + "; ".join(left) + ".")
+    return tuple(notes)
+
+
+REPEATS = ("all", "first")
+"""What a test run more than once gives: every run (the default), or the first (as SysId's analysis does)."""
+
+
+def fit_line(path: str, *flags: str) -> str:
+    """`jointid fit --wpilog PATH FLAGS...` quoted so that it pastes into a shell as is (a name with a character
+    that is not printable escaped, as every name is shown)."""
+    return shown_command(["jointid", "fit", "--wpilog", os.fspath(path), *flags])
+
+
+def _checked_pairs(path: str, entries: dict[str, Entry], entry_map) -> dict[str, str]:
+    """The entry map's quantity -> entry name, each entry present and of the right type; LogError otherwise."""
     for quantity, name in entry_map.pairs:
         if name not in entries:
             shown = ", ".join(sorted(entries)[:20]) + (", …" if len(entries) > 20 else "")
             raise LogError(path, f"{entry_map.flag} {quantity}={name}: the log has no entry {name!r}; its entries "
                            f"are {shown or 'none'} (jointid log-info lists them)")
         entry = entries[name]
-        needed = "string" if quantity == "state" else "a number"
+        needed = "text (a string entry)" if quantity == "state" else "numbers (double, float or int64)"
         if (quantity == "state") != (entry.type == "string") or (quantity != "state" and not entry.numeric):
             raise LogError(path, f"{entry_map.flag} {quantity}={name}: entry {name!r} holds {entry.type}, not "
                            f"{needed}")
-    for quantity in ("q", "tau"):
-        if quantity not in pairs:
-            what = "its angle (q=ENTRY)" if quantity == "q" else "its effort (tau=ENTRY, a voltage or torque)"
-            raise LogError(path, f"{entry_map.flag} names no entry for {quantity}; jointid needs {what}")
-    return _joint_table(path, entries, series, pairs, units, routine, entry_map.flag)
+    pairs = dict(entry_map.pairs)
+    if "q" not in pairs and "qd" not in pairs:
+        raise LogError(path, f"{entry_map.flag} names no entry for q or qd; jointid needs the joint's position "
+                       "(q=ENTRY) or its velocity (qd=ENTRY)")
+    if "tau" not in pairs:
+        raise LogError(path, f"{entry_map.flag} names no entry for tau; jointid needs its effort (tau=ENTRY, a "
+                       "voltage or torque)")
+    return pairs
 
 
-def _choose_routine(path: str, entries: dict[str, Entry]) -> SysIdRoutine:
-    """The log's only SysId routine and motor; LogError when there is none, or several."""
+def _choose_routines(path: str, entries: dict[str, Entry], motor: str | None) -> list[SysIdRoutine]:
+    """The motors of the log's SysId routine to read: all of its one routine, or those `motor` names; LogError
+    saying what is missing when there is none."""
     found, lacking = sysid_routines(entries)
-    if lacking and not found:
-        routine = lacking[0]
-        raise LogError(path, f"has SysId test-state entry {STATE_PREFIX}{routine!r} but no voltage-<motor>-{routine} "
-                       "entry: without the voltage there is no effort to fit (name entries with --entry)")
+    if motor is not None:
+        chosen = [r for r in found if motor in (r.motor, r.routine)]
+        if not chosen:
+            listed = ", ".join(sorted({repr(r.motor) for r in found} | {repr(r.routine) for r in found}))
+            raise LogError(path, f"--sysid-motor {motor!r}: the log has no SysId motor or routine of that name; "
+                           f"its are {listed or 'none'} (jointid log-info lists them)")
+        return chosen
     if not found:
+        states = sorted(name for name, entry in entries.items()
+                        if name.startswith(STATE_PREFIX) and entry.type == "string")
+        if states:
+            routine = states[0][len(STATE_PREFIX):]
+            raise LogError(path, _missing_motor_entries(entries, routine))
         if not any(entry.numeric for entry in entries.values()):
             raise LogError(path, f"has no numeric entries (double, float or int64) among its {len(entries)} "
                            "entries: nothing to fit")
         raise LogError(path, "is no SysId routine log (no sysid-test-state-<routine> entry with voltage- and "
-                       "position-<motor>-<routine> entries); name its entries with --entry q=ENTRY,tau=ENTRY "
-                       "(jointid log-info lists them)")
-    if len(found) > 1:
-        listed = ", ".join(f"{r.motor} of {r.routine}" for r in found)
-        raise LogError(path, f"has {len(found)} SysId motors ({listed}); choose one with --entry "
-                       f"q={found[0].position},tau={found[0].voltage},state={found[0].state}")
-    return found[0]
+                       "position- or velocity-<motor>-<routine> entries); name its entries with --entry "
+                       "q=ENTRY,tau=ENTRY (jointid log-info lists them)")
+    routines = sorted({r.routine for r in found})
+    if len(routines) > 1:
+        listed = "; ".join(f"`{fit_line(path, '--sysid-motor', name)}`" for name in routines)
+        raise LogError(path, f"has {len(routines)} SysId routines ({', '.join(map(repr, routines))}); fit one: "
+                       f"{listed}")
+    return found
+
+
+def _missing_motor_entries(entries: dict[str, Entry], routine: str) -> str:
+    """What a routine with a test-state entry lacks, in one sentence that starts with it."""
+    motors = _motor_entries(entries, routine)
+    logged = sorted(name for kinds in motors.values() for name in kinds.values())
+    state = f"{STATE_PREFIX}{routine}"
+    if not motors:
+        return (f"no voltage entry for routine {routine!r}, nor any position- or velocity-<motor>-{routine}: its "
+                f"test-state entry {state!r} has no numeric entry beside it (the routine's log callback wrote only "
+                "the state): without the voltage there is no effort to fit; name the joint's entries with --entry "
+                f"{shlex.quote('q=ENTRY,tau=ENTRY,state=' + state)} (jointid log-info lists them)")
+    if not any("voltage" in kinds for kinds in motors.values()):
+        return (f"no voltage entry for routine {routine!r} (voltage-<motor>-{routine}; it logged "
+                f"{', '.join(logged)}): without the voltage there is no effort to fit (name one with --entry)")
+    return (f"no position or velocity entry for routine {routine!r} (it logged {', '.join(logged)}): beside a "
+            f"voltage-<motor>-{routine} a fit needs position-<motor>-{routine} or velocity-<motor>-{routine}")
 
 
 def _joint_table(path: str, entries: dict[str, Entry], series: dict[str, Series], pairs: dict[str, str],
-                 units: str | None, routine: SysIdRoutine | None, flag: str) -> WpilogTable:
-    """Put the chosen entries on the position entry's time base, convert q and qd to radians, split the runs."""
-    position = series.get(pairs["q"])
+                 units: str | None, routine: SysIdRoutine | None, flag: str, repeats: str = "all") -> WpilogTable:
+    """Put the chosen entries on the position entry's time base (the velocity's without a position), convert
+    angles to radians (a length stays in metres), split the test runs, check the logged velocity's lag."""
+    base = "q" if "q" in pairs else "qd"
+    position = series.get(pairs[base])
     if position is None or len(position.times) < 2:
-        raise LogError(path, f"entry {pairs['q']!r} has {0 if position is None else len(position.times)} records; "
+        raise LogError(path, f"entry {pairs[base]!r} has {0 if position is None else len(position.times)} records; "
                        "a fit needs many")
     order = np.argsort(position.times, kind="stable")
-    stamps, q = position.times[order], position.values[order]
+    stamps = position.times[order]
     keep = np.ones(len(stamps), dtype=bool)
-    columns_raw = {"q": q}
-    notes = []
+    columns_raw = {base: position.values[order]}
+    notes, sysid_notes = [], []
     for quantity in ("qd", "qdd", "tau"):
-        if quantity not in pairs:
+        if quantity not in pairs or quantity == base:
             continue
         other = series.get(pairs[quantity])
         if other is None or len(other.times) < 2:
@@ -673,7 +857,7 @@ def _joint_table(path: str, entries: dict[str, Entry], series: dict[str, Series]
         keep &= inside
         columns_raw[quantity] = values
     if not keep.all():
-        notes.append(f"{int((~keep).sum())} of {len(keep)} samples of {pairs['q']!r} are left out: another entry "
+        notes.append(f"{int((~keep).sum())} of {len(keep)} samples of {pairs[base]!r} are left out: another entry "
                      "has no record near them (before its first, after its last, or in a gap).")
     stamps = stamps[keep]
     columns_raw = {name: values[keep] for name, values in columns_raw.items()}
@@ -683,42 +867,109 @@ def _joint_table(path: str, entries: dict[str, Entry], series: dict[str, Series]
     unit_pairs = []
     for quantity in ("q", "qd", "qdd"):
         if quantity in columns_raw:
-            factor, unit, note = _to_radians(path, entries[pairs[quantity]], quantity, units,
-                                             entries[pairs["q"]], flag)
+            factor, unit, note = _in_joint_units(path, entries[pairs[quantity]], quantity, units,
+                                                 entries.get(pairs.get("q", "")), flag)
             columns_raw[quantity] = columns_raw[quantity] * factor
             unit_pairs.append((quantity, unit))
             if note:
                 notes.append(note)
-    # Time counts from the first record read, so a SysId test's times are the log's own.
-    origin = min(int(found.times.min()) for found in series.values() if len(found.times))
-    t = (stamps - origin) * 1e-6
-    columns = {"t": t, **{name: columns_raw[name] for name in ("q", "qd", "qdd", "tau") if name in columns_raw}}
-    runs: tuple = ()
+    kinds = {unit == LINEAR_UNIT for _, unit in unit_pairs}
+    if len(kinds) > 1:
+        raise LogError(path, "the entries mix a length and an angle (" + ", ".join(
+            f"{pairs[q]!r} in {entries[pairs[q]].unit or unit}" for q, unit in unit_pairs) + "); give them one "
+            "unit with --units")
+    linear = kinds == {True}
+    if linear:
+        sysid_notes.append(f"{pairs[base]!r} is a length: q is read in metres"
+                           + (" and qd in m/s" if "qd" in columns_raw else "") + ", a linear coordinate (the "
+                           "wheel or drum turns; the gains are per metre), never an angle.")
+    runs: list = []
+    left_out: list = []
     if "state" in pairs:
         state = series.get(pairs["state"])
-        runs = tuple(test_runs(state.times, state.values, stamps) if state is not None else ())
-        short = [(test, rows) for test, rows in runs if rows.stop - rows.start < MIN_RUN_SAMPLES]
-        if short:
-            notes.append("too short to fit (fewer than "
-                         f"{MIN_RUN_SAMPLES} samples), left out: " + ", ".join(
-                             f"{test} at t = {t[rows.start]:.6g} s" for test, rows in short) + ".")
-        runs = tuple(run for run in runs if run not in short)
+        runs = run_names(test_runs(state.times, state.values, stamps) if state is not None else [])
+        runs, left_out, said = _kept_runs(runs, stamps, repeats)
+        sysid_notes += said
         if not runs:
             raise LogError(path, f"entry {pairs['state']!r} marks no test run ({', '.join(TESTS)}) of at least "
-                           f"{MIN_RUN_SAMPLES} samples of {pairs['q']!r}")
+                           f"{MIN_RUN_SAMPLES} samples of {pairs[base]!r}")
+    lag = None
+    position_source = "logged"
+    if base == "qd":
+        position_source = "integrated velocity"
+        columns_raw["q"] = _integrated(stamps, columns_raw.pop("qd"))
+        unit_pairs.insert(0, ("q", dict(unit_pairs)["qd"]))
+        sysid_notes.append(f"No position entry: q is the logged velocity {pairs['qd']!r} integrated (trapezoids), "
+                           "so it is no absolute angle, and its derivatives are that velocity smoothed; the "
+                           "velocity's lag behind the position cannot be checked without a position.")
+    elif "qd" in columns_raw and "qdd" not in columns_raw:  # with qdd logged too, the fit takes both as logged
+        segments = [rows for _, rows in runs] or [slice(0, len(stamps))]
+        lag = velocity_lag(stamps * 1e-6, columns_raw["q"], columns_raw["qd"], segments)
+        if lag is not None:
+            sysid_notes.append(lag_note(pairs["qd"], lag))
+    t = stamps * 1e-6  # the log's own seconds: log-info, windows, exclusions and messages share them
+    columns = {"t": t, **{name: columns_raw[name] for name in ("q", "qd", "qdd", "tau") if name in columns_raw}}
     quantity_names = [(key, pairs[key]) for key in ("q", "qd", "qdd", "tau", "state") if key in pairs]
     if routine is not None:
-        notes.insert(0, f"SysId routine {routine.routine!r}, motor {routine.motor!r}: q from {routine.position}, "
-                     + (f"qd from {routine.velocity}, " if routine.velocity else "")
-                     + f"effort from {routine.voltage} (volts), tests from {routine.state}.")
+        moves = (f"q from {routine.position}, " if routine.position else "") + \
+            (f"qd from {routine.velocity}, " if routine.velocity else "")
+        notes.insert(0, f"SysId routine {routine.routine!r}, motor {routine.motor!r}: {moves}effort from "
+                     f"{routine.voltage} (volts), tests from {routine.state}.")
+    if routine is not None and not routine.velocity:
+        sysid_notes.append(f"Motor {routine.motor!r} logged no velocity: its lag cannot be checked.")
     table = WpilogTable(
         path=path, columns=columns, positions={name: i + 1 for i, name in enumerate(columns)}, ignored=(),
-        segments=(), notes=tuple(notes), entries=tuple(quantity_names), stamps=stamps, units=tuple(unit_pairs),
-        runs=runs, routine=routine,
-        read_as=tuple((key, "record time" if key == "t" else pairs[key]) for key in columns),
+        segments=(), notes=tuple(notes) + tuple(sysid_notes), entries=tuple(quantity_names), stamps=stamps,
+        units=tuple(unit_pairs), runs=tuple(runs), routine=routine, time_origin=0.0,
+        read_as=tuple((key, "record time" if key == "t" else pairs.get(key, pairs.get("qd", key)))
+                      for key in columns),
+        position_source=position_source, velocity_lag_s=lag, left_out=tuple(left_out),
+        sysid_notes=tuple(sysid_notes),
     )
     check_finite(table)
     return table
+
+
+def _kept_runs(runs: list, stamps: np.ndarray, repeats: str) -> tuple[list, list, list]:
+    """(the runs fitted, (run, why) of those left out, notes): runs too short to fit, and with repeats 'first'
+    every run of a test after its first, are left out."""
+    kept, left_out, notes = [], [], []
+    seconds = lambda rows: f"t = {stamps[rows.start] * 1e-6:.6g} to {stamps[rows.stop - 1] * 1e-6:.6g} s"  # noqa
+    tests: dict[str, list] = {}
+    for name, rows in runs:
+        tests.setdefault(name.partition(" #")[0], []).append((name, rows))
+    for test, found in tests.items():
+        if len(found) > 1:
+            spans = ", ".join(f"{name} ({seconds(rows)})" for name, rows in found)
+            use = ("each test's first run is fitted, as SysId's analysis does (--sysid-runs first)"
+                   if repeats == "first" else "every run is fitted (SysId's analysis uses only the first: "
+                   "--sysid-runs first does the same)")
+            notes.append(f"{test} was run {len(found)} times, kept apart: {spans}; {use}.")
+    first_seen: set = set()
+    for name, rows in runs:
+        test = name.partition(" #")[0]
+        count = rows.stop - rows.start
+        if repeats == "first" and test in first_seen:
+            left_out.append((name, f"a repeat ({seconds(rows)}); --sysid-runs first fits each test's first run"))
+        elif count < MIN_RUN_SAMPLES:
+            left_out.append((name, f"too short to fit: {count} samples ({seconds(rows)}), fewer than "
+                             f"{MIN_RUN_SAMPLES}"))
+        else:
+            kept.append((name, rows))
+        first_seen.add(test)
+    if left_out:
+        notes.append("Left out: " + "; ".join(f"{name}, {why}" for name, why in left_out) + ".")
+    return kept, left_out, notes
+
+
+def _integrated(stamps: np.ndarray, velocity: np.ndarray) -> np.ndarray:
+    """The position a velocity integrates to (trapezoids), nothing added across a gap between tests."""
+    seconds = np.diff(stamps) * 1e-6
+    steps = 0.5 * (velocity[1:] + velocity[:-1]) * seconds
+    positive = seconds[seconds > 0]
+    if len(positive):
+        steps[seconds > RUN_GAP_STEPS * float(np.median(positive))] = 0.0
+    return np.concatenate(([0.0], np.cumsum(steps)))
 
 
 def _interpolated(other: Series, stamps: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -739,35 +990,53 @@ def _interpolated(other: Series, stamps: np.ndarray) -> tuple[np.ndarray, np.nda
     return result, bracketed | (nearest <= NEAR_STEPS * median)
 
 
-def _to_radians(path: str, entry: Entry, quantity: str, units: str | None, position: Entry, flag: str
-                ) -> tuple[float, str, str | None]:
-    """(radians per logged unit, the unit, a note) of the q, qd or qdd entry; LogError when it is not known."""
+def _in_joint_units(path: str, entry: Entry, quantity: str, units: str | None, position: Entry | None, flag: str
+                    ) -> tuple[float, str, str | None]:
+    """(joint units per logged unit, the unit, a note) of the q, qd or qdd entry: radians for an angle, metres
+    for a length; LogError when the unit is not known."""
     rate = quantity != "q"
     text = entry.unit
     unit, per = angle_unit(text, rate)
+    metres = metres_per(text)
+    if units == LINEAR_UNIT:
+        if unit is not None:
+            raise LogError(path, f"--units meters: entry {entry.name!r} is in {text!r}, an angle; leave --units "
+                           "out to read it in radians")
+        return 1.0, LINEAR_UNIT, (None if metres in (None, 1.0) else
+                                  f"--units meters is read over the unit {text!r} of {entry.name!r}.")
     if units is not None:
+        if metres is not None:
+            raise LogError(path, f"--units {units}: entry {entry.name!r} is in {text!r}, a length, not an angle; "
+                           "leave --units out (a length is read in metres: a drive's or an elevator's gains per "
+                           "metre)")
         note = None
         if unit is not None and unit != units:
             note = (f"--units {units} is read over the unit {text!r} that the metadata of {entry.name!r} names.")
         return UNITS[units] * (per if unit == units else 1.0), units, note
-    if unit is None and text is None and rate:
+    if unit is None and metres is None and text is None and rate and position is not None:
         # A velocity without a unit of its own is the position's per second (AdvantageKit logs units once).
         unit, _ = angle_unit(position.unit, False)
         if unit is not None:
             return UNITS[unit], unit, (f"{entry.name!r} names no unit; read in {unit} per second, as "
                                        f"{position.name!r}.")
+        metres = metres_per(position.unit)
+        if metres is not None:
+            return metres, LINEAR_UNIT, (f"{entry.name!r} names no unit; read as {position.name!r}'s "
+                                         f"{position.unit!r} per second.")
+    if metres is not None:
+        note = None if metres == 1.0 else (f"{entry.name!r} is in {text!r} (its metadata): {quantity} = "
+                                           f"{metres:.6g} × the logged value, in metres.")
+        return metres, LINEAR_UNIT, note
     if unit is None:
-        if is_linear(text):
-            raise LogError(path, f"entry {entry.name!r} is in {text!r}, a length: a linear mechanism's log, not a "
-                           "rotating joint's")
-        said = "names no unit in its metadata" if text is None else f"is in {text!r}, which is no angle unit"
-        raise LogError(path, f"entry {entry.name!r} {said}; say which with --units rotations, radians or degrees")
+        said = "names no unit in its metadata" if text is None else f"is in {text!r}, which is no angle or length"
+        raise LogError(path, f"entry {entry.name!r} {said}; say which with --units rotations, radians, degrees or "
+                       "meters")
     factor = UNITS[unit] * per
     note = None
     if unit != "radians" or per != 1.0:
         note = (f"{entry.name!r} is in {text!r} (its metadata): {quantity} = {factor:.6g} × the logged value, "
                 "in radians.")
-    return factor, unit, note
+    return factor, "radians" if unit == "radians" else unit, note
 
 
 # ---------------------------------------------------------------------------------------------- log-info
@@ -793,6 +1062,12 @@ class WpilogInfo:
         lasts = [e.last_us for e in self.entries if e.last_us is not None]
         return (max(lasts) - min(firsts)) * 1e-6 if firsts else 0.0
 
+    def named_runs(self, routine: str) -> list[tuple[tuple[str, int, int, int], str]]:
+        """Each run of a routine's tests with its name ("quasistatic-forward #2" for a test run again)."""
+        stretches = self.runs.get(routine, ())
+        names = run_names([(test, slice(0, 0)) for test, *_ in stretches])
+        return [(stretch, name) for stretch, (name, _) in zip(stretches, names)]
+
     @property
     def start_us(self) -> int:
         """The first record's time stamp (us), from which log-info counts times."""
@@ -800,15 +1075,15 @@ class WpilogInfo:
         return min(firsts) if firsts else 0
 
     def to_dict(self) -> dict:
-        """The JSON document of `log-info --json`."""
-        start = self.start_us
+        """The JSON document of `log-info --json` (times in seconds of the log's own time stamps)."""
         return {
             "path": self.path, "format": "wpilog", "extra_header": self.extra_header, "duration_s": self.duration,
+            "time_base": "the data log's own time stamps (s), as --train-window and --exclude take them",
             "entries": [entry.to_dict() for entry in self.entries],
             "sysid": [{"routine": r.routine, "motor": r.motor, "state": r.state, "voltage": r.voltage,
                        "position": r.position, "velocity": r.velocity,
-                       "runs": [{"test": test, "start_s": (a - start) * 1e-6, "end_s": (b - start) * 1e-6,
-                                 "state_records": n} for test, a, b, n in self.runs.get(r.routine, ())]}
+                       "runs": [{"test": test, "name": name, "start_s": a * 1e-6, "end_s": b * 1e-6,
+                                 "state_records": n} for (test, a, b, n), name in self.named_runs(r.routine)]}
                       for r in self.routines],
             "sysid_without_voltage": list(self.lacking_voltage),
         }
@@ -832,9 +1107,12 @@ def _state_stretches(series: Series) -> tuple[tuple[str, int, int, int], ...]:
     """(test, first us, last us, records) of each stretch of one of the TESTS in a state entry."""
     order = np.argsort(series.times, kind="stable")
     times, states = series.times[order], series.values[order]
+    steps = np.diff(times)
+    positive = steps[steps > 0]
+    gap = RUN_GAP_STEPS * float(np.median(positive)) if len(positive) else math.inf
     out, start = [], 0
     for k in range(1, len(states) + 1):
-        if k == len(states) or states[k] != states[start]:
+        if k == len(states) or states[k] != states[start] or times[k] - times[k - 1] > gap:
             if states[start] in TESTS:
                 out.append((str(states[start]), int(times[start]), int(times[k - 1]), k - start))
             start = k

@@ -188,6 +188,8 @@ class AngleOffset:
         h_c, h_s = float(theta[self.cosine]), float(theta[self.sine])
         h = math.hypot(h_c, h_s)  # h_c**2 would overflow beyond 1e154 (and underflow below 1e-162)
         c, s = self.cosine, self.sine
+        if h == 0.0:  # both columns clamped at 0 (a test with no gravity signal): no slope exists at the origin,
+            return jacobian  # so the columns' own errors stand in (q0 has no direction to be determined anyway)
         jacobian[c, c], jacobian[c, s] = h_c / h, h_s / h
         jacobian[s, c], jacobian[s, s] = h_s / h / h, -h_c / h / h
         return jacobian

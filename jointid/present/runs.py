@@ -54,6 +54,7 @@ def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
         lines.append(f"Pooled {model.effort.name} bias of each run: " + ", ".join(
             f"{name} {format_number(value)}" for name, value in zip(pooled.names, offsets)) + f" {unit}.")
     if sysid:
+        lines.extend(sysid_reading(pooled))
         lines.append("No SysId test alone separates the gains (a dynamic test's voltage is constant, which its "
                      "Coulomb term fits exactly; a quasistatic test barely accelerates): read the pooled fit. The "
                      "low-pass is off unless --cutoff asks for it, as each dynamic test starts with a step from rest.")
@@ -89,6 +90,18 @@ def _sysid_routine(pooled: PooledRuns) -> str | None:
     return None if routine is None else routine.routine
 
 
+def sysid_reading(pooled: PooledRuns) -> list[str]:
+    """What reading a SysId log decided (motors pooled, units, repeated tests, the velocity's lag, tests left out),
+    each sentence once across the runs."""
+    lines: list[str] = []
+    for run in pooled.runs:
+        source = run.training.source
+        for note in getattr(None if source is None else source.table, "sysid_notes", ()):
+            if note not in lines:
+                lines.append(note)
+    return lines
+
+
 def runs_document(pooled: PooledRuns) -> dict:
     """The JSON of several runs: each run's own document summary, the pooled fit, the scatter, disagreements."""
     from .documents import logs_document  # each run as `jointid fit --csv RUN --json` prints it
@@ -97,6 +110,7 @@ def runs_document(pooled: PooledRuns) -> dict:
         "model": pooled.runs[0].result.model.name,
         "weighting": pooled.weighting,
         "sysid_routine": _sysid_routine(pooled),
+        "sysid_reading": sysid_reading(pooled),
         "runs": [{**logs_document(run), "name": run.name, "predicted_by_others_rmse": other,
                   "weight": weight}
                  for run, other, weight in zip(pooled.runs, pooled.predicted_by_others, pooled.weights)],

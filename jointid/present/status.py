@@ -288,6 +288,6 @@ def log_sources(logs) -> tuple[str, ...]:
     roles = ("", "Held-out ")
     return tuple(
         f"{role}{shown_path(os.path.basename(os.path.normpath(log.path)))}: {log.read_brief or f'{log.rows} rows'}, "
-        f"{'degrees' if log.degrees else 'radians'}"
+        f"{log.position_unit}"
         for role, log in zip(roles, logs.logs)
     )

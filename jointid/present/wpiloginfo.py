@@ -23,15 +23,16 @@ def _columns(header: list[str], rows: list[list[str]], right: tuple[int, ...]) -
 
 
 def wpilog_info_text(info) -> str:
-    """The text of `jointid log-info` for a wpilog.WpilogInfo."""
+    """The text of `jointid log-info` for a wpilog.WpilogInfo (times: seconds of the log's own time stamps)."""
+    from ..logs.wpilog import fit_line
+
     count = len(info.entries)
     lines = [f"{shown_path(info.path)}: WPILib data log, {info.duration:.6g} s, {count} "
-             f"entr{'y' if count == 1 else 'ies'}", ""]
-    start = info.start_us
+             f"entr{'y' if count == 1 else 'ies'}; times are seconds of its own time stamps, as --train-window and "
+             "--exclude take them" + (" (negative: recorded before the log started)" if info.start_us < 0 else ""), ""]
     # Names, types and units are the log's, not the program's: escaped (a raw ESC would drive the terminal).
     rows = [[shown_path(e.name), shown_path(e.type), str(e.records), "-" if e.rate is None else f"{e.rate:.4g}",
-             "-" if e.first_us is None else f"{(e.first_us - start) * 1e-6:.6g}",
-             "-" if e.unit is None else shown_path(e.unit)]
+             "-" if e.first_us is None else f"{e.first_us * 1e-6:.6g}", "-" if e.unit is None else shown_path(e.unit)]
             for e in info.entries]
     lines.append(_columns(["entry", "type", "records", "rate (Hz)", "from (s)", "unit"], rows, (2, 3, 4)))
     if not any(entry.numeric for entry in info.entries):
@@ -39,16 +40,27 @@ def wpilog_info_text(info) -> str:
     for routine in info.lacking_voltage:
         lines += ["", (f"SysId routine {routine!r} has a test-state entry but no "
                   f"voltage-<motor>-{shown_path(routine)} entry: without the voltage there is no effort to fit.")]
+    by_routine: dict = {}
     for routine in info.routines:
-        velocity = f", qd from {shown_path(routine.velocity)}" if routine.velocity else ""
-        lines += ["", (f"SysId routine {routine.routine!r}, motor {routine.motor!r}: q from "
-                  f"{shown_path(routine.position)}{velocity}, effort from {shown_path(routine.voltage)}; "
-                  f"`jointid fit --wpilog {shown_path(info.path)}` fits its tests "
-                  "as runs of one joint:")]
-        runs = info.runs.get(routine.routine, ())
+        by_routine.setdefault(routine.routine, []).append(routine)
+    several = len(by_routine) > 1
+    for name, motors in by_routine.items():
+        lines.append("")
+        for motor in motors:
+            logged = ", ".join(shown_path(entry) for entry in (motor.position, motor.velocity) if entry)
+            lines.append(f"SysId routine {name!r}, motor {motor.motor!r}: effort from {shown_path(motor.voltage)}, "
+                         f"motion from {logged}" + ("" if motor.position else " (no position: q is the velocity "
+                                                    "integrated)"))
+        fit = fit_line(info.path, *(("--sysid-motor", name) if several else ()))
+        if len(motors) > 1:
+            lines.append(f"`{fit}` fits the tests of its {len(motors)} motors pooled as runs of one mechanism; "
+                         f"`{fit_line(info.path, '--sysid-motor', motors[0].motor)}` fits one motor.")
+        else:
+            lines.append(f"`{fit}` fits its tests as runs of one joint.")
+        runs = info.named_runs(name)
         lines.append(_columns(["test", "from (s)", "to (s)", "state records"],
-                              [[test, f"{(a - start) * 1e-6:.6g}", f"{(b - start) * 1e-6:.6g}", str(n)]
-                               for test, a, b, n in runs], (1, 2, 3)) if runs else "  no test recorded")
+                              [[run, f"{a * 1e-6:.6g}", f"{b * 1e-6:.6g}", str(n)]
+                               for (test, a, b, n), run in runs], (1, 2, 3)) if runs else "  no test recorded")
     if not info.routines and any(entry.numeric for entry in info.entries) and not info.lacking_voltage:
         lines += ["", "Not a SysId routine log: name the joint's entries with --entry q=ENTRY,qd=ENTRY,tau=ENTRY."]
     return "\n".join(lines)

@@ -32,6 +32,7 @@ from ..model.terms import CANDIDATE_TERMS, PLAIN, JointModel, in_effort, model_a
 from ..norms import rms
 from ..options import DEFAULT_ORDER, LOG_MODEL
 from ..samples import JointData
+from .angle_models import check_angle_model
 from .sensitivity import FACTORS, SensitivityCheck, Variant, sensitivity_check
 
 
@@ -165,6 +166,7 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
     otherwise be shown as if it were a result) or the filter cannot apply.
     """
     model = model.in_effort(training.effort)
+    check_angle_model(training, model)  # every face fits here: no cos(q) of metres, nor of a velocity's sum
     if heldout is not None and heldout.effort != training.effort:
         raise LogError(heldout.path, f"holds {heldout.effort.name} ({heldout.effort.unit}) but the training log "
                        f"{training.effort.name} ({training.effort.unit}); read both alike (--effort)")
@@ -360,9 +362,15 @@ def _exclusions(training: JointLog, model: JointModel, chosen: ParallelFilter, X
     pushes = np.zeros(len(t), dtype=bool)
     for start, end in request.by_hand:
         inside = (since >= start) & (since <= end)
-        if not inside.any():
+        table = None if training.source is None else training.source.table
+        if not inside.any() and getattr(table, "run", None) is None:  # a SysId test's: checked against every test
+            from ..logs.request import time_base
+
+            base = "from the log's start" if table is None else time_base(table)
+            span = f"{float(since[0]):.6g} to {float(since[-1]):.6g} s"
             raise LogError(training.path, f"--exclude {start:g}:{'' if math.isinf(end) else f'{end:g}'} holds no "
-                           f"sample; the log spans 0 to {float(since[-1]):.6g} s from its start")
+                           f"sample; " + (f"the log spans {span} from its start" if base == "from the log's start"
+                                          else f"the samples span {span} {base}"))
         pushes |= inside
     left = int((~pushes).sum())
     if request.by_hand and left < X.shape[1]:  # said here: the robust step would take the median of nothing

@@ -22,11 +22,28 @@ from ..checks import checked, flag, optional, real, text, whole
 from ..estimation.exclusion import ExclusionRequest
 from ..estimation.low_pass import FilterRequest
 from ..logs.pipeline import JointLog
-from ..model.terms import JointModel, model_argument, model_named
+from ..logs.table import LogError
+from ..model.terms import COULOMB, DAMPING, INERTIA, JointModel, model_argument, model_named
+from .angle_models import check_angle_model, no_angle
 from .runs import POOLED_FIT, PooledRuns, fit_runs
 
 SYSID_MODEL = "coulomb+angle-offset"
 """The model whose parameters are the arm feedforward's gains."""
+
+NO_ANGLE_MODEL = JointModel("coulomb, no gravity", (INERTIA, DAMPING, COULOMB))
+"""The model of a routine whose q is no angle (a length, or an integrated velocity): kA, kV, kS with no cos(q)
+term, which only an angle in radians can feed."""
+
+
+def sysid_model(logs: list[JointLog], model: JointModel | None) -> JointModel:
+    """The model to fit a data log's runs with: the one asked for, else SYSID_MODEL, or NO_ANGLE_MODEL where q is
+    no angle; LogError when the model asked for takes cos(q) of a q that is no angle."""
+    if no_angle(logs[0]) is None:
+        return model or model_named(SYSID_MODEL)
+    if model is None:
+        return NO_ANGLE_MODEL
+    check_angle_model(logs[0], model)
+    return model
 
 
 def is_sysid_run(log: JointLog) -> bool:
@@ -45,9 +62,26 @@ def sysid_filtering(filtering: FilterRequest) -> FilterRequest:
 def fit_sysid_runs(logs: list[JointLog], model: JointModel | None = None, filtering: FilterRequest = FilterRequest(),
                    exclusion: ExclusionRequest = ExclusionRequest(), constrained: bool = False,
                    sensitivity: bool = True) -> PooledRuns:
-    """Fit a SysId log's tests alone and together (SYSID_MODEL unless another is given)."""
-    return fit_runs(logs, model or model_named(SYSID_MODEL), sysid_filtering(filtering), exclusion, constrained,
+    """Fit a SysId log's tests alone and together (sysid_model's choice unless another is given); LogError for a
+    model that does not apply, or an --exclude interval in no test."""
+    check_exclusions(logs, exclusion)
+    return fit_runs(logs, sysid_model(logs, model), sysid_filtering(filtering), exclusion, constrained,
                     sensitivity, weighting=POOLED_FIT)
+
+
+def check_exclusions(logs: list[JointLog], exclusion: ExclusionRequest) -> None:
+    """LogError naming an --exclude interval that holds no sample of any test run (times: the log's own)."""
+    import math
+
+    import numpy as np
+
+    for start, end in exclusion.by_hand:
+        if any(np.any((log.data.t >= start) & (log.data.t <= end)) for log in logs):
+            continue
+        first, last = min(log.data.t[0] for log in logs), max(log.data.t[-1] for log in logs)
+        raise LogError(logs[0].path, f"--exclude {start:g}:{'' if math.isinf(end) else f'{end:g}'} holds no sample "
+                       f"of any test; the tests span {first:.6g} to {last:.6g} s of the data log's own time stamps "
+                       "(jointid log-info lists each test's)")
 
 
 def load_training_request(request, model: JointModel, constrained: bool = False, progress=None, cancel=None):
@@ -63,14 +97,16 @@ def load_training_request(request, model: JointModel, constrained: bool = False,
     if cancel is not None and cancel():  # the fit cannot stop part-way: no fit is started after an Escape
         raise LoadCancelled(request.path)
     if len(logs) == 1:
-        return fit_logs(logs[0], None, model, constrained, request.filtering)
+        return fit_logs(logs[0], None, model if no_angle(logs[0]) is None else NO_ANGLE_MODEL, constrained,
+                        request.filtering)
     return fit_sysid_runs(logs, None, request.filtering, constrained=constrained)
 
 
 @checked(entry=optional(text), units=optional(text), model=optional(model_argument), cutoff=optional(real(0.0)),
-         decimate=optional(whole(1)), sensitivity=flag)
+         decimate=optional(whole(1)), sensitivity=flag, motor=optional(text), runs=text)
 def fit_wpilog(source, *, entry: str | None = None, units: str | None = None, model: str | JointModel | None = None,
-               cutoff: float | None = None, decimate: int | None = None, sensitivity: bool = True):
+               cutoff: float | None = None, decimate: int | None = None, sensitivity: bool = True,
+               motor: str | None = None, runs: str = "all"):
     """Fit a WPILib data log as `jointid fit --wpilog` does.
 
     Parameters
@@ -80,15 +116,20 @@ def fit_wpilog(source, *, entry: str | None = None, units: str | None = None, mo
     entry : str, optional
         Which entries give which quantity, e.g. ``"q=/Arm/Position,tau=/Arm/Volts"`` (`--entry`); None reads a
         SysId routine's entries by their names.
-    units : {'rotations', 'radians', 'degrees'}, optional
-        The angle's unit over the entries' metadata (`--units`).
+    units : {'rotations', 'radians', 'degrees', 'meters'}, optional
+        The position's unit over the entries' metadata (`--units`); a length is read in metres.
     model : str or JointModel, optional
-        'coulomb+angle-offset' (WPILib's arm feedforward) by default.
+        'coulomb+angle-offset' (WPILib's arm feedforward) by default; where q is no angle (a length, or a
+        velocity-only routine's integrated velocity) kA, kV and kS without gravity.
     cutoff, decimate : float, int
         The low-pass (`--cutoff`, `--decimate`); a SysId routine's tests are not low-passed unless a cutoff is
         given, since each dynamic test starts with a step.
     sensitivity : bool
         Refit with the derivative window and the cutoff halved and doubled.
+    motor : str, optional
+        One motor (or routine) of a SysId routine to fit (`--sysid-motor`); None pools every motor of the routine.
+    runs : {'all', 'first'}
+        A test run more than once: every run fitted, or each test's first, as SysId's analysis (`--sysid-runs`).
 
     Returns
     -------
@@ -114,13 +155,15 @@ def fit_wpilog(source, *, entry: str | None = None, units: str | None = None, mo
         entries = None if entry is None else EntryMap.parse(entry, "entry")
     except ColumnMapError as error:
         raise ValueError(str(error)) from None
-    if units not in (None, "rotations", "radians", "degrees"):
-        raise ValueError(f"units: one of 'rotations', 'radians', 'degrees'; got {units!r}")
+    if units not in (None, "rotations", "radians", "degrees", "meters"):
+        raise ValueError(f"units: one of 'rotations', 'radians', 'degrees', 'meters'; got {units!r}")
+    if runs not in ("all", "first"):
+        raise ValueError(f"runs: one of 'all', 'first'; got {runs!r}")
     filtering = FilterRequest(cutoff, decimate)
-    request = LoadRequest(os.fspath(source), wpilog=True, entries=entries, units=units, filtering=filtering)
+    request = LoadRequest(os.fspath(source), wpilog=True, entries=entries, units=units, filtering=filtering,
+                          sysid_motor=motor, sysid_runs=runs)
     logs = load_joint_logs(request)
     chosen = model_named(model) if isinstance(model, str) else model
     if len(logs) == 1:
-        return fit_logs(logs[0], None, chosen or model_named(SYSID_MODEL), filtering=filtering,
-                        sensitivity=sensitivity)
+        return fit_logs(logs[0], None, sysid_model(logs, chosen), filtering=filtering, sensitivity=sensitivity)
     return fit_sysid_runs(logs, chosen, filtering, sensitivity=sensitivity)

@@ -86,7 +86,7 @@ def _truncated(path, source):
 @pytest.mark.parametrize(("case", "extra", "expected"), [
     ("truncated", (), "cut short or damaged"),
     ("no-numbers", (), "has no numeric entries"),
-    ("state-without-voltage", (), "no voltage-<motor>-arm entry"),
+    ("state-without-voltage", (), "no voltage entry for routine 'arm'"),
     ("missing-entry", ("--entry", "q=/Arm/Position,tau=/Arm/Volts"), "--entry q=/Arm/Position: the log has no entry"),
     ("not-a-log", (), "is not a WPILib data log"),
 ])
