@@ -36,6 +36,9 @@ LADDER = ("plain", "coulomb", "bias", "angle-offset", "coulomb+bias", "coulomb+a
 MECHANISM_MODEL_NAMES = ("simple", "elevator")
 """Models named by their mechanism: a simple motor (no gravity term) and an elevator (a constant one)."""
 
+MECHANISMS = ("simple", "elevator", "arm")
+"""What a SysId routine characterised (--mechanism): a simple motor (flywheel, roller, drive), an elevator, an arm."""
+
 LOG_MODEL = "coulomb+bias"
 """The model a log is fitted with unless told otherwise: real joints have Coulomb friction and sensors a bias."""
 VOLTAGE_LOG_MODEL = "coulomb+angle-offset"

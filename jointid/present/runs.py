@@ -53,6 +53,8 @@ def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
     if bias:
         lines.append(f"Pooled {model.effort.name} bias of each run: " + ", ".join(
             f"{name} {format_number(value)}" for name, value in zip(pooled.names, offsets)) + f" {unit}.")
+    if pooled.mechanism is not None:
+        lines.append(pooled.mechanism.note())
     if sysid:
         lines.append("No SysId test alone separates the gains (a dynamic test's voltage is constant, which its "
                      "Coulomb term fits exactly; a quasistatic test barely accelerates): read the pooled fit. The "
@@ -97,6 +99,7 @@ def runs_document(pooled: PooledRuns) -> dict:
         "model": pooled.runs[0].result.model.name,
         "weighting": pooled.weighting,
         "sysid_routine": _sysid_routine(pooled),
+        "mechanism": None if pooled.mechanism is None else pooled.mechanism.to_dict(),
         "runs": [{**logs_document(run), "name": run.name, "predicted_by_others_rmse": other,
                   "weight": weight}
                  for run, other, weight in zip(pooled.runs, pooled.predicted_by_others, pooled.weights)],

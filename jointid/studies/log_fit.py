@@ -62,6 +62,8 @@ class LoadedLogs:
     """The request the exclusions were made from, kept for refits (another model)."""
     omitted: OmittedTerms | None = None
     """The test of terms the model lacks (friction, bias, angle offset, drag) against the residuals, or None."""
+    mechanism: object | None = None
+    """The studies.mechanism.MechanismChoice a SysId test was fitted as, or None for other logs."""
 
     def __repr__(self) -> str:
         return f"<LoadedLogs {self.name!r} {self.result!r}>"

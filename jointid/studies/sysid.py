@@ -1,8 +1,10 @@
 """A WPILib SysId routine log fitted as several runs of one joint: its quasistatic and dynamic tests.
 
-The effort is the motor's voltage, and jointid's coulomb + angle-offset model
-in volts is WPILib's arm feedforward V = kS sgn(v) + kG cos(theta + offset)
-+ kV v + kA a: I is kA, h g is kG, B is kV, Fc is kS and q0 the offset.
+The effort is the motor's voltage, and the mechanism's model in volts is its
+WPILib feedforward (jointid.studies.mechanism): a simple motor's V = kS sgn(v)
++ kV v + kA a, an elevator's + kG, an arm's + kG cos(theta + offset) (the
+coulomb + angle-offset model: I is kA, h g is kG, B is kV, Fc is kS and q0 the
+offset). Without --mechanism the log chooses which.
 
 Two choices differ from other runs of a joint, each for a reason of the
 routine's own. No test alone separates the gains (a dynamic test's voltage is
@@ -26,7 +28,7 @@ from ..model.terms import JointModel, model_argument, model_named
 from .runs import POOLED_FIT, PooledRuns, fit_runs
 
 SYSID_MODEL = "coulomb+angle-offset"
-"""The model whose parameters are the arm feedforward's gains."""
+"""The model whose parameters are the arm feedforward's gains (the arm mechanism's)."""
 
 
 def is_sysid_run(log: JointLog) -> bool:
@@ -44,10 +46,41 @@ def sysid_filtering(filtering: FilterRequest) -> FilterRequest:
 
 def fit_sysid_runs(logs: list[JointLog], model: JointModel | None = None, filtering: FilterRequest = FilterRequest(),
                    exclusion: ExclusionRequest = ExclusionRequest(), constrained: bool = False,
-                   sensitivity: bool = True) -> PooledRuns:
-    """Fit a SysId log's tests alone and together (SYSID_MODEL unless another is given)."""
-    return fit_runs(logs, model or model_named(SYSID_MODEL), sysid_filtering(filtering), exclusion, constrained,
-                    sensitivity, weighting=POOLED_FIT)
+                   sensitivity: bool = True, mechanism: str | None = None) -> PooledRuns:
+    """Fit a SysId log's tests alone and together: with `model`, the mechanism's model (`mechanism`), or the
+    mechanism the tests choose (studies.mechanism); MechanismError for a mechanism the log cannot be."""
+    return fit_sysid(logs, model, filtering, exclusion, constrained, sensitivity, mechanism)
+
+
+def fit_sysid(logs: list[JointLog], model: JointModel | None = None, filtering: FilterRequest = FilterRequest(),
+              exclusion: ExclusionRequest = ExclusionRequest(), constrained: bool = False, sensitivity: bool = True,
+              mechanism: str | None = None, heldout: JointLog | None = None):
+    """A voltage log's tests (or one voltage log) fitted as a mechanism, with the MechanismChoice attached: pooled
+    runs for several tests, a LoadedLogs for one (predicting `heldout`)."""
+    import dataclasses
+
+    from .log_fit import fit_logs
+    from .mechanism import MechanismChoice, check_mechanism, choose_mechanism, mechanism_model, mechanism_of, \
+        position_unit
+
+    def fit(chosen: JointModel, check: bool = sensitivity):
+        if len(logs) == 1:
+            return fit_logs(logs[0], heldout, chosen, constrained, filtering, check, exclusion)
+        return fit_runs(logs, chosen, sysid_filtering(filtering), exclusion, constrained, check,
+                        weighting=POOLED_FIT)
+
+    unit = position_unit(logs[0])
+    if model is not None:
+        fitted = fit(model)
+        choice = MechanismChoice(mechanism_of(model), "--model", unit)
+    elif mechanism is not None:
+        check_mechanism(mechanism, logs)
+        fitted = fit(mechanism_model(mechanism))
+        choice = MechanismChoice(mechanism, "--mechanism", unit)
+    else:
+        chosen, choice = choose_mechanism(logs, lambda candidate: fit(candidate, False))
+        fitted = fit(mechanism_model(chosen))
+    return dataclasses.replace(fitted, mechanism=choice)
 
 
 def load_training_request(request, model: JointModel, constrained: bool = False, progress=None, cancel=None):
@@ -62,15 +95,16 @@ def load_training_request(request, model: JointModel, constrained: bool = False,
     logs = load_joint_logs(request, progress, cancel)
     if cancel is not None and cancel():  # the fit cannot stop part-way: no fit is started after an Escape
         raise LoadCancelled(request.path)
-    if len(logs) == 1:
+    if len(logs) == 1 and logs[0].effort.is_torque:
         return fit_logs(logs[0], None, model, constrained, request.filtering)
-    return fit_sysid_runs(logs, None, request.filtering, constrained=constrained)
+    return fit_sysid(logs, None, request.filtering, constrained=constrained)
 
 
 @checked(entry=optional(text), units=optional(text), model=optional(model_argument), cutoff=optional(real(0.0)),
-         decimate=optional(whole(1)), sensitivity=flag)
+         decimate=optional(whole(1)), sensitivity=flag, mechanism=optional(text))
 def fit_wpilog(source, *, entry: str | None = None, units: str | None = None, model: str | JointModel | None = None,
-               cutoff: float | None = None, decimate: int | None = None, sensitivity: bool = True):
+               cutoff: float | None = None, decimate: int | None = None, sensitivity: bool = True,
+               mechanism: str | None = None):
     """Fit a WPILib data log as `jointid fit --wpilog` does.
 
     Parameters
@@ -83,7 +117,11 @@ def fit_wpilog(source, *, entry: str | None = None, units: str | None = None, mo
     units : {'rotations', 'radians', 'degrees'}, optional
         The angle's unit over the entries' metadata (`--units`).
     model : str or JointModel, optional
-        'coulomb+angle-offset' (WPILib's arm feedforward) by default.
+        A model by name over the mechanism's (e.g. 'coulomb+angle-offset', WPILib's arm feedforward).
+    mechanism : {'simple', 'elevator', 'arm'}, optional
+        What the routine characterised: a simple motor (flywheel, roller, drive: SimpleMotorFeedforward), an
+        elevator (ElevatorFeedforward) or an arm (ArmFeedforward); None chooses from the log by BIC and says why
+        (the fit's `mechanism.note()`).
     cutoff, decimate : float, int
         The low-pass (`--cutoff`, `--decimate`); a SysId routine's tests are not low-passed unless a cutoff is
         given, since each dynamic test starts with a step.
@@ -93,8 +131,8 @@ def fit_wpilog(source, *, entry: str | None = None, units: str | None = None, mo
     Returns
     -------
     PooledRuns or LoadedLogs
-        A SysId routine's tests fitted alone and pooled (`params` and `bse` are the pooled gains kA, kG, kV, kS and
-        the offset q0, `names` the tests); any other log's one fit.
+        A SysId routine's tests fitted alone and pooled (`params` and `bse` are the pooled gains: kA, kV, kS, and kG
+        for an elevator, kG and the offset q0 for an arm; `names` the tests); any other log's one fit.
 
     Raises
     ------
@@ -116,11 +154,20 @@ def fit_wpilog(source, *, entry: str | None = None, units: str | None = None, mo
         raise ValueError(str(error)) from None
     if units not in (None, "rotations", "radians", "degrees"):
         raise ValueError(f"units: one of 'rotations', 'radians', 'degrees'; got {units!r}")
+    from ..options import MECHANISMS
+
+    if mechanism not in (None, *MECHANISMS):
+        raise ValueError(f"mechanism: one of {', '.join(map(repr, MECHANISMS))}; got {mechanism!r}")
     filtering = FilterRequest(cutoff, decimate)
     request = LoadRequest(os.fspath(source), wpilog=True, entries=entries, units=units, filtering=filtering)
     logs = load_joint_logs(request)
     chosen = model_named(model) if isinstance(model, str) else model
-    if len(logs) == 1:
+    if len(logs) == 1 and logs[0].effort.is_torque:
         return fit_logs(logs[0], None, chosen or model_named(SYSID_MODEL), filtering=filtering,
                         sensitivity=sensitivity)
-    return fit_sysid_runs(logs, chosen, filtering, sensitivity=sensitivity)
+    from .mechanism import MechanismError
+
+    try:
+        return fit_sysid(logs, chosen, filtering, sensitivity=sensitivity, mechanism=mechanism)
+    except MechanismError as error:
+        raise ValueError(str(error)) from None
