@@ -58,7 +58,7 @@ def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
             f"{name} {format_number(value)}" for name, value in zip(pooled.names, offsets)) + f" {unit}.")
     if any(not_determined(run, shared) for run in pooled.runs):
         lines.append(f"{NOT_SHOWN}: not determined by that {'test' if sysid else 'run'} alone (its fit is not "
-                     f"unique, its {model.effort.name} constant, or the error as large as the value); the JSON says "
+                     f"unique, its {model.effort.name} constant but for noise, or the error as large as the value); the JSON says "
                      "why.")
     if pooled.mechanism is not None:
         lines.append(pooled.mechanism.note())
@@ -90,6 +90,9 @@ NOT_SHOWN = "—"
 
 CONSTANT_EFFORT = 1e-6
 """An effort whose spread is below this share of its magnitude is constant (a dynamic test's step)."""
+NOISE_SPREAD = 2.0
+"""An effort whose spread is at most this many times the fit's residual RMS is constant but for noise: the fit
+explains none of it, and its gains are noise's (a q0 of -2.9 on one machine, 0 on another)."""
 
 
 def not_determined(run, names) -> dict[str, str]:
@@ -102,8 +105,11 @@ def not_determined(run, names) -> dict[str, str]:
     if result.estimate is None or result.uncertainty is None:
         return {name: f"the fit is not unique (rank {result.rank} of {result.parameter_count})" for name in names}
     effort = result.training.tau
-    if len(effort) and float(np.std(effort)) <= CONSTANT_EFFORT * max(float(np.max(np.abs(effort))), 1e-300):
-        return {name: f"its {result.model.effort.name} is constant, which says nothing of the gains" for name in names}
+    spread = float(np.std(effort)) if len(effort) else 0.0
+    residual = float(np.sqrt(np.mean((effort - result.training_predictions) ** 2))) if len(effort) else 0.0
+    if spread <= max(CONSTANT_EFFORT * float(np.max(np.abs(effort), initial=0.0)), NOISE_SPREAD * residual):
+        return {name: f"its {result.model.effort.name} is constant but for noise, which says nothing of the gains"
+                for name in names}
     verdicts = dict(zip(result.model.names, result.uncertainty.verdicts or ()))
     return {name: "its standard error is about as large as itself" for name in names
             if verdicts.get(name) == NOT_DETERMINED}

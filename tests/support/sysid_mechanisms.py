@@ -37,6 +37,9 @@ SPARK_PERIOD = 0.032
 """A SPARK MAX's velocity measurement period (s)."""
 SPARK_DEPTH = 8
 """Measurement periods a SPARK MAX's velocity is averaged over."""
+VOLTAGE_NOISE = 0.01
+"""Standard deviation (V) of the logged voltage about the voltage applied: the bus voltage's ripple in a motor
+controller's report of its output."""
 TRUTH_STEP = 0.001
 """Seconds between the truth's samples that the SPARK MAX's measurement reads."""
 
@@ -69,6 +72,9 @@ class Mechanism:
     seed: int = 5
     push: tuple[float, float, float] | None = None
     """(test index, start s, volts): an outside torque, in volts, pushing against the motion for 0.3 s."""
+    ramp: float = 0.0
+    """The motor controller's open-loop ramp (s from 0 to full output, a SPARK MAX's setOpenLoopRampRate): a
+    dynamic step reaches its voltage over it, and the log holds the voltage applied."""
 
     def gravity_volts(self, x: float) -> float:
         """The voltage gravity takes at position x."""
@@ -106,7 +112,7 @@ def simulate(mechanism: Mechanism, test: str, direction: int, times: np.ndarray,
     end = float(times[-1])
 
     def applied(t):
-        return float(voltage(test, direction, t)) - push(t)
+        return commanded(mechanism, test, direction, t) - push(t)
 
     def net(t, x):
         return applied(t) - mechanism.gravity_volts(x)
@@ -152,6 +158,14 @@ def simulate(mechanism: Mechanism, test: str, direction: int, times: np.ndarray,
         else:
             x_out[k], v_out[k] = pieces[-1][2](pieces[-1][1])
     return x_out, v_out
+
+
+def commanded(mechanism: Mechanism, test: str, direction: int, t):
+    """The voltage the motor applies at time t of a test: the routine's, a dynamic step through the ramp."""
+    volts = voltage(test, direction, t)
+    if mechanism.ramp > 0 and test.startswith("dynamic"):
+        volts = volts * np.minimum(np.asarray(t, dtype=float) / mechanism.ramp, 1.0)
+    return volts if np.ndim(volts) else float(volts)
 
 
 def _push_volts(mechanism: Mechanism, test: str):
@@ -217,7 +231,8 @@ def routine_samples(mechanism: Mechanism) -> list[TestSamples]:
             velocity = spark_velocity(grid, truth_x, t, mechanism.resolution)
         else:
             velocity = np.concatenate(([0.0], np.diff(encoder) / np.diff(t)))
-        out.append(TestSamples(test, t, voltage(test, direction, t), encoder, velocity, v_true))
+        logged = commanded(mechanism, test, direction, t) + rng.normal(0.0, VOLTAGE_NOISE, len(t))
+        out.append(TestSamples(test, t, logged, encoder, velocity, v_true))
     return out
 
 
