@@ -125,16 +125,16 @@ class MechanismChoice:
         best = bic[self.mechanism]
         others = [f"{WORDS[name]} {value - best:+.1f}" for name, value in self.bic if name != self.mechanism]
         if others:
-            parts.append(f"BIC over the tests' {self.samples:,} samples {', '.join(others)} against it")
+            parts.append(f"BIC over the tests' {self.samples:,} samples {', '.join(others)} above it")
         for name, value, error in self.gravity:
-            supported = abs(value) > SUPPORT * error
-            parts.append(f"the {WORDS[name]}'s kG = {value:.3g} ± {error:.2g} V "
-                         + ("supported" if supported else "not supported"))
-        if self.revolutions is not None:
+            supported = "supported" if abs(value) > SUPPORT * error else "not supported"
+            parts.append(f"the {WORDS[name]}'s kG = {value:.3g} ± {error:.2g} V, {supported} by the data")
+        turns = any("revolutions" in why for _, why in self.ruled_out)
+        if self.revolutions is not None and not turns:
             parts.append(f"it turned {self.revolutions:.3g} revolutions")
         for name, why in self.ruled_out:
             parts.append(f"no {WORDS[name]}: {why}")
-        return (f"Mechanism: {self.words} ({self.feedforward}), chosen from the log (--mechanism says otherwise): "
+        return (f"Mechanism: {self.words} ({self.feedforward}), chosen from the log (--mechanism to say otherwise): "
                 + "; ".join(parts) + ".")
 
     def to_dict(self) -> dict:
@@ -192,7 +192,7 @@ def choose_mechanism(logs, fit) -> tuple[str, MechanismChoice]:
             gravity.append((name, float(pooled.params["kG"]), float(pooled.bse["kG"])))
     supported = {name: abs(value) > SUPPORT * error for name, value, error in gravity}
     if ARM in fits and revolutions is not None and revolutions > MANY_TURNS and not supported.get(ARM, False):
-        ruled_out.append((ARM, f"a wheel that turned {revolutions:.3g} revolutions with no voltage following the "
+        ruled_out.append((ARM, f"the wheel turned {revolutions:.3g} revolutions with no voltage following the "
                           "cosine of its angle"))
         del fits[ARM]
     bic, samples = _bic(fits)

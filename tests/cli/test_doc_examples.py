@@ -178,12 +178,21 @@ def copy_sysid_log(folder: Path) -> None:
     (folder / "sysid_arm.wpilog").write_bytes((ROOT / "docs" / "examples" / "sysid_arm.wpilog").read_bytes())
 
 
+def copy_flywheel_log(folder: Path) -> None:
+    """sysid_flywheel.wpilog (sysid.md): the committed example, a shooter's routine simulated by
+    tests/support/sysid_mechanisms.py."""
+    pytest.importorskip("wpiutil")
+    (folder / "sysid_flywheel.wpilog").write_bytes(
+        (ROOT / "docs" / "examples" / "sysid_flywheel.wpilog").read_bytes())
+
+
 FIXTURES = {
     "bad.csv": lambda folder: (folder / "bad.csv").write_text("t,q,qd,qdd,tau\n0,0,NaN,0,1\n0.1,0,0,0,1\n"),
     "units.csv": lambda folder: (folder / "units.csv").write_text(
         "time_s,position_deg,velocity_deg_s,torque_nm,tau_cmd\n0,0,0,1,1\n"),
     "arm_": write_bags,
     "sysid_arm.wpilog": copy_sysid_log,
+    "sysid_flywheel.wpilog": copy_flywheel_log,
 }
 """Files the docs' examples read without an example writing them first, by the text in a command that names them."""
 

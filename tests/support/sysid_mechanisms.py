@@ -285,3 +285,13 @@ def per_radian(mechanism: Mechanism) -> dict:
     """The truth's gains per radian (a rotations log's kV and kA over 2 pi), as jointid fits an angle."""
     scale = 2 * math.pi if mechanism.unit == "rotations" else 1.0
     return {name: value / scale if name in ("kV", "kA") else value for name, value in mechanism.gains.items()}
+
+
+MECHANISMS = {mechanism.name: mechanism for mechanism in (FLYWHEEL, ELEVATOR, ARM, ROLLER)}
+"""The simulated mechanisms by name."""
+
+
+if __name__ == "__main__":  # docs/examples/sysid_flywheel.wpilog: python tests/support/sysid_mechanisms.py flywheel PATH
+    import sys
+
+    write_mechanism_log(Path(sys.argv[2]), MECHANISMS[sys.argv[1]])
