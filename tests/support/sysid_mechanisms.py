@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .sysid_arm import RAMP, STEP, TESTS, voltage
+from .sysid_arm import RAMP, STEP, TESTS, stick_slip, voltage
 
 PERIOD = 0.020
 """The robot loop's period (s)."""
@@ -104,68 +104,27 @@ ROLLER = Mechanism("roller", "none", {"kS": 0.1, "kV": 0.2, "kA": 0.02}, "rotati
 def simulate(mechanism: Mechanism, test: str, direction: int, times: np.ndarray, start: float
              ) -> tuple[np.ndarray, np.ndarray]:
     """(x, v) of the mechanism at `times` (s from the test's start, increasing) from rest at `start`."""
-    from scipy.integrate import solve_ivp
-    from scipy.optimize import brentq
-
     kS, kV, kA = (mechanism.gains[k] for k in ("kS", "kV", "kA"))
     push = _push_volts(mechanism, test)
-    end = float(times[-1])
-
-    def applied(t):
-        return commanded(mechanism, test, direction, t) - push(t)
 
     def net(t, x):
-        return applied(t) - mechanism.gravity_volts(x)
+        return commanded(mechanism, test, direction, t) - push(t) - mechanism.gravity_volts(x)
 
-    t, x, v, moving = 0.0, start, 0.0, 0
-    pieces = []
-    while t < end:
-        if moving == 0:
-            begin = t
-            if abs(net(t, x)) <= kS:  # stuck until the voltage overcomes gravity and stiction
-                grid = np.arange(t, end + 1e-3, 1e-3)
-                over = [s for s in grid if abs(net(s, x)) > kS]
-                if not over:
-                    pieces.append((begin, end, lambda s, x=x: (x, 0.0)))
-                    break
-                later = over[0]
-                t = brentq(lambda s, x=x: abs(net(s, x)) - kS, max(later - 1e-3, begin), later, xtol=1e-12) + 1e-12
-            pieces.append((begin, t, lambda s, x=x: (x, 0.0)))
-            moving = 1 if net(t, x) > 0 else -1
-            continue
-
-        def rhs(s, y, d=moving):
-            return [y[1], (net(s, y[0]) - kS * d - kV * y[1]) / kA]
-
-        def stops(s, y, d=moving):
-            return y[1]
-
-        stops.terminal, stops.direction = True, -moving
-        solution = solve_ivp(rhs, (t, end), [x, v], method="DOP853", rtol=1e-10, atol=1e-12, dense_output=True,
-                             events=stops, max_step=0.01)
-        stop = float(solution.t[-1])
-        pieces.append((t, stop, lambda s, f=solution.sol: tuple(f(s))))
-        t, (x, v) = stop, solution.y[:, -1]
-        if solution.status == 1:
-            v, moving = 0.0, 0
-            t += 1e-12
-    x_out, v_out = np.empty(len(times)), np.empty(len(times))
-    for k, s in enumerate(times):
-        for first, last, state in pieces:
-            if first <= s <= last:
-                x_out[k], v_out[k] = state(s)
-                break
-        else:
-            x_out[k], v_out[k] = pieces[-1][2](pieces[-1][1])
-    return x_out, v_out
+    return stick_slip(net, kS, kV, kA, start, times, max_step=0.05, rtol=1e-10)
 
 
 def commanded(mechanism: Mechanism, test: str, direction: int, t):
-    """The voltage the motor applies at time t of a test: the routine's, a dynamic step through the ramp."""
+    """The voltage the motor applies at time t (a float, or an array) of a test: the routine's, a dynamic step
+    through the ramp."""
+    dynamic = test.startswith("dynamic")
+    if np.ndim(t) == 0:  # the integrator's many scalar calls, without numpy's overhead
+        t = float(t)
+        volts = direction * (STEP if dynamic else RAMP * t)
+        return volts * min(t / mechanism.ramp, 1.0) if dynamic and mechanism.ramp > 0 else volts
     volts = voltage(test, direction, t)
-    if mechanism.ramp > 0 and test.startswith("dynamic"):
+    if mechanism.ramp > 0 and dynamic:
         volts = volts * np.minimum(np.asarray(t, dtype=float) / mechanism.ramp, 1.0)
-    return volts if np.ndim(volts) else float(volts)
+    return volts
 
 
 def _push_volts(mechanism: Mechanism, test: str):
