@@ -111,7 +111,8 @@ class ArmGains:
         """The unit the constructor lines' gains are per: the log's own ('rotation', 'radian', 'meter'), except an
         ArmFeedforward's, which takes radians, and a degrees log's, given per radian."""
         if self.linear:
-            return (self.unit or "unit").rstrip("s")
+            named = (self.unit or "unit").strip().lower()
+            return {"metres": "meter", "metre": "meter", "m": "meter", "feet": "foot"}.get(named, named.rstrip("s"))
         if self.feedforward == "ArmFeedforward" or self.unit != "rotations":
             return "radian"
         return "rotation"
