@@ -256,3 +256,32 @@ def test_a_real_drives_voltage_steps_are_kept():
     gap = abs(robust.params["kA"] - everything.params["kA"])
     assert gap < 2 * math.hypot(robust.bse["kA"], everything.bse["kA"])
     assert robust.params["kA"] > 3 * robust.bse["kA"]
+
+
+def test_mechanism_and_model_together_are_one_line(capsys, logs):
+    line = refused(capsys, "fit", "--wpilog", logs["flywheel"], "--mechanism", "arm", "--model", "plain")
+    assert "--mechanism arm" in line and "--model plain" in line
+
+
+def test_a_csv_voltage_log_takes_a_mechanism(capsys, tmp_path):
+    # A CSV voltage log is fitted as an arm unless --mechanism says otherwise.
+    path = tmp_path / "wheel.csv"
+    t = np.arange(0, 6, 0.01)
+    volts = 6 * np.sin(1.3 * t) + 3 * np.sin(4.1 * t)
+    # A wheel with kS 0.1 V, kV 0.5 V s/rad, kA 0.05 V s²/rad, integrated by a fine explicit step.
+    speed, angle, q, rows = 0.0, 0.0, [], []
+    fine = 0.0001
+    for k, now in enumerate(t):
+        q.append(angle)
+        for _ in range(100):
+            v = 6 * np.sin(1.3 * (now + _ * fine)) + 3 * np.sin(4.1 * (now + _ * fine))
+            speed += fine * (v - 0.1 * np.sign(speed) - 0.5 * speed) / 0.05
+            angle += fine * speed
+    rows = "\n".join(f"{a:.6f},{b:.9f},{c:.6f}" for a, b, c in zip(t, q, volts))
+    path.write_text("t,q,tau\n" + rows + "\n")
+    status, out, err = run(capsys, "fit", "--csv", path, "--effort", "voltage", "--mechanism", "simple", "--gains",
+                           "wpilib", "--json")
+    assert status == 0, err
+    gains = json.loads(out)["gains"]
+    assert gains["feedforward"] == "SimpleMotorFeedforward" and set(gains["gains"]) == {"kS", "kV", "kA"}
+    assert within(gains["gains"]["kV"]["value"], 0.5, 0.03)
