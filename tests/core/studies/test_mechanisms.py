@@ -152,12 +152,18 @@ def test_an_arm_needs_an_angle():
     from jointid.studies.mechanism import MechanismError, check_mechanism
 
     class Table:
+        """A table read in metres, as a Meter log is."""
+
         units = (("q", "meters"), ("qd", "meters"))
 
     class Source:
+        """Its source."""
+
         table = Table()
 
     class Log:
+        """A log of it."""
+
         path, source = "lift.wpilog", Source()
 
     with pytest.raises(MechanismError) as raised:
