@@ -13,8 +13,8 @@ cosine of its angle (the arm's kG within SUPPORT standard errors of 0). Then
 each remaining model is fitted to the tests (pooled) and compared by BIC on the
 samples every fit kept, counting every test's samples, each test with its own
 residual variance: BIC = sum_k n_k ln(RSS_k / n_k) + p ln(N). A model with a
-gravity term is chosen over a simpler one only when its BIC is lower and its kG
-stands SUPPORT standard errors clear of zero.
+gravity term is chosen over a simpler one only when its BIC is lower by more
+than DECISIVE and its kG stands SUPPORT standard errors clear of zero.
 """
 
 from __future__ import annotations
@@ -41,6 +41,10 @@ WORDS = {SIMPLE: "simple motor", ELEVATOR: "elevator", ARM: "arm"}
 
 SUPPORT = 3.0
 """Standard errors a gravity gain must stand clear of zero for the data to support it."""
+
+DECISIVE = 10.0
+"""BIC lower by more than this (Kass and Raftery's 'very strong' evidence) is needed to add a gravity term: a log's
+samples are correlated, so smaller differences are within what the fit's own settings move."""
 
 MANY_TURNS = 2.0
 """Revolutions beyond which a joint whose voltage does not follow the cosine of its angle is a wheel, no arm."""
@@ -125,7 +129,7 @@ class MechanismChoice:
         best = bic[self.mechanism]
         others = [f"{WORDS[name]} {value - best:+.1f}" for name, value in self.bic if name != self.mechanism]
         if others:
-            parts.append(f"BIC over the tests' {self.samples:,} samples {', '.join(others)} above it")
+            parts.append(f"BIC over the tests' {self.samples:,} samples against it: {', '.join(others)}")
         for name, value, error in self.gravity:
             supported = "supported" if abs(value) > SUPPORT * error else "not supported"
             parts.append(f"the {WORDS[name]}'s kG = {value:.3g} ± {error:.2g} V, {supported} by the data")
@@ -198,7 +202,7 @@ def choose_mechanism(logs, fit) -> tuple[str, MechanismChoice]:
     bic, samples = _bic(fits)
     chosen = SIMPLE if SIMPLE in bic else next(iter(bic), SIMPLE)
     for name in (ELEVATOR, ARM):
-        if name in bic and bic[name] < bic[chosen] and supported.get(name, False):
+        if name in bic and bic[name] < bic[chosen] - DECISIVE and supported.get(name, False):
             chosen = name
     choice = MechanismChoice(chosen, None, unit, tuple(bic.items()), samples, tuple(ruled_out),
                              tuple(gravity), revolutions)

@@ -264,6 +264,21 @@ def test_a_real_drives_voltage_steps_are_kept():
     assert robust.params["kA"] > 3 * robust.bse["kA"]
 
 
+def test_a_real_drive_is_a_simple_motor():
+    from support.real_logs import needs_real_logs
+
+    from jointid.estimation.exclusion import ExclusionRequest
+    from jointid.studies.sysid import fit_sysid
+
+    if needs_real_logs.args[0]:  # the real logs are not beside the checkout
+        pytest.skip(needs_real_logs.kwargs["reason"])
+    logs = _swerve_tests()
+    # Read as if in radians, it could be an arm; its data choose a simple motor, with the robust step or without.
+    for robust in (True, False):
+        fit = fit_sysid(logs, sensitivity=False, exclusion=ExclusionRequest(robust))
+        assert fit.mechanism.mechanism == "simple", fit.mechanism.note()
+
+
 def test_mechanism_and_model_together_are_one_line(capsys, logs):
     line = refused(capsys, "fit", "--wpilog", logs["flywheel"], "--mechanism", "arm", "--model", "plain")
     assert "--mechanism arm" in line and "--model plain" in line
