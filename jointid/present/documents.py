@@ -286,7 +286,8 @@ def logs_document(logs) -> dict:
                                log_notes(logs)), **exclusion_object(logs),
             "moved_by_derivative_settings": list(logs.moved_by_settings),
             "omitted_terms": omitted_object(logs),
-            "moved_by_omitted_terms": list(logs.decided_by_omitted), **effort_object(logs.result.model)}
+            "moved_by_omitted_terms": list(logs.decided_by_omitted), **effort_object(logs.result.model),
+            **({} if getattr(logs, "mechanism", None) is None else {"mechanism": logs.mechanism.to_dict()})}
 
 
 def effort_object(model) -> dict:

@@ -20,6 +20,8 @@ def log_notes(logs: LoadedLogs) -> tuple[str, ...]:
         notes.append(f"{logs.training.path}: {low_pass_note(logs.filter, logs.result.model.effort.name)}")
     if logs.heldout is not None:
         notes.extend(logs.heldout.notes)
+    if getattr(logs, "mechanism", None) is not None:
+        notes.append(logs.mechanism.note())
     return tuple(notes)
 
 

@@ -226,8 +226,8 @@ class MainScreen(Screen):
                 tooltip="The log's notes: how it was read, filtered and checked, and what the fit left out"),
         # Not in the footer (80 columns have no room): a voltage log's note names it, the help and the palette list it.
         Binding("g", "gains", "Gains", priority=True, show=False,
-                tooltip="A log's WPILib ArmFeedforward gains: kS, kG, kV, kA (a voltage log, or a torque log with "
-                "--motor)"),
+                tooltip="A log's WPILib feedforward gains: kS, kV, kA, and kG of an arm or elevator (a voltage log, "
+                "or a torque log with --motor)"),
         # Only with several runs (check_action); the log note names it.
         Binding("u", "runs", "Runs", priority=True, show=False,
                 tooltip="Several runs: each run's fit beside the pooled one; a digit there shows a run"),
@@ -647,7 +647,7 @@ class MainScreen(Screen):
         return None if conventions is None else conventions.motor
 
     def action_gains(self) -> None:
-        """Open the gains view: WPILib's ArmFeedforward gains of the log shown (and the motor's physical parameters
+        """Open the gains view: the WPILib feedforward gains of the log shown (and the motor's physical parameters
         behind a voltage log's); a notification when the fit gives none (a torque log without a motor)."""
         from jointid.studies.gains import GainsError
 
