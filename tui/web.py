@@ -19,7 +19,7 @@ from pathlib import Path
 from textual.app import App
 
 from jointid.cli.serve_command import DATA_ENVIRONMENT, SERVER_PID_ENVIRONMENT
-from jointid.files import json_text, shown_path
+from jointid.files import confine_reading, json_text, shown_path
 
 NO_DATA_FOLDER = ("Opening logs is off in the browser: the server was started without a --data folder "
                   "(jointid serve --data DIR).")
@@ -56,6 +56,15 @@ def is_inside(path: str | os.PathLike, folder: Path) -> bool:
     except OutsideDataFolder:
         return False
     return True
+
+
+def start_session() -> None:
+    """In a session of `jointid serve` (nothing elsewhere): end with the server, and read only inside the --data
+    folder from now on (jointid.files.confine_reading), whatever path a check let through."""
+    end_with_server()
+    folder = data_folder()
+    if folder is not None:
+        confine_reading(folder)
 
 
 PR_SET_PDEATHSIG = 1

@@ -31,6 +31,7 @@ from ..model.terms import CANDIDATE_TERMS, PLAIN, JointModel, in_effort, model_a
 from ..norms import rms
 from ..options import DEFAULT_ORDER, LOG_MODEL
 from ..samples import JointData
+from ..text_safety import shown_name
 from .sensitivity import FACTORS, SensitivityCheck, Variant, sensitivity_check
 
 
@@ -124,7 +125,7 @@ class LoadedLogs:
     @property
     def heldout_name(self) -> str | None:
         """The held-out file's name, or None."""
-        return None if self.heldout is None else os.path.basename(os.path.normpath(self.heldout.path))
+        return None if self.heldout is None else shown_name(os.path.basename(os.path.normpath(self.heldout.path)))
 
     @property
     def logs(self) -> tuple[JointLog, ...]:

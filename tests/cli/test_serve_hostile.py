@@ -17,6 +17,7 @@ import aiohttp
 import pytest
 from aiohttp.test_utils import TestClient, TestServer
 
+from tests.cli.test_serve import path_field
 from tests.support.serve_support import DEADLINE, BrowserTerminal, ServedExplorer, disposition_name, process_alive
 
 PUBLIC_URL = "https://jointid.example.org"
@@ -228,3 +229,55 @@ def test_a_flood_of_idle_and_half_sent_connections_is_shed_and_a_browser_gets_in
         for connection in flood:
             connection.close()
         served.stop()
+
+
+LOG = "t,q,qd,qdd,tau\n" + "".join(
+    f"{i * 0.01:.2f},{0.1 * i:.3f},1,0.5,{0.4 + 0.05 * i + 0.01 * (i % 3):.4f}\n" for i in range(40))
+"""A small log every name below holds."""
+
+NOT_UTF8 = b"caf\xe9.csv"
+"""A Latin-1 name: not UTF-8."""
+ESCAPES = "\x1b[2J\x1b]0;owned\x07\rclear.csv"
+"""A name that clears the screen, sets the window's title, rings and rewrites its line, if shown raw."""
+
+
+@pytest.fixture(scope="module")
+def data_server(tmp_path_factory):
+    """`jointid serve --data DIR` whose folder holds a log under a name that is not UTF-8 and one full of
+    terminal escapes."""
+    data = tmp_path_factory.mktemp("odd-names")
+    (data / "inside.csv").write_text(LOG)
+    with open(os.path.join(os.fsencode(data), NOT_UTF8), "w") as log:
+        log.write(LOG)
+    (data / ESCAPES).write_text(LOG)
+    served = ServedExplorer("--noise", "0.2", "--max-sessions", "2", "--data", str(data))
+    yield served
+    served.stop()
+
+
+def test_odd_file_names_show_escaped_in_the_browser_and_open_without_ending_the_session(data_server):
+    async def scenario(http):
+        start = len(data_server.lines)
+        tab = await BrowserTerminal(http, data_server, 120, 40).connect()
+        await tab.wait_for_text("0.793312")
+        await tab.press("ctrl+o")
+        await tab.wait_for_text("inside.csv")  # the tree lists the folder
+        await tab.wait_for_text("caf\\xe9.csv")  # escaped, where it used to end the session
+        assert "\\x1b[2J\\x1b]0;owned\\x07\\rclear.csv" in tab.text  # shown, not obeyed
+        assert tab.screen.title != "owned" and "0.793312" not in tab.text  # no title set; the dialog is on top
+        await tab.press("ctrl+u")
+        await tab.wait_until(lambda: path_field(tab) == "", "the path field to empty")
+        await tab.press("caf\\xe9.csv", "enter")  # typed as it is shown: opens the file of that name
+        await tab.wait_until(lambda: "Log loaded" in tab.notices, "the log's notification")
+        assert "caf\\xe9.csv" in tab.notices
+        await tab.press("ctrl+s")  # its exports' names hold the odd name: downloads with a safe one
+        await tab.wait_until(lambda: len(tab.deliveries) == 2, "two downloads")
+        names = sorted([(await tab.download(key))[0] for key in tab.deliveries])
+        assert names == ["caf_-fit.json", "caf_-fit.svg"]
+        assert not tab.closed
+        await tab.close()
+        data_server.wait_for_line("session ended", start)
+        log = "".join(data_server.lines[start:])
+        assert "Traceback" not in log and "UnicodeEncodeError" not in log, log
+
+    run(scenario)
