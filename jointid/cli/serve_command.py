@@ -242,7 +242,7 @@ def run(args: argparse.Namespace) -> int:
         session_command(words), host=args.host, port=args.port,
         public_url=args.public_url, allowed_origins=tuple(args.allow_origin),
         max_sessions=max_sessions, idle_timeout=args.idle_timeout,
-        environment={DATA_ENVIRONMENT: data or ""}, announcement=sentence,
+        environment={DATA_ENVIRONMENT: data or "", SERVER_PID_ENVIRONMENT: str(os.getpid())}, announcement=sentence,
     )
     try:
         server.serve()

@@ -31,7 +31,6 @@ import asyncio
 import ipaddress
 import json
 import logging
-import os
 import resource
 import signal
 import time
@@ -44,7 +43,6 @@ from textual_serve.app_service import AppService
 from textual_serve.server import Server
 
 from ..text_safety import shown_name
-from .serve_command import SERVER_PID_ENVIRONMENT
 
 log = logging.getLogger("textual-serve")
 
@@ -315,7 +313,7 @@ class JointIdServer(Server):
         self.argv = argv
         self.max_sessions = max_sessions
         self.idle_timeout = idle_timeout
-        self.environment = environment | {SERVER_PID_ENVIRONMENT: str(os.getpid())}
+        self.environment = environment
         self.announcement = announcement
         self.sessions: dict[Session, web.WebSocketResponse] = {}
         """Every running session and its browser's connection."""
