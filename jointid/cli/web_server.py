@@ -31,7 +31,6 @@ import asyncio
 import ipaddress
 import json
 import logging
-import resource
 import signal
 import time
 import uuid
@@ -241,6 +240,10 @@ def content_disposition(kind: str, name: str) -> str:
 def raise_open_file_limit(wanted: int) -> int:
     """Raise this process's soft limit of open files towards `wanted` (never above the hard limit); the limit
     now in force."""
+    try:
+        import resource  # POSIX only
+    except ImportError:
+        return wanted
     soft, hard = resource.getrlimit(resource.RLIMIT_NOFILE)
     if soft != resource.RLIM_INFINITY and soft < wanted:
         new = wanted if hard == resource.RLIM_INFINITY else min(wanted, hard)
@@ -260,9 +263,10 @@ SPARE_FILES = 64
 
 def connection_limit(max_sessions: int, open_files: int) -> int:
     """How many connections to keep open at most: room for each session's WebSocket, a page load and a download,
-    plus spare, but never more than the open files leave after the sessions' own (at least 16)."""
+    plus spare, but never more than the open files leave after the sessions' own (yet always room for every
+    session's WebSocket and 16 more)."""
     wanted = 4 * max_sessions + SPARE_FILES
-    return max(16, min(wanted, open_files - FILES_PER_SESSION * max_sessions - SPARE_FILES))
+    return max(max_sessions + 16, min(wanted, open_files - FILES_PER_SESSION * max_sessions - SPARE_FILES))
 
 
 class BoundedSite(web.BaseSite):
