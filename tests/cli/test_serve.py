@@ -6,16 +6,14 @@ connections. The lesson's numbers checked here are the lesson's own table (DESIG
 
 from __future__ import annotations
 
-import asyncio
 import json
 import os
 import socket
 import sys
 
-import aiohttp
 import pytest
 
-from tests.support.serve_support import BrowserTerminal, ServedExplorer, process_alive
+from tests.support.serve_support import BrowserTerminal, ServedExplorer, path_field, process_alive, run
 
 SLOW_FIT = {"I": -1.607788, "h": 0.400094, "B": 0.109966}
 """The lesson's slow motion at noise 0.20 (DESIGN.md's table)."""
@@ -41,16 +39,6 @@ def server(data_tree):
     served = ServedExplorer("--noise", "0.2", "--max-sessions", "2", "--data", str(data_tree / "data"))
     yield served
     served.stop()
-
-
-def run(scenario):
-    """Run an async scenario with one HTTP client session."""
-
-    async def main():
-        async with aiohttp.ClientSession() as http:
-            return await scenario(http)
-
-    return asyncio.run(main())
 
 
 def test_the_browser_sees_the_lesson_and_downloads_the_fit_and_the_session_ends_with_the_socket(server):
@@ -148,14 +136,6 @@ def test_ctrl_o_in_the_browser_reads_only_inside_the_data_folder(server, data_tr
         await tab.close()
 
     run(scenario)
-
-
-def path_field(tab: BrowserTerminal) -> str:
-    """What the Open dialog's path field shows (the line under its label, left of any notification)."""
-    lines = tab.screen.display
-    label = next(index for index, line in enumerate(lines) if "Path (Enter opens it):" in line)
-    start = lines[label].index("Path")
-    return lines[label + 1][start:].split("▌")[0].split("│")[0].strip()
 
 
 @pytest.fixture(scope="module")

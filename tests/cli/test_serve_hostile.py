@@ -17,8 +17,15 @@ import aiohttp
 import pytest
 from aiohttp.test_utils import TestClient, TestServer
 
-from tests.cli.test_serve import path_field
-from tests.support.serve_support import DEADLINE, BrowserTerminal, ServedExplorer, disposition_name, process_alive
+from tests.support.serve_support import (
+    DEADLINE,
+    BrowserTerminal,
+    ServedExplorer,
+    disposition_name,
+    path_field,
+    process_alive,
+    run,
+)
 
 PUBLIC_URL = "https://jointid.example.org"
 ALLOWED = "http://class.example:8080"
@@ -27,19 +34,10 @@ ALLOWED = "http://class.example:8080"
 @pytest.fixture(scope="module")
 def server():
     """`jointid serve` behind a (pretend) reverse proxy, trusting one more site, with three sessions."""
-    served = ServedExplorer("--noise", "0.2", "--max-sessions", "3", "--public-url", PUBLIC_URL + "/", "--allow-origin", ALLOWED)
+    served = ServedExplorer("--noise", "0.2", "--max-sessions", "3", "--public-url", PUBLIC_URL + "/",
+                            "--allow-origin", ALLOWED)
     yield served
     served.stop()
-
-
-def run(scenario):
-    """Run an async scenario with one HTTP client session."""
-
-    async def main():
-        async with aiohttp.ClientSession() as http:
-            return await scenario(http)
-
-    return asyncio.run(main())
 
 
 def test_a_page_of_another_site_is_refused_and_starts_no_explorer_while_the_served_page_connects(server):

@@ -117,6 +117,24 @@ class ServedExplorer:
             self.process.stdout.close()
 
 
+def run(scenario):
+    """Run an async scenario with one HTTP client session."""
+
+    async def main():
+        async with aiohttp.ClientSession() as http:
+            return await scenario(http)
+
+    return asyncio.run(main())
+
+
+def path_field(tab: BrowserTerminal) -> str:
+    """What the Open dialog's path field shows (the line under its label, left of any notification)."""
+    lines = tab.screen.display
+    label = next(index for index, line in enumerate(lines) if "Path (Enter opens it):" in line)
+    start = lines[label].index("Path")
+    return lines[label + 1][start:].split("▌")[0].split("│")[0].strip()
+
+
 def disposition_name(response: aiohttp.ClientResponse) -> str:
     """The file name a browser saves a download as: its Content-Disposition's `filename*` (RFC 6266), else
     `filename`, read by aiohttp's parser of the header."""
