@@ -140,8 +140,9 @@ def test_ctrl_o_in_the_browser_reads_only_inside_the_data_folder(server, data_tr
 
 @pytest.fixture(scope="module")
 def idle_server():
-    """`jointid serve --idle-timeout 3` without --data."""
-    served = ServedExplorer("--idle-timeout", "3")
+    """`jointid serve --idle-timeout 10` without --data (longer than an explorer takes to start on a machine
+    loaded by other tests: at 3 s a session was ended before it had drawn)."""
+    served = ServedExplorer("--idle-timeout", "10")
     yield served
     served.stop()
 
@@ -156,7 +157,7 @@ def test_an_abandoned_session_ends_after_the_idle_timeout_and_ctrl_o_is_off_with
         pid = int(idle_server.wait_for_line(r"session started: pid (\d+)", start).group(1))
         await tab.wait_for_close()  # nothing typed since: the server ends the session
         code, reason = tab.close_reason
-        assert code == 1001 and reason == "Session ended after 3 s without a key. Reload the page to start again."
+        assert code == 1001 and reason == "Session ended after 10 s without a key. Reload the page to start again."
         idle_server.session_ended(pid, start)
         assert not process_alive(pid)
 
