@@ -6,6 +6,7 @@ import math
 from typing import TYPE_CHECKING
 
 from ..estimation.low_pass import ATTENUATION_DB, FILTER_NAME, FLATNESS
+from ..text_safety import shown_name
 from .text import ordinal
 
 if TYPE_CHECKING:
@@ -17,7 +18,7 @@ def log_notes(logs: LoadedLogs) -> tuple[str, ...]:
     """The loaders' notes (ignored columns, timing, estimated derivatives) and the filter's, training log first."""
     notes = list(logs.training.notes)
     if logs.filter is not None:
-        notes.append(f"{logs.training.path}: {low_pass_note(logs.filter, logs.result.model.effort.name)}")
+        notes.append(f"{shown_name(logs.training.path)}: {low_pass_note(logs.filter, logs.result.model.effort.name)}")
     if logs.heldout is not None:
         notes.extend(logs.heldout.notes)
     if getattr(logs, "mechanism", None) is not None:

@@ -32,6 +32,7 @@ from ..model.terms import CANDIDATE_TERMS, PLAIN, JointModel, in_effort, model_a
 from ..norms import rms
 from ..options import DEFAULT_ORDER, LOG_MODEL
 from ..samples import JointData
+from ..text_safety import shown_name
 from .angle_models import check_angle_model
 from .sensitivity import FACTORS, SensitivityCheck, Variant, sensitivity_check
 
@@ -128,7 +129,7 @@ class LoadedLogs:
     @property
     def heldout_name(self) -> str | None:
         """The held-out file's name, or None."""
-        return None if self.heldout is None else os.path.basename(os.path.normpath(self.heldout.path))
+        return None if self.heldout is None else shown_name(os.path.basename(os.path.normpath(self.heldout.path)))
 
     @property
     def logs(self) -> tuple[JointLog, ...]:

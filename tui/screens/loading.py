@@ -11,6 +11,8 @@ from textual.containers import Vertical
 from textual.screen import ModalScreen
 from textual.widgets import Label, ProgressBar, Static
 
+from jointid.text_safety import shown_name
+
 
 class LoadingScreen(ModalScreen[None]):
     """A progress bar over the explorer while a worker reads a log; the explorer stays as it was."""
@@ -52,7 +54,7 @@ class LoadingScreen(ModalScreen[None]):
     def compose(self) -> ComposeResult:
         """File name, progress bar, hint."""
         with Vertical():
-            yield Label(f"Loading {os.path.basename(self.path)}", markup=False)
+            yield Label(f"Loading {shown_name(os.path.basename(self.path))}", markup=False)
             yield ProgressBar(total=None, show_eta=False, id="load-progress")
             yield Static("Escape cancels; the current data stay.", markup=False, id="load-hint")
 
