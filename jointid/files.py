@@ -38,12 +38,20 @@ whose temporary has no second link was never placed), also the members already
 linked into place (the files of the folder that are the same file as their
 temporary), so a group never stays half there.
 
+Confined reading (`confine_reading`): a session of `jointid serve` reads only
+inside its --data folder. Every read there opens the path from the folder's
+own descriptor one component at a time, following no symbolic link
+(O_NOFOLLOW through `dir_fd`), and checks the file it opened (fstat against
+the lstat it looked at before opening). A path that was checked, then had a
+folder swapped for a link out before the read, is refused, never read.
+
 Paths in messages go through `shown_path`, so that a name holding a newline
 or another control character still makes a one-line message.
 """
 
 from __future__ import annotations
 
+import errno
 import json
 import os
 import re
@@ -78,15 +86,17 @@ def shown_path(path) -> str:
 
 
 def shown_command(words) -> str:
-    """A command line as shown: each word quoted for a shell, or, when it holds a character that is not printable,
-    escaped as `shown_path` does (a raw ESC in a file name would drive the terminal that shows the line).
+    """A command line as shown: each word escaped as every name is (`text_safety.shown_name`: a raw ESC in a file
+    name would drive the terminal that shows the line), then quoted for a shell.
 
     >>> shown_command(["jointid", "fit", "--csv", "run 1.csv"]), shown_command(["--out", "a\\x1bb"])
     ("jointid fit --csv 'run 1.csv'", "--out 'a\\\\x1bb'")
     """
     import shlex
 
-    return " ".join(shlex.quote(word) if word.isprintable() else shown_path(word) for word in map(str, words))
+    from .text_safety import shown_name
+
+    return " ".join(shlex.quote(shown_name(str(word))) for word in words)
 
 
 def file_kind(mode: int) -> str | None:
@@ -116,13 +126,80 @@ class FileRefused(ValueError):
         super().__init__(f"{shown_path(self.path)}: {self.problem}")
 
 
+_READ_FOLDER: str | None = None
+"""The only folder this process may read in (a session of `jointid serve --data DIR`), or None for anywhere."""
+
+OPEN_FLAGS = (os.O_RDONLY | getattr(os, "O_BINARY", 0) | getattr(os, "O_CLOEXEC", 0))
+"""Flags of every open for reading; each open adds its own."""
+
+
+def confine_reading(folder: str | os.PathLike | None) -> None:
+    """From now on read only inside `folder` (an absolute path without symbolic links), or anywhere again (None)."""
+    global _READ_FOLDER
+    _READ_FOLDER = None if folder is None else os.fspath(folder)
+
+
+def _components_within(folder: str, path) -> list[str]:
+    """The names leading from `folder` to `path` (absolute, or relative to `folder`); FileRefused when it lies
+    outside, or names `..` or `.` on the way."""
+    text = os.fsdecode(os.fspath(path))
+    relative = os.path.relpath(text, folder) if os.path.isabs(text) else text
+    parts = [part for part in relative.split(os.sep) if part]
+    if not parts or any(part in (os.curdir, os.pardir) for part in parts):
+        raise FileRefused(path, "cannot open", "outside the folder this server may read")
+    return parts
+
+
+def _open_within(folder: str, path) -> int:
+    """A descriptor of the regular file at `path` in `folder`, opened from the folder's descriptor one name at a
+    time without following any link, and checked to be the file looked at (see the module's docstring)."""
+    parts = _components_within(folder, path)
+    current = os.open(folder, OPEN_FLAGS | os.O_DIRECTORY)
+    try:
+        for name in parts[:-1]:
+            following = os.open(name, OPEN_FLAGS | os.O_DIRECTORY | os.O_NOFOLLOW, dir_fd=current)
+            os.close(current)
+            current = following
+        looked = os.stat(parts[-1], dir_fd=current, follow_symlinks=False)
+        kind = file_kind(looked.st_mode)
+        if kind is not None:  # not opened: a FIFO would wait, a device can act on being opened
+            raise FileRefused(path, "cannot read", f"{kind}, not a regular file")
+        before_open_hook()
+        descriptor = os.open(parts[-1], OPEN_FLAGS | os.O_NOFOLLOW | getattr(os, "O_NONBLOCK", 0), dir_fd=current)
+        opened = os.fstat(descriptor)
+        if (opened.st_dev, opened.st_ino) != (looked.st_dev, looked.st_ino) or file_kind(opened.st_mode):
+            os.close(descriptor)
+            raise FileRefused(path, "cannot open", "it changed while it was being opened")
+        return descriptor
+    except OSError as error:
+        if error.errno in (errno.ELOOP, errno.ENOTDIR):  # O_NOFOLLOW met a link (or a file where a folder was)
+            raise FileRefused(path, "cannot open", "a symbolic link or a file on its way; only what lies in "
+                              "the folder this server may read is read") from None
+        raise
+    finally:
+        os.close(current)
+
+
+def before_open_hook() -> None:
+    """Called between looking at a file and opening it: nothing, except in the test that swaps the file there."""
+
+
 def open_for_reading(path) -> BinaryIO:
     """The regular file at `path`, opened for binary reading; FileRefused for anything else or any error.
+
+    Under `confine_reading` the path is opened from the folder without following links (`_open_within`).
 
     Raises:
         FileRefused: "cannot open: <reason>" when the path cannot be opened, or "cannot read: a named pipe
             (FIFO), not a regular file" (a directory, a device, a socket...) without opening it.
     """
+    if _READ_FOLDER is not None:
+        try:
+            return os.fdopen(_open_within(_READ_FOLDER, path), "rb")
+        except FileRefused:
+            raise
+        except (OSError, ValueError) as error:
+            raise FileRefused(path, "cannot open", _reason(error)) from None
     try:
         # Looked at before opening: opening a FIFO waits for a writer, and opening a device can act on it.
         kind = file_kind(os.stat(path).st_mode)

@@ -33,6 +33,12 @@ EXTRA_TERM_NAMES = ("coulomb", "bias", "angle-offset")
 LADDER = ("plain", "coulomb", "bias", "angle-offset", "coulomb+bias", "coulomb+angle-offset")
 """The models `jointid compare` fits, simplest first."""
 
+MECHANISM_MODEL_NAMES = ("simple", "elevator")
+"""Models named by their mechanism: a simple motor (no gravity term) and an elevator (a constant one)."""
+
+MECHANISMS = ("simple", "elevator", "arm")
+"""What a SysId routine characterised (--mechanism): a simple motor (flywheel, roller, drive), an elevator, an arm."""
+
 LOG_MODEL = "coulomb+bias"
 """The model a log is fitted with unless told otherwise: real joints have Coulomb friction and sensors a bias."""
 VOLTAGE_LOG_MODEL = "coulomb+angle-offset"
@@ -236,6 +242,8 @@ def check_setting(field: str, value) -> None:
     """Raise SettingsError unless value is allowed for the named setting."""
     if field == "motion":  # a name here; Settings also takes a designed motion object
         ok = isinstance(value, str) and value in TRAINING_MOTION_NAMES
+    elif field == "model" and isinstance(value, str) and value.strip().lower() in MECHANISM_MODEL_NAMES:
+        ok = True
     elif field == "model":
         try:
             model_extras(value)

@@ -42,6 +42,9 @@ def explore(settings: Settings, logs: LoadedLogs | None = None,
     app = JointIdApp(settings, logs, derivatives=derivatives, filtering=filtering, conventions=conventions)
     app.restore_gc = False  # the process ends with the app: see JointIdApp.restore_gc
     interrupt = Interrupt(app)
+    from .web import start_session
+
+    start_session()  # a session of `jointid serve` only: ends with its server, reads only in --data
     try:
         with interrupt.handling():
             app.run()  # Textual restores the terminal before it returns, and prints a crash's traceback

@@ -12,12 +12,14 @@ from __future__ import annotations
 
 import io
 import os
+import signal
+import sys
 from pathlib import Path
 
 from textual.app import App
 
-from jointid.cli.serve_command import DATA_ENVIRONMENT
-from jointid.files import json_text, shown_path
+from jointid.cli.serve_command import DATA_ENVIRONMENT, SERVER_PID_ENVIRONMENT
+from jointid.files import confine_reading, json_text, shown_path
 
 NO_DATA_FOLDER = ("Opening logs is off in the browser: the server was started without a --data folder "
                   "(jointid serve --data DIR).")
@@ -54,6 +56,52 @@ def is_inside(path: str | os.PathLike, folder: Path) -> bool:
     except OutsideDataFolder:
         return False
     return True
+
+
+def start_session() -> None:
+    """In a session of `jointid serve` (nothing elsewhere): end with the server, and read only inside the --data
+    folder from now on (jointid.files.confine_reading), whatever path a check let through."""
+    end_with_server()
+    folder = data_folder()
+    if folder is not None:
+        confine_reading(folder)
+
+
+PR_SET_PDEATHSIG = 1
+"""Linux's prctl option asking for a signal when the parent process ends (prctl(2))."""
+
+
+def end_with_server() -> None:
+    """In a session of `jointid serve`, end this explorer when its server ends, even killed outright (SIGKILL
+    leaves no time to end the sessions): on Linux the kernel sends SIGTERM when the parent goes, and everywhere
+    a thread watches standard input, whose other end is the server's, for its closing."""
+    server = os.environ.get(SERVER_PID_ENVIRONMENT)
+    if not server:
+        return
+    import threading
+
+    if sys.platform.startswith("linux"):
+        import ctypes
+
+        try:
+            ctypes.CDLL(None, use_errno=True).prctl(PR_SET_PDEATHSIG, signal.SIGTERM, 0, 0, 0)
+        except (OSError, AttributeError):
+            pass  # no prctl here: the watch below still ends the session
+    if os.getppid() != int(server):  # the server went before the signal was asked for
+        os.kill(os.getpid(), signal.SIGTERM)
+    threading.Thread(target=_end_when_closed, args=(sys.stdin.fileno(),), name="end-with-server",
+                     daemon=True).start()
+
+
+def _end_when_closed(descriptor: int) -> None:
+    """Wait, without reading anything, until the other end of `descriptor` closes; then end this process."""
+    import select
+
+    watch = select.poll()
+    watch.register(descriptor, 0)  # no events asked: poll returns only on a hang-up or an error
+    while not watch.poll():
+        pass
+    os.kill(os.getpid(), signal.SIGTERM)
 
 
 def deliver_export(app: App, stem: str, document: dict, svg: str) -> tuple[str, str]:

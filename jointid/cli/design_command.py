@@ -136,9 +136,9 @@ def run(args: argparse.Namespace) -> int:
     else:
         print(design_text(result))
         if args.out is not None:
-            from ..files import shown_path
+            from ..text_safety import shown_name
 
-            print(f"\nWrote {shown_path(args.out)}: train on it with --motion-file {shown_path(args.out)}.")
+            print(f"\nWrote {shown_name(args.out)}: train on it with --motion-file {shown_name(args.out)}.")
     return ExitStatus.SUCCESS
 
 

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 
+from ..options import MECHANISMS
 from .arguments import UserError, positive_number, whole_number
 
 EFFORT_FLAGS = ("effort", "gear", "kt", "efficiency", "motor", "motor_r", "motor_kt", "motor_kv", "motor_count",
@@ -56,9 +57,14 @@ def add_effort_arguments(group) -> None:
                        help="one rotor's inertia (kg m²), to separate the rotors' reflected inertia (count x gear² "
                        "x it) from the load's; WPILib does not publish it")
     group.add_argument("--gains", choices=("wpilib",), default=None,
-                       help="also print the gains a controller takes: WPILib's ArmFeedforward kS, kG, kV, kA per "
-                       "radian and per rotation, with errors, verdicts, SysId's direction of regression and a "
+                       help="also print the gains a controller takes: the mechanism's WPILib feedforward "
+                       "(SimpleMotorFeedforward kS, kV, kA; ElevatorFeedforward and ArmFeedforward with kG) in the "
+                       "log's own units, with errors, verdicts, SysId's direction of regression and a "
                        "Java/C++/Python constructor (needs a voltage log, or a motor to convert a torque log)")
+    group.add_argument("--mechanism", choices=MECHANISMS, default=None,
+                       help="what a voltage log's routine characterised: simple (a flywheel, roller or drive: "
+                       "kS, kV, kA), elevator (+ a constant kG) or arm (+ kG cos of the angle, and its offset); "
+                       "default: chosen from a data log by BIC, the note says why (a CSV voltage log: arm)")
 
 
 def _flag(name: str) -> str:

@@ -347,10 +347,16 @@ def fit_loaded_logs(args: argparse.Namespace) -> LoadedLogs:
     from ..model.terms import model_named
     from ..studies.log_fit import fit_logs
 
+    mechanism = getattr(args, "mechanism", None)
+    if mechanism is not None and args.model is None:
+        from ..studies.mechanism import mechanism_model
+
+        model = mechanism_model(mechanism)
+    else:
+        model = model_named(args.model or log_model(args))
     try:
-        return fit_logs(training, heldout, model=model_named(args.model or log_model(args)),
-                        constrained=getattr(args, "constrained", False), filtering=filter_options(args),
-                        exclusion=exclusion_options(args))
+        return fit_logs(training, heldout, model=model, constrained=getattr(args, "constrained", False),
+                        filtering=filter_options(args), exclusion=exclusion_options(args))
     except LogError as error:  # numbers beyond double precision
         raise UserError(str(error)) from None
 
@@ -363,6 +369,8 @@ def log_model(args: argparse.Namespace) -> str:
 def fit_any_logs(args: argparse.Namespace):
     """The fitted log(s) the command line names: several runs (repeated --csv, or a SysId data log's tests) as a
     studies.runs.PooledRuns, else a LoadedLogs; UserError (one line) on any problem."""
+    if getattr(args, "mechanism", None) is not None and args.model is not None:
+        raise UserError(f"--mechanism {args.mechanism} and --model {args.model}: a mechanism is a model; give one")
     if several_runs(args):
         return fit_pooled_runs(args)
     if getattr(args, "wpilog", None) is None:
@@ -377,7 +385,8 @@ def fit_any_logs(args: argparse.Namespace):
         raise UserError(str(error)) from None
     from ..model.terms import model_named
 
-    if len(logs) == 1:
+    model = None if args.model is None else model_named(args.model)
+    if logs[0].effort.is_torque and len(logs) == 1:  # a torque log's entries: a joint, not a routine's mechanism
         from ..logs.request import load_joint_log
         from ..studies.log_fit import fit_logs
 
@@ -386,23 +395,26 @@ def fit_any_logs(args: argparse.Namespace):
 
         try:
             other = None if heldout is None else load_joint_log(heldout)
-            model = model_named(args.model or log_model(args))
             if no_angle(logs[0]) is not None:  # a length or an integrated velocity: no cos(q)
-                model = sysid_model(logs, model_named(args.model) if args.model else None)
-            return fit_logs(logs[0], other, model=model,
+                model = sysid_model(logs, model)
+            return fit_logs(logs[0], other, model=model or model_named(log_model(args)),
                             constrained=getattr(args, "constrained", False), filtering=filter_options(args),
                             exclusion=exclusion_options(args))
         except LogError as error:
             raise UserError(str(error)) from None
-    if heldout is not None:
+    if heldout is not None and len(logs) > 1:
         raise UserError(f"--heldout and --heldout-window: {training.path} is a SysId log of {len(logs)} tests, each "
                         "predicted by the others instead; drop them")
-    from ..studies.sysid import fit_sysid_runs
+    from ..logs.request import load_joint_log
+    from ..studies.mechanism import MechanismError
+    from ..studies.sysid import fit_sysid
 
     try:
-        return fit_sysid_runs(logs, None if args.model is None else model_named(args.model), filter_options(args),
-                              exclusion_options(args), getattr(args, "constrained", False))
-    except LogError as error:
+        other = None if heldout is None else load_joint_log(heldout)
+        return fit_sysid(logs, model, filter_options(args), exclusion_options(args),
+                         getattr(args, "constrained", False), mechanism=getattr(args, "mechanism", None),
+                         heldout=other)
+    except (LogError, MechanismError) as error:
         raise UserError(str(error)) from None
 
 

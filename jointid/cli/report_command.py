@@ -59,8 +59,9 @@ def add_parser(subparsers) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Fit, build the report, write it (HTML, and Markdown with its charts) as one group; print where."""
-    from ..files import ExportError, shown_path, write_texts
+    from ..files import ExportError, write_texts
     from ..present.report_charts import ReportExtraMissing
+    from ..text_safety import shown_name
 
     check_destinations(report_paths(args), args.force)
     check_drawing_library()
@@ -82,8 +83,8 @@ def run(args: argparse.Namespace) -> int:
         raise UserError(f"{error}{hint}") from None
     chart_files = len(texts) - 2
     charts = f"{chart_files} chart{'s' if chart_files != 1 else ''} beside it"
-    written = shown_path(args.out) if args.markdown is None else \
-        f"{shown_path(args.out)}, {shown_path(args.markdown)} and {charts}"
+    written = shown_name(args.out) if args.markdown is None else \
+        f"{shown_name(args.out)}, {shown_name(args.markdown)} and {charts}"
     print(f"Wrote {written}.")
     return ExitStatus.SUCCESS
 
@@ -158,7 +159,7 @@ def report_paths(args: argparse.Namespace) -> list[str]:
 
 def command_line(argv: list[str]) -> str:
     """The command as typed, for the report's footer: 'jointid report --motion slow ...' (a word holding a character
-    that is not printable escaped as every name is, by shown_path)."""
+    that is not printable escaped as every name is, by shown_name)."""
     from ..files import shown_command
 
     return shown_command(["jointid", *argv])

@@ -15,6 +15,7 @@ import errno
 import os
 import sys
 
+from ..text_safety import shown_name
 from .arguments import (
     OneLineParser,
     UserError,
@@ -47,8 +48,39 @@ SESSIONS_PER_CORE = 10
 DATA_ENVIRONMENT = "JOINTID_WEB_DATA"
 """Environment variable through which a session learns the --data folder (tui/web.py reads it)."""
 
-SERVER_FLAGS = ("host", "port", "public_url", "max_sessions", "idle_timeout", "data")
+SERVER_PID_ENVIRONMENT = "JOINTID_SERVER_PID"
+"""Environment variable telling a session's explorer its server's process id, so it ends with the server
+(tui/web.py)."""
+
+SERVER_FLAGS = ("host", "port", "public_url", "allow_origin", "max_sessions", "idle_timeout", "data")
 """The flags that are the server's own; every other flag after `serve` is the explorer's, passed to each session."""
+
+
+def public_url(text: str) -> str:
+    """--public-url: an http or https address with a host (no query or fragment), without its final slash."""
+    from urllib.parse import urlsplit
+
+    try:
+        parts = urlsplit(text)
+        parts.port  # noqa: B018 - raises ValueError for a port that is not a number from 0 to 65535
+    except ValueError:
+        parts = None
+    if (parts is None or parts.scheme.lower() not in ("http", "https") or not parts.hostname or parts.query
+            or parts.fragment or not text.isprintable() or " " in text):
+        raise argparse.ArgumentTypeError(f"{shown_name(text)!r} is not an http:// or https:// address with a host, "
+                                         "e.g. https://jointid.example.org")
+    return text.rstrip("/")  # paths are added to it
+
+
+def web_origin(text: str) -> str:
+    """--allow-origin: a site as browsers name it, scheme://host[:port] (a final slash allowed, no path)."""
+    from urllib.parse import urlsplit
+
+    url = public_url(text)
+    if urlsplit(url).path:
+        raise argparse.ArgumentTypeError(f"{shown_name(text)!r} has a path; give the site alone, e.g. "
+                                         "https://jointid.example.org")
+    return url
 
 
 def add_server_arguments(parser: argparse.ArgumentParser) -> None:
@@ -59,9 +91,14 @@ def add_server_arguments(parser: argparse.ArgumentParser) -> None:
                        "network interface")
     group.add_argument("--port", type=whole_number(1, 65535), default=DEFAULT_PORT,
                        help=f"TCP port to listen on; default {DEFAULT_PORT}")
-    group.add_argument("--public-url", metavar="URL", default=None,
+    group.add_argument("--public-url", metavar="URL", default=None, type=public_url,
                        help="the address browsers use, when it is not http://HOST:PORT, e.g. "
-                       "https://jointid.example.org behind a reverse proxy (https makes the page use wss)")
+                       "https://jointid.example.org behind a reverse proxy (https makes the page use wss); "
+                       "pages from it may use the server")
+    group.add_argument("--allow-origin", metavar="URL", action="append", type=web_origin, default=[],
+                       help="also let pages from this site (scheme://host[:port]) use the server; may be given "
+                       "more than once. Pages of any other site are refused (403), so that a page a student "
+                       "visits cannot drive a session")
     group.add_argument("--max-sessions", type=whole_number(1, 100_000), default=None, metavar="N",
                        help="most sessions (browser tabs) at once; one more is told the server is full; "
                        f"default: what {MEMORY_SHARE * 100:.0f}%% of the memory available at start holds at "  # %% for argparse
@@ -203,9 +240,9 @@ def run(args: argparse.Namespace) -> int:
     max_sessions, sentence = sessions_sentence(args.max_sessions, available_memory())
     server = web_server.JointIdServer(
         session_command(words), host=args.host, port=args.port,
-        public_url=None if args.public_url is None else args.public_url.rstrip("/"),  # paths are added to it
+        public_url=args.public_url, allowed_origins=tuple(args.allow_origin),
         max_sessions=max_sessions, idle_timeout=args.idle_timeout,
-        environment={DATA_ENVIRONMENT: data or ""}, announcement=sentence,
+        environment={DATA_ENVIRONMENT: data or "", SERVER_PID_ENVIRONMENT: str(os.getpid())}, announcement=sentence,
     )
     try:
         server.serve()

@@ -199,8 +199,9 @@ def run(args: argparse.Namespace) -> int:
     """Write the log; print one line saying what was written; exit status 0."""
     import numpy as np  # numpy and the numeric modules load only to run
 
-    from ..files import ExportError, atomic_output, shown_path
+    from ..files import ExportError, atomic_output
     from ..model.truth import TrueJoint
+    from ..text_safety import shown_name
     from ..synthetic.motions import ALL_MOTIONS
     from ..synthetic.noise import torque_noise
 
@@ -241,6 +242,6 @@ def run(args: argparse.Namespace) -> int:
     except ExportError as error:
         hint = " (add --force to replace it)" if "already exists" in str(error) else ""
         raise UserError(f"{error}{hint}") from None
-    print(f"Wrote {shown_path(args.out)}: {samples} samples of {', '.join(names)} ({motion.name} motion, "
+    print(f"Wrote {shown_name(args.out)}: {samples} samples of {', '.join(names)} ({motion.name} motion, "
           f"{duration:g} s).")
     return ExitStatus.SUCCESS

@@ -511,3 +511,51 @@ class ExclusionRequest:
     """Find and leave out stretches where an outside torque acts (`--no-robust` turns it off)."""
     by_hand: tuple[tuple[float, float], ...] = ()
     """[start, end] seconds from the log's start to leave out as well (`--exclude START:END`)."""
+
+
+CHANGE_RATIO = 10.0
+"""An effort that moves by this many times its median step between samples (and beyond CHANGE_SHARE of its range)
+is a commanded change (a voltage step), not the slow drift of a ramp."""
+CHANGE_SHARE = 0.05
+"""The least change, as a share of the effort's largest magnitude, that counts as commanded."""
+
+
+def commanded_changes(effort: np.ndarray, reach: int) -> np.ndarray:
+    """(n,) True from each commanded change of the effort (a step, or a log that starts mid-step: its first effort
+    far from rest) to `reach` samples after it: where the response to it, a transient, plays out."""
+    n = len(effort)
+    if n < 3:
+        return np.zeros(n, dtype=bool)
+    steps = np.abs(np.diff(effort))
+    largest = float(np.max(np.abs(effort))) or 1.0
+    jumps = (steps > CHANGE_RATIO * float(np.median(steps))) & (steps > CHANGE_SHARE * largest)
+    changed = np.concatenate(([abs(float(effort[0])) > 0.5 * largest], jumps))
+    firsts = np.flatnonzero(changed)
+    if not len(firsts):
+        return np.zeros(n, dtype=bool)
+    return _marked(n, firsts, np.minimum(firsts + reach, n - 1))
+
+
+def explained_transients(X: np.ndarray, y: np.ndarray, flagged: np.ndarray, usable: np.ndarray,
+                         transient: np.ndarray, level: float) -> np.ndarray:
+    """`flagged` less each stretch that meets a commanded change's transient and that the model explains: a least
+    squares fit with the stretch kept leaves its residuals' RMS within `level` robust scales (a voltage step's
+    response is where the acceleration gain's information is, not an outside torque; the RMS, since the first
+    samples of a log that starts mid-step carry the smoothing's end effects)."""
+    firsts, lasts = _run_ends(flagged)
+    meets = [(first, last) for first, last in zip(firsts, lasts) if transient[first:last + 1].any()]
+    if not meets or not math.isfinite(level):
+        return flagged
+    out = flagged.copy()
+    for first, last in meets:
+        stretch = np.zeros(len(y), dtype=bool)
+        stretch[first:last + 1] = True
+        rows = usable & (~flagged | stretch)
+        if rows.sum() <= X.shape[1]:
+            continue
+        theta = np.linalg.lstsq(X[rows], y[rows], rcond=None)[0]
+        residuals = y - X @ theta
+        scale = mad_scale(residuals[rows & ~stretch]) if (rows & ~stretch).sum() > X.shape[1] else 0.0
+        if rms(residuals[stretch]) <= level * scale + EXACT * rms(y):
+            out[first:last + 1] = False
+    return out

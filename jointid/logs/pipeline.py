@@ -9,11 +9,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..files import shown_path
 from ..model.effort import Effort, effort_named
 from ..norms import all_finite
 from ..options import DEFAULT_ORDER, DEFAULT_WINDOW
 from ..samples import JointData
+from ..text_safety import shown_name
 from ..estimation.low_pass import automatic_cutoff
 from .conventions import AngleReading, logged_angle_name
 from .derivatives import METHOD, DerivativeEstimate, WindowChoice, check_filter, differentiate, smoothing_window
@@ -60,10 +60,9 @@ class JointLog:
 
     @property
     def name(self) -> str:
-        """The log's name in lists: its file's name, or the SysId test a run of a data log is (escaped as every
-        face shows a name it did not choose: files.shown_path)."""
+        """The log's name in lists: its file's name, or the SysId test a run of a data log is."""
         run = None if self.source is None else getattr(self.source.table, "run", None)
-        return shown_path(run or os.path.basename(os.path.normpath(self.path)))
+        return shown_name(run or os.path.basename(os.path.normpath(self.path)))  # any name: the file's or the log's
 
     def with_window(self, window: int | None, order: int | None = None) -> JointLog:
         """The same log with its missing derivatives estimated by another window (and order); self if none."""
@@ -89,7 +88,7 @@ class JointLog:
     def origin(self) -> dict:
         """JSON-ready: the file, its format (with a bag's topic and joint), time window and effort scale."""
         if self.source is None:
-            return {"path": self.path, "format": "csv", "time_window": None, "effort_scale": 1.0}
+            return {"path": shown_name(self.path), "format": "csv", "time_window": None, "effort_scale": 1.0}
         return self.source.table.origin
 
     @property
@@ -116,8 +115,7 @@ class JointLog:
     def source_text(self) -> str:
         """One line describing what was read, e.g. for the line above the readouts."""
         units = "degrees converted to radians" if self.position_unit == "degrees" else self.position_unit
-        read = self.read_text or f"{self.rows} rows"
-        return f"{shown_path(self.path)}: {read} ({units}), {self.data.count} samples fitted"
+        return f"{shown_name(self.path)}: {self.read_text or f'{self.rows} rows'} ({units}), {self.data.count} samples fitted"
 
 
 

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 from typing import BinaryIO, Callable
 
 from ..files import FileRefused, open_for_reading, shown_path
+from ..text_safety import shown_name
 
 COLUMNS = ("t", "q", "qd", "qdd", "tau")
 """Recognised column names, in the order the loader stores them."""
@@ -96,7 +97,7 @@ class LogTable:
     @property
     def origin(self) -> dict:
         """JSON-ready: the file, its format, and the time window and effort scale applied."""
-        return {"path": self.path, "format": "csv",
+        return {"path": shown_name(self.path), "format": "csv",
                 "time_window": None if self.time_window is None else self.time_window.to_dict(),
                 "effort_scale": self.effort_scale, **self.effort_origin}
 

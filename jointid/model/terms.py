@@ -134,6 +134,8 @@ GRAVITY_COSINE = Term("h_c", "gravity cosine coefficient", "kg m", None, "no gra
 GRAVITY_SINE = Term("h_s", "gravity sine coefficient", "kg m", None, "no angle away from horizontal",
                     lambda q, qd, qdd: G * rounded_sin(q))
 ANGLE_OFFSET = Parameter("q0", "angle offset", "rad", None, "no angle away from horizontal")
+CONSTANT_GRAVITY = Term("tauG", "gravity torque", "N m", None, "no samples", lambda q, qd, qdd: np.ones_like(q))
+"""An elevator's gravity: a torque (or force) that is the same at every position, m g r at a drum of radius r."""
 QUADRATIC_DRAG = Term("Bq", "quadratic drag", "N m s²/rad²", None, "no velocity", lambda q, qd, qdd: qd * np.abs(qd))
 """Not in any model: a candidate the omitted-terms test tries on a log fit's residuals (drag growing with speed)."""
 
@@ -146,6 +148,9 @@ GRAVITY_GAIN = Term("kG", "gravity gain", "V", NONNEGATIVE, "no gravity torque",
 VELOCITY_GAIN = Term("kV", "velocity gain", "V s/rad", NONNEGATIVE, "no velocity", lambda q, qd, qdd: qd, True, "B")
 STATIC_GAIN = Term("kS", "static gain", "V", NONNEGATIVE, "no velocity", lambda q, qd, qdd: np.sign(qd),
                    role="Fc")
+LOAD_GRAVITY_GAIN = Term("kG", "gravity gain", "V", None, "no samples", lambda q, qd, qdd: np.ones_like(q),
+                         role="tauG")
+"""ElevatorFeedforward's kG: the voltage that holds the load still, the same at every position."""
 VOLTAGE_BIAS = Term("V0", "voltage bias", "V", None, "no samples", lambda q, qd, qdd: np.ones_like(q), role="tau0")
 GRAVITY_COSINE_GAIN = Term("kG_c", "gravity cosine gain", "V", None, "no gravity torque",
                            lambda q, qd, qdd: rounded_cos(q), role="h_c")
@@ -156,7 +161,7 @@ QUADRATIC_DRAG_GAIN = Term("kVq", "quadratic drag gain", "V s²/rad²", None, "n
 
 VOLTAGE_TERMS = {term.role: term for term in (ACCELERATION_GAIN, GRAVITY_GAIN, VELOCITY_GAIN, STATIC_GAIN,
                                               VOLTAGE_BIAS, GRAVITY_COSINE_GAIN, GRAVITY_SINE_GAIN,
-                                              QUADRATIC_DRAG_GAIN)}
+                                              QUADRATIC_DRAG_GAIN, LOAD_GRAVITY_GAIN)}
 """Each torque term's twin with the effort in volts, by the torque term's name."""
 
 
@@ -296,11 +301,18 @@ EXTRA_TERMS = dict(zip(EXTRA_TERM_NAMES, (COULOMB, BIAS, GRAVITY_SINE)))
 """Terms that can be added to `plain`, by the name used in model names, in column order."""
 
 TORQUE_TERMS = {term.name: term for term in (INERTIA, MASS_MOMENT, DAMPING, COULOMB, BIAS, GRAVITY_COSINE,
-                                             GRAVITY_SINE, QUADRATIC_DRAG)}
+                                             GRAVITY_SINE, QUADRATIC_DRAG, CONSTANT_GRAVITY)}
 """The torque terms by name (what a volt twin's role names)."""
 
 CANDIDATE_TERMS = (COULOMB, BIAS, GRAVITY_SINE, QUADRATIC_DRAG)
 """Terms a log fit's residuals are tested against when its model lacks them (the ladder's, and quadratic drag)."""
+
+SIMPLE_MOTOR = JointModel("simple", (INERTIA, DAMPING, COULOMB))
+"""A flywheel, roller or drive: a joint whose gravity term is zero (WPILib's SimpleMotorFeedforward in volts)."""
+ELEVATOR = JointModel("elevator", (INERTIA, CONSTANT_GRAVITY, DAMPING, COULOMB))
+"""An elevator: a joint whose gravity torque is the same at every position (WPILib's ElevatorFeedforward)."""
+MECHANISM_MODELS = {model.name: model for model in (SIMPLE_MOTOR, ELEVATOR)}
+"""The models named by a mechanism rather than by terms added to plain (the arm's is coulomb+angle-offset)."""
 
 TRUE_PARAMETERS = np.array([TRUE_VALUES[name] for name in PLAIN.names])
 """The lesson's joint's parameters [I, h, B] in the plain model's order."""
@@ -316,7 +328,8 @@ def model_named(name: str) -> JointModel:
     Parameters
     ----------
     name : str
-        'plain' or plain plus any of coulomb, bias, angle-offset joined with '+'.
+        'plain' or plain plus any of coulomb, bias, angle-offset joined with '+'; or a mechanism's own model:
+        'simple' (I, B, Fc: no gravity term) or 'elevator' (I, a constant gravity term tauG, B, Fc).
 
     Returns
     -------
@@ -333,6 +346,8 @@ def model_named(name: str) -> JointModel:
     >>> model_named("bias+coulomb").names
     ('I', 'h', 'B', 'Fc', 'tau0')
     """
+    if str(name).strip().lower() in MECHANISM_MODELS:
+        return MECHANISM_MODELS[str(name).strip().lower()]
     ordered = model_extras(name)
     terms = PLAIN.terms + tuple(EXTRA_TERMS[key] for key in ordered)
     if "angle-offset" not in ordered:

@@ -13,6 +13,7 @@ import json
 import math
 from typing import TYPE_CHECKING
 
+from ..text_safety import shown_name
 from ..estimation.uncertainty import finite_or_none
 from .status import fit_warnings, status_message
 from .tables import sweep_message
@@ -186,7 +187,7 @@ def log_fit_document(result: FitResult, training, heldout=None, low_pass=None, s
     conventions, derivatives, timing, the parallel low-pass (parallel_filter.ParallelFilter), the sensitivity check and notes."""
     return fit_document(
         result,
-        source={"training": training.path, "heldout": None if heldout is None else heldout.path},
+        source={"training": shown_name(training.path), "heldout": None if heldout is None else shown_name(heldout.path)},
         logs={"training": training.origin, "heldout": None if heldout is None else heldout.origin},
         conventions={"training": training.conventions, "heldout": None if heldout is None else heldout.conventions},
         derivatives=None if training.derivatives is None else training.derivatives.to_dict(),
@@ -286,7 +287,8 @@ def logs_document(logs) -> dict:
                                log_notes(logs)), **exclusion_object(logs),
             "moved_by_derivative_settings": list(logs.moved_by_settings),
             "omitted_terms": omitted_object(logs),
-            "moved_by_omitted_terms": list(logs.decided_by_omitted), **effort_object(logs.result.model)}
+            "moved_by_omitted_terms": list(logs.decided_by_omitted), **effort_object(logs.result.model),
+            **({} if getattr(logs, "mechanism", None) is None else {"mechanism": logs.mechanism.to_dict()})}
 
 
 def effort_object(model) -> dict:

@@ -21,18 +21,40 @@ def _number(value: float) -> str:
     return f"{value:.6g}"
 
 
+CPP_DISTANCE = {"rotation": "units::turns", "radian": "units::radians", "meter": "units::meters"}
+"""The C++ SimpleMotorFeedforward's distance unit for each constructor unit."""
+
+PYTHON_SIMPLE = {"radian": "SimpleMotorFeedforwardRadians", "meter": "SimpleMotorFeedforwardMeters"}
+"""robotpy's SimpleMotorFeedforward classes (it has none per rotation: per radian is given instead)."""
+
+
 def constructor_lines(gains: ArmGains) -> tuple[str, str, str]:
-    """One line each of Java, C++ and Python constructing WPILib's ArmFeedforward with the gains (per radian)."""
-    ks, kg, kv, ka = (_number(gains.value(name)) for name in ("kS", "kG", "kV", "kA"))
-    cpp = (f"frc::ArmFeedforward{{units::volt_t{{{ks}}}, units::volt_t{{{kg}}}, "
-           f"units::unit_t<frc::ArmFeedforward::kv_unit>{{{kv}}}, "
-           f"units::unit_t<frc::ArmFeedforward::ka_unit>{{{ka}}}}};")
-    return (f"new ArmFeedforward({ks}, {kg}, {kv}, {ka});", cpp, f"wpimath.controller.ArmFeedforward({ks}, {kg}, {kv}, {ka})")
+    """One line each of Java, C++ and Python constructing the mechanism's WPILib feedforward with the gains in
+    the constructor's unit (gains.constructor_unit; robotpy's SimpleMotorFeedforward has no per-rotation class, so
+    its line is per radian for a log in rotations)."""
+    order = gains.constructor_order
+    values = [_number(gains.constructor_value(name)) for name in order]
+    plain = ", ".join(values)
+    volts = [f"units::volt_t{{{value}}}" for name, value in zip(order, values) if name in ("kS", "kG")]
+    if gains.feedforward == "SimpleMotorFeedforward":
+        unit = gains.constructor_unit
+        cls = f"frc::SimpleMotorFeedforward<{CPP_DISTANCE.get(unit, 'units::meters')}>"
+        python_class = PYTHON_SIMPLE.get(unit, "SimpleMotorFeedforwardRadians")
+        python_values = plain if unit in PYTHON_SIMPLE else ", ".join(
+            _number(gains.value(name)) for name in order)
+        python = f"wpimath.controller.{python_class}({python_values})"
+    else:
+        cls = f"frc::{gains.feedforward}"
+        python = f"wpimath.controller.{gains.feedforward}({plain})"
+    kv, ka = values[-2], values[-1]
+    cpp = (f"{cls}{{{', '.join(volts)}, units::unit_t<{cls}::kv_unit>{{{kv}}}, "
+           f"units::unit_t<{cls}::ka_unit>{{{ka}}}}};")
+    return f"new {gains.feedforward}({plain});", cpp, python
 
 
 def gains_text(gains: ArmGains) -> str:
-    """The gains per radian and per rotation with errors and verdicts, SysId's direction beside them, the
-    constructors, and what not to trust."""
+    """The gains with errors and verdicts in the log's units, SysId's direction beside them, the constructors, and
+    what not to trust."""
     return "\n".join(part for part in gains_parts(gains) if part)
 
 
@@ -44,21 +66,24 @@ def gains_parts(gains: ArmGains) -> tuple[str, str, str, str]:
     rows = []
     for gain in gains.gains:
         sysid = "-" if gain.sysid_value is None else format_number(gain.sysid_value)
-        rows.append([f"{gain.name} ({gain.unit})", format_number(gain.value), format_number(gain.std_error),
-                     f"{format_number(gain.per_rotation)} {PER_ROTATION_UNITS[gain.name]}", gain.verdict, sysid])
-    header = ["gain", "value", "±", "per rotation", "verdict", "SysId's direction"]
+        row = [f"{gain.name} ({gain.unit})", format_number(gain.value), format_number(gain.std_error)]
+        if not gains.linear:
+            row.append(f"{format_number(gain.per_rotation)} {PER_ROTATION_UNITS[gain.name]}")
+        rows.append([*row, gain.verdict, sysid])
+    header = ["gain", "value", "±", *([] if gains.linear else ["per rotation"]), "verdict", "SysId's direction"]
     kind = "voltage" if gains.drive is None else "torque"
     source = f"the {kind} log's fit" if gains.runs == 1 else f"the pooled fit of {gains.runs} {kind} runs"
     if gains.drive is not None:
         source += f" through {gains.drive.description()}"
     java, cpp, python = constructor_lines(gains)
-    heading = (f"WPILib ArmFeedforward gains from {source} (angle in radians from horizontal; per rotation as "
-               "SysId shows a log in rotations: kV and kA times 2 pi):")
+    heading = f"WPILib {gains.feedforward} gains from {source} ({_units_phrase(gains)}):"
     code = f"Java:   {java}\nC++:    {cpp}\nPython: {python}"
     lines = []
     if gains.missing:
         lines.append(f"The model has no {', '.join(gains.missing)}: 0 in the constructor (add its term to the "
                      "model to fit it).")
+    if gains.feedforward == "SimpleMotorFeedforward":
+        lines.append("No gravity gain: a flywheel, roller or drive is a joint whose gravity torque is zero.")
     if "q0" in gains.names and gains["q0"].determined:
         lines.append(f"ArmFeedforward takes the angle from horizontal: pass the measured angle + q0 "
                      f"({format_number(gains['q0'].value)} rad).")
@@ -69,7 +94,7 @@ def gains_parts(gains: ArmGains) -> tuple[str, str, str, str]:
         lines.append(f"q0 is {gains['q0'].verdict}: pass the measured angle + q0 "
                      f"({format_number(gains['q0'].value)} rad) to ArmFeedforward, but check the angle's zero.")
     if "V0" in gains.names:
-        lines.append("ArmFeedforward has no voltage bias: V0 is left out of the constructor.")
+        lines.append(f"{gains.feedforward} has no voltage bias: V0 is left out of the constructor.")
     undetermined = [gain for gain in gains.gains if not gain.determined and gain.name in ("kS", "kG", "kV", "kA")]
     if undetermined:
         lines.append("Not well determined, so not to be trusted in a controller as they are: " + ", ".join(
@@ -89,6 +114,20 @@ def gains_parts(gains: ArmGains) -> tuple[str, str, str, str]:
     return heading, text_table(header, rows), code, "\n".join(lines)
 
 
+def _units_phrase(gains: ArmGains) -> str:
+    """How the heading says the gains' units: per radian from horizontal for an arm, else the log's own unit."""
+    if gains.linear:
+        return f"per {gains.constructor_unit}, the log's own unit"
+    if gains.feedforward == "ArmFeedforward":
+        return ("angle in radians from horizontal; per rotation as SysId shows a log in rotations: kV and kA times "
+                "2 pi")
+    if gains.constructor_unit == "rotation":
+        python = "; robotpy's SimpleMotorFeedforwardRadians per radian" \
+            if gains.feedforward == "SimpleMotorFeedforward" else ""
+        return f"per rotation, the log's own unit{python}"
+    return "per radian, the log's own unit" if gains.unit == "radians" else "per radian"
+
+
 def _direction_gaps(gains: ArmGains) -> list[tuple[str, float]]:
     """(name, |jointid - SysId| in standard errors) for each gain with both values and an error."""
     return [(gain.name, abs(gain.value - gain.sysid_value) / gain.std_error) for gain in gains.gains
@@ -102,10 +141,15 @@ def gains_object(gains: ArmGains) -> dict:
 
     java, cpp, python = constructor_lines(gains)
     return {
-        "controller": "wpilib.ArmFeedforward",
+        "controller": f"wpilib.{gains.feedforward}",
+        "feedforward": gains.feedforward,
+        "log_unit": gains.unit,
+        "constructor_unit": gains.constructor_unit,
+        "constructor_values": {name: gains.constructor_value(name) for name in gains.constructor_order},
         "gains": {gain.name: {"value": gain.value, "std_error": gain.std_error, "unit": gain.unit,
                               "per_rotation": gain.per_rotation, "per_rotation_std_error": gain.per_rotation_error,
-                              "per_rotation_unit": PER_ROTATION_UNITS[gain.name], "verdict": gain.verdict,
+                              "per_rotation_unit": None if gains.linear else PER_ROTATION_UNITS[gain.name],
+                              "verdict": gain.verdict,
                               "sysid_direction": gain.sysid_value,
                               "sysid_minus_jointid": (None if gain.sysid_value is None
                                                       else gain.sysid_value - gain.value)}

@@ -6,6 +6,7 @@ import math
 from typing import TYPE_CHECKING
 
 from ..estimation.low_pass import ATTENUATION_DB, FILTER_NAME, FLATNESS
+from ..text_safety import shown_name
 from .text import ordinal
 
 if TYPE_CHECKING:
@@ -15,13 +16,13 @@ if TYPE_CHECKING:
 
 def log_notes(logs: LoadedLogs) -> tuple[str, ...]:
     """The loaders' notes (ignored columns, timing, estimated derivatives) and the filter's, training log first."""
-    from ..files import shown_path  # a log's only: not loaded with the explorer's first frame
-
     notes = list(logs.training.notes)
     if logs.filter is not None:
-        notes.append(f"{shown_path(logs.training.path)}: {low_pass_note(logs.filter, logs.result.model.effort.name)}")
+        notes.append(f"{shown_name(logs.training.path)}: {low_pass_note(logs.filter, logs.result.model.effort.name)}")
     if logs.heldout is not None:
         notes.extend(logs.heldout.notes)
+    if getattr(logs, "mechanism", None) is not None:
+        notes.append(logs.mechanism.note())
     return tuple(notes)
 
 

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
+import numpy as np
+
 from ..studies.runs import POOLED_FIT
 from .text import format_number, text_table
 
@@ -33,8 +35,9 @@ def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
         share = "-" if left is None else f"{1 - left.kept.mean():.0%}"
         cutoff = "-" if run.filter is None or not run.filter.active else f"{run.filter.cutoff:.3g} Hz"
         other = pooled.predicted_by_others[k]
+        unknown = not_determined(run, shared)
         rows.append([run.name, str(run.result.training.count), cutoff, share,
-                     *(format_number(run.params[name]) for name in shared),
+                     *(NOT_SHOWN if name in unknown else format_number(run.params[name]) for name in shared),
                      *([format_number(run.params[bias_name])] if bias else []),
                      "-" if other is None else f"{format_number(other)} {unit}"])
     offsets = pooled.estimate[len(shared):]
@@ -53,6 +56,12 @@ def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
     if bias:
         lines.append(f"Pooled {model.effort.name} bias of each run: " + ", ".join(
             f"{name} {format_number(value)}" for name, value in zip(pooled.names, offsets)) + f" {unit}.")
+    if any(not_determined(run, shared) for run in pooled.runs):
+        lines.append(f"{NOT_SHOWN}: not determined by that {'test' if sysid else 'run'} alone (its fit is not "
+                     f"unique, its {model.effort.name} constant but for noise, or the error as large as the value); the JSON says "
+                     "why.")
+    if pooled.mechanism is not None:
+        lines.append(pooled.mechanism.note())
     if sysid:
         lines.extend(sysid_reading(pooled))
         lines.append("No SysId test alone separates the gains (a dynamic test's voltage is constant, which its "
@@ -75,6 +84,36 @@ def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
     lines.append(f"Others predict: the RMS error of each run's filtered {model.effort.name} predicted by the pooled "
                  "fit of the other runs (its own offset).")
     return tuple(lines)
+
+
+NOT_SHOWN = "—"
+"""What the per-run table shows for a parameter that run alone does not determine."""
+
+CONSTANT_EFFORT = 1e-6
+"""An effort whose spread is below this share of its magnitude is constant (a dynamic test's step)."""
+NOISE_SPREAD = 2.0
+"""An effort whose spread is at most this many times the fit's residual RMS is constant but for noise: the fit
+explains none of it, and its gains are noise's (a q0 of -2.9 on one machine, 0 on another)."""
+
+
+def not_determined(run, names) -> dict[str, str]:
+    """{parameter: why} for each of `names` that one run's own fit does not determine: no unique fit, an effort
+    that does not vary (a constant voltage is fitted exactly by the constant column, whatever the gains), or a
+    standard error as large as the value (a number there differs between machines in its rounding)."""
+    from ..estimation.uncertainty import NOT_DETERMINED
+
+    result = run.result
+    if result.estimate is None or result.uncertainty is None:
+        return {name: f"the fit is not unique (rank {result.rank} of {result.parameter_count})" for name in names}
+    effort = result.training.tau
+    spread = float(np.std(effort)) if len(effort) else 0.0
+    residual = float(np.sqrt(np.mean((effort - result.training_predictions) ** 2))) if len(effort) else 0.0
+    if spread <= max(CONSTANT_EFFORT * float(np.max(np.abs(effort), initial=0.0)), NOISE_SPREAD * residual):
+        return {name: f"its {result.model.effort.name} is constant but for noise, which says nothing of the gains"
+                for name in names}
+    verdicts = dict(zip(result.model.names, result.uncertainty.verdicts or ()))
+    return {name: "its standard error is about as large as itself" for name in names
+            if verdicts.get(name) == NOT_DETERMINED}
 
 
 def _is_sysid(pooled: PooledRuns) -> bool:
@@ -111,8 +150,12 @@ def runs_document(pooled: PooledRuns) -> dict:
         "weighting": pooled.weighting,
         "sysid_routine": _sysid_routine(pooled),
         "sysid_reading": sysid_reading(pooled),
+        "mechanism": None if pooled.mechanism is None else pooled.mechanism.to_dict(),
         "runs": [{**logs_document(run), "name": run.name, "predicted_by_others_rmse": other,
-                  "weight": weight}
+                  "weight": weight,
+                  "own_estimate": {name: None if name in not_determined(run, pooled.shared) else run.params[name]
+                                   for name in pooled.shared},
+                  "not_determined": not_determined(run, pooled.shared)}
                  for run, other, weight in zip(pooled.runs, pooled.predicted_by_others, pooled.weights)],
         "pooled": {"estimate": dict(pooled.params), "std_error": dict(pooled.bse),
                    "torque_bias": dict(zip(pooled.names, map(float, pooled.estimate[len(pooled.shared):])))},

@@ -18,9 +18,9 @@ import textwrap
 import xml.etree.ElementTree as ET
 from collections.abc import Mapping
 
-from ..files import shown_path
 from ..model.rigid_link import RigidLink
 from ..model.terms import G
+from ..text_safety import shown_name
 from .text import format_number, join_words
 
 ROD_THICKNESS = 0.05
@@ -174,7 +174,7 @@ def export_text(link: RigidLink, parameters: Mapping[str, float], model: str, wr
     if link.mass_moment > 0:
         lines.append(f"Small swings about hanging straight down: period 2 pi sqrt(I/(h g)) = "
                      f"{link.small_swing_period:.4f} s without damping.")
-    files = [f"{shown_path(path)} ({FORMATS[kind]})" for kind, path in written.items()]
+    files = [f"{shown_name(path)} ({FORMATS[kind]})" for kind, path in written.items()]
     lines.append(f"Wrote {join_words(files)}.")
     return "\n".join(lines)
 

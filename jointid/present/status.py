@@ -11,6 +11,7 @@ import os
 from typing import TYPE_CHECKING
 
 from ..estimation.uncertainty import NOT_DETERMINED, WEAK, WELL_DETERMINED
+from ..text_safety import shown_name
 from .text import capitalise, format_number, join_words
 
 if TYPE_CHECKING:
@@ -283,11 +284,9 @@ def simulation_text(check, label_width: int = 28) -> str:
 
 def log_sources(logs) -> tuple[str, ...]:
     """What was read, one short line per log, file names only: 'test.csv: 200 rows, radians'."""
-    from ..files import shown_path  # a log's only: not loaded with the explorer's first frame
-
     roles = ("", "Held-out ")
     return tuple(
-        f"{role}{shown_path(os.path.basename(os.path.normpath(log.path)))}: {log.read_brief or f'{log.rows} rows'}, "
+        f"{role}{shown_name(os.path.basename(os.path.normpath(log.path)))}: {log.read_brief or f'{log.rows} rows'}, "
         f"{log.position_unit}"
         for role, log in zip(roles, logs.logs)
     )

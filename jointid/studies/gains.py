@@ -25,12 +25,21 @@ from ..model.motors import MotorDrive, error_scale, gains_from_physical
 from .runs import OWN_FIT
 
 WPILIB_ORDER = ("kS", "kG", "kV", "kA")
-"""ArmFeedforward's constructor order."""
+"""ArmFeedforward's and ElevatorFeedforward's constructor order (SimpleMotorFeedforward's without kG)."""
+
+CONSTRUCTOR_ORDER = {"SimpleMotorFeedforward": ("kS", "kV", "kA"), "ElevatorFeedforward": WPILIB_ORDER,
+                     "ArmFeedforward": WPILIB_ORDER}
+"""Each WPILib feedforward's constructor arguments in order (wpimath's Java, C++ and Python alike)."""
 
 UNITS = {"kS": "V", "kG": "V", "kV": "V s/rad", "kA": "V s²/rad", "q0": "rad", "V0": "V"}
 PER_ROTATION_UNITS = {"kS": "V", "kG": "V", "kV": "V s/rot", "kA": "V s²/rot", "q0": "rot", "V0": "V"}
 PER_ROTATION = {"kS": 1.0, "kG": 1.0, "kV": 2 * math.pi, "kA": 2 * math.pi, "q0": 1 / (2 * math.pi), "V0": 1.0}
 """Per-rotation value / per-radian value: V/(rot/s) = 2 pi V/(rad/s); an offset of q0 rad is q0/(2 pi) rot."""
+
+
+def linear_units(unit: str) -> dict[str, str]:
+    """The gains' units per a length unit ('m'): kV in V s/m, kA in V s²/m."""
+    return {"kS": "V", "kG": "V", "kV": f"V s/{unit}", "kA": f"V s²/{unit}", "q0": unit, "V0": "V"}
 
 
 class GainsError(ValueError):
@@ -47,21 +56,23 @@ class Gain:
     verdict: str
     sysid_value: float | None
     """The same gain by regressing acceleration on voltage (SysId's direction), or None when it fails."""
+    length: str | None = None
+    """The length unit ('m') of a linear log's gains, which are per that unit; None for an angle's, per radian."""
 
     @property
     def unit(self) -> str:
-        """Its unit per radian, e.g. 'V s/rad'."""
-        return UNITS[self.name]
+        """Its unit as fitted, e.g. 'V s/rad' (or 'V s/m' for a linear log)."""
+        return UNITS[self.name] if self.length is None else linear_units(self.length)[self.name]
 
     @property
-    def per_rotation(self) -> float:
-        """Its value per rotation, as SysId shows gains of a log in rotations."""
-        return self.value * PER_ROTATION[self.name]
+    def per_rotation(self) -> float | None:
+        """Its value per rotation, as SysId shows gains of a log in rotations (None for a linear log)."""
+        return None if self.length is not None else self.value * PER_ROTATION[self.name]
 
     @property
-    def per_rotation_error(self) -> float:
-        """Its standard error per rotation."""
-        return self.std_error * PER_ROTATION[self.name]
+    def per_rotation_error(self) -> float | None:
+        """Its standard error per rotation (None for a linear log)."""
+        return None if self.length is not None else self.std_error * PER_ROTATION[self.name]
 
     @property
     def determined(self) -> bool:
@@ -71,7 +82,8 @@ class Gain:
 
 @dataclass(frozen=True, eq=False)
 class ArmGains:
-    """WPILib's ArmFeedforward gains of a fit (kS, kG, kV, kA, then q0 and V0 when the model has them)."""
+    """A WPILib feedforward's gains of a fit (kS, kG, kV, kA as the mechanism has them, then q0 and V0 when the
+    model has them): ArmFeedforward's, ElevatorFeedforward's or SimpleMotorFeedforward's."""
 
     gains: tuple[Gain, ...]
     drive: MotorDrive | None
@@ -79,6 +91,38 @@ class ArmGains:
     model_name: str
     runs: int = 1
     """How many runs were pooled into the gains (1: one log's fit)."""
+    feedforward: str = "ArmFeedforward"
+    """WPILib's class: 'SimpleMotorFeedforward', 'ElevatorFeedforward' or 'ArmFeedforward'."""
+    unit: str | None = "radians"
+    """The log's own position unit ('rotations', 'radians', 'degrees', or a length such as 'meters')."""
+
+    @property
+    def constructor_order(self) -> tuple[str, ...]:
+        """The feedforward's constructor arguments in order."""
+        return CONSTRUCTOR_ORDER[self.feedforward]
+
+    @property
+    def linear(self) -> bool:
+        """True for a log in a length unit (gains per metre, say)."""
+        return any(gain.length is not None for gain in self.gains)
+
+    @property
+    def constructor_unit(self) -> str:
+        """The unit the constructor lines' gains are per: the log's own ('rotation', 'radian', 'meter'), except an
+        ArmFeedforward's, which takes radians, and a degrees log's, given per radian."""
+        if self.linear:
+            named = (self.unit or "unit").strip().lower()
+            return {"metres": "meter", "metre": "meter", "m": "meter", "feet": "foot"}.get(named, named.rstrip("s"))
+        if self.feedforward == "ArmFeedforward" or self.unit != "rotations":
+            return "radian"
+        return "rotation"
+
+    def constructor_value(self, name: str) -> float:
+        """A constructor gain's value per constructor_unit (0 when the model lacks it)."""
+        if name not in self.names:
+            return 0.0
+        gain = self[name]
+        return gain.per_rotation if self.constructor_unit == "rotation" else gain.value
 
     def __getitem__(self, name: str) -> Gain:
         return next(gain for gain in self.gains if gain.name == name)
@@ -90,8 +134,8 @@ class ArmGains:
 
     @property
     def missing(self) -> tuple[str, ...]:
-        """ArmFeedforward gains the model lacks (kS without Coulomb friction): 0 in the constructor."""
-        return tuple(name for name in WPILIB_ORDER if name not in self.names)
+        """Constructor gains the model lacks (kS without Coulomb friction): 0 in the constructor."""
+        return tuple(name for name in self.constructor_order if name not in self.names)
 
     @property
     def undetermined(self) -> tuple[str, ...]:
@@ -182,10 +226,27 @@ def arm_gains(fit, drive: MotorDrive | None = None) -> ArmGains:
             # A parameter another check moved stays no better than weak in any units.
             gain_verdicts[gain] = (WEAK if judged == WELL_DETERMINED and fitted.verdicts[name] != WELL_DETERMINED
                                    else judged)
+    from .mechanism import FEEDFORWARDS, is_linear_unit, mechanism_of, position_unit
+
+    first = fit.runs[0] if hasattr(fit, "runs") else fit
+    unit = position_unit(first.training)
+    length = _length_symbol(unit) if is_linear_unit(unit) else None
     order = [name for name in (*WPILIB_ORDER, "q0", "V0") if name in values]
     gains = tuple(Gain(name, float(values[name]), float(gain_errors[name]), gain_verdicts[name],
-                       None if sysid_values is None else float(sysid_values[name])) for name in order)
-    return ArmGains(gains, None if volts else drive, model.name, len(fit.runs) if hasattr(fit, "runs") else 1)
+                       None if sysid_values is None else float(sysid_values[name]), length) for name in order)
+    return ArmGains(gains, None if volts else drive, model.name, len(fit.runs) if hasattr(fit, "runs") else 1,
+                    FEEDFORWARDS[mechanism_of(model)], unit or "radians")
+
+
+feedforward_gains = arm_gains
+"""The gains of the mechanism's WPILib feedforward (the name arm_gains predates the simple motor and elevator)."""
+
+
+def _length_symbol(unit: str) -> str:
+    """A length unit's symbol: 'm' for meters, else the unit as named."""
+    symbols = {"meters": "m", "meter": "m", "metres": "m", "metre": "m", "m": "m", "feet": "ft", "foot": "ft",
+               "inches": "in", "inch": "in", "centimeters": "cm", "millimeters": "mm"}
+    return symbols.get(unit.strip().lower(), unit)
 
 
 def _sysid_direction(model, blocks) -> dict[str, float] | None:

@@ -18,12 +18,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..checks import checked, flag, optional, pairs, real, text, whole
-from ..estimation.exclusion import ExclusionRequest, Exclusions, outside_torques, standstill
+from ..estimation.exclusion import (ExclusionRequest, Exclusions, commanded_changes, explained_transients,
+                                    outside_torques, standstill)
 from ..estimation.fit import FitResult, fit_joint
 from ..estimation.low_pass import FilterRequest, FilterRequestError, ParallelFilter, choose_filter
 from ..estimation.omitted import OmittedTerms, omitted_terms_test
 from ..estimation.solver import NonFiniteError
-from ..files import shown_path
 from ..logs.derivatives import MAX_WINDOW, smooth
 from ..logs.pipeline import JointLog
 from ..logs.request import HELDOUT, TRAINING, LoadRequest, load_joint_log
@@ -32,6 +32,7 @@ from ..model.terms import CANDIDATE_TERMS, PLAIN, JointModel, in_effort, model_a
 from ..norms import rms
 from ..options import DEFAULT_ORDER, LOG_MODEL
 from ..samples import JointData
+from ..text_safety import shown_name
 from .angle_models import check_angle_model
 from .sensitivity import FACTORS, SensitivityCheck, Variant, sensitivity_check
 
@@ -63,6 +64,8 @@ class LoadedLogs:
     """The request the exclusions were made from, kept for refits (another model)."""
     omitted: OmittedTerms | None = None
     """The test of terms the model lacks (friction, bias, angle offset, drag) against the residuals, or None."""
+    mechanism: object | None = None
+    """The studies.mechanism.MechanismChoice a SysId test was fitted as, or None for other logs."""
 
     def __repr__(self) -> str:
         return f"<LoadedLogs {self.name!r} {self.result!r}>"
@@ -126,7 +129,7 @@ class LoadedLogs:
     @property
     def heldout_name(self) -> str | None:
         """The held-out file's name, or None."""
-        return None if self.heldout is None else shown_path(os.path.basename(os.path.normpath(self.heldout.path)))
+        return None if self.heldout is None else shown_name(os.path.basename(os.path.normpath(self.heldout.path)))
 
     @property
     def logs(self) -> tuple[JointLog, ...]:
@@ -384,6 +387,10 @@ def _exclusions(training: JointLog, model: JointModel, chosen: ParallelFilter, X
     elif request.robust and (~still & ~pushes).sum() > 4 * X.shape[1]:
         lag = correlation_lag(len(t), chosen)
         flagged, level, estimate = outside_torques(X, tau, ~still & ~pushes, rest, coulomb, support, lag, start)
+        if not model.effort.is_torque:  # a voltage step's response is the signal, not an outside torque
+            window = 0 if training.derivatives is None else training.derivatives.window
+            reach = window + 2 * support + 2
+            flagged = explained_transients(X, tau, flagged, ~still & ~pushes, commanded_changes(tau, reach), level)
         pushes |= flagged
     if not (~(pushes | still)).any():
         raise LogError(training.path, "leaves no sample to fit after leaving out standstill and outside torques; "

@@ -63,6 +63,8 @@ class PooledRuns:
     h and q0, a controller's gains); None without a unique pooled fit."""
     weighting: str = OWN_FIT
     """OWN_FIT or POOLED_FIT: what the weights come from."""
+    mechanism: object | None = None
+    """The studies.mechanism.MechanismChoice a SysId log's tests were fitted as, or None for other runs."""
 
     @property
     def names(self) -> tuple[str, ...]:

@@ -1,8 +1,10 @@
 """A WPILib SysId routine log fitted as several runs of one joint: its quasistatic and dynamic tests.
 
-The effort is the motor's voltage, and jointid's coulomb + angle-offset model
-in volts is WPILib's arm feedforward V = kS sgn(v) + kG cos(theta + offset)
-+ kV v + kA a: I is kA, h g is kG, B is kV, Fc is kS and q0 the offset.
+The effort is the motor's voltage, and the mechanism's model in volts is its
+WPILib feedforward (jointid.studies.mechanism): a simple motor's V = kS sgn(v)
++ kV v + kA a, an elevator's + kG, an arm's + kG cos(theta + offset) (the
+coulomb + angle-offset model: I is kA, h g is kG, B is kV, Fc is kS and q0 the
+offset). Without --mechanism the log chooses which.
 
 Two choices differ from other runs of a joint, each for a reason of the
 routine's own. No test alone separates the gains (a dynamic test's voltage is
@@ -23,25 +25,21 @@ from ..estimation.exclusion import ExclusionRequest
 from ..estimation.low_pass import FilterRequest
 from ..logs.pipeline import JointLog
 from ..logs.table import LogError
-from ..model.terms import COULOMB, DAMPING, INERTIA, JointModel, model_argument, model_named
+from ..model.terms import SIMPLE_MOTOR, JointModel, model_argument, model_named
 from .angle_models import check_angle_model, no_angle
 from .runs import POOLED_FIT, PooledRuns, fit_runs
 
 SYSID_MODEL = "coulomb+angle-offset"
-"""The model whose parameters are the arm feedforward's gains."""
-
-NO_ANGLE_MODEL = JointModel("coulomb, no gravity", (INERTIA, DAMPING, COULOMB))
-"""The model of a routine whose q is no angle (a length, or an integrated velocity): kA, kV, kS with no cos(q)
-term, which only an angle in radians can feed."""
+"""The model whose parameters are the arm feedforward's gains (the arm mechanism's)."""
 
 
 def sysid_model(logs: list[JointLog], model: JointModel | None) -> JointModel:
-    """The model to fit a data log's runs with: the one asked for, else SYSID_MODEL, or NO_ANGLE_MODEL where q is
+    """The model to fit a data log's runs with: the one asked for, else SYSID_MODEL, or SIMPLE_MOTOR where q is
     no angle; LogError when the model asked for takes cos(q) of a q that is no angle."""
     if no_angle(logs[0]) is None:
         return model or model_named(SYSID_MODEL)
     if model is None:
-        return NO_ANGLE_MODEL
+        return SIMPLE_MOTOR  # kA, kV, kS: no cos(q), which only an angle in radians can feed
     check_angle_model(logs[0], model)
     return model
 
@@ -61,12 +59,43 @@ def sysid_filtering(filtering: FilterRequest) -> FilterRequest:
 
 def fit_sysid_runs(logs: list[JointLog], model: JointModel | None = None, filtering: FilterRequest = FilterRequest(),
                    exclusion: ExclusionRequest = ExclusionRequest(), constrained: bool = False,
-                   sensitivity: bool = True) -> PooledRuns:
-    """Fit a SysId log's tests alone and together (sysid_model's choice unless another is given); LogError for a
-    model that does not apply, or an --exclude interval in no test."""
+                   sensitivity: bool = True, mechanism: str | None = None) -> PooledRuns:
+    """Fit a SysId log's tests alone and together: with `model`, the mechanism's model (`mechanism`), or the
+    mechanism the tests choose (studies.mechanism); MechanismError for a mechanism the log cannot be, LogError for
+    an --exclude interval in no test."""
+    return fit_sysid(logs, model, filtering, exclusion, constrained, sensitivity, mechanism)
+
+
+def fit_sysid(logs: list[JointLog], model: JointModel | None = None, filtering: FilterRequest = FilterRequest(),
+              exclusion: ExclusionRequest = ExclusionRequest(), constrained: bool = False, sensitivity: bool = True,
+              mechanism: str | None = None, heldout: JointLog | None = None):
+    """A voltage log's tests (or one voltage log) fitted as a mechanism, with the MechanismChoice attached: pooled
+    runs for several tests, a LoadedLogs for one (predicting `heldout`)."""
+    import dataclasses
+
+    from .log_fit import fit_logs
+    from .mechanism import MechanismChoice, check_mechanism, choose_mechanism, mechanism_model, mechanism_of, \
+        position_unit
+
+    def fit(chosen: JointModel, check: bool = sensitivity):
+        if len(logs) == 1:
+            return fit_logs(logs[0], heldout, chosen, constrained, filtering, check, exclusion)
+        return fit_runs(logs, chosen, sysid_filtering(filtering), exclusion, constrained, check,
+                        weighting=POOLED_FIT)
+
     check_exclusions(logs, exclusion)
-    return fit_runs(logs, sysid_model(logs, model), sysid_filtering(filtering), exclusion, constrained,
-                    sensitivity, weighting=POOLED_FIT)
+    unit = position_unit(logs[0])
+    if model is not None:
+        fitted = fit(model)
+        choice = MechanismChoice(mechanism_of(model), "--model", unit)
+    elif mechanism is not None:
+        check_mechanism(mechanism, logs)
+        fitted = fit(mechanism_model(mechanism))
+        choice = MechanismChoice(mechanism, "--mechanism", unit)
+    else:
+        chosen, choice = choose_mechanism(logs, lambda candidate: fit(candidate, False))
+        fitted = fit(mechanism_model(chosen))
+    return dataclasses.replace(fitted, mechanism=choice)
 
 
 def check_exclusions(logs: list[JointLog], exclusion: ExclusionRequest) -> None:
@@ -96,17 +125,16 @@ def load_training_request(request, model: JointModel, constrained: bool = False,
     logs = load_joint_logs(request, progress, cancel)
     if cancel is not None and cancel():  # the fit cannot stop part-way: no fit is started after an Escape
         raise LoadCancelled(request.path)
-    if len(logs) == 1:
-        return fit_logs(logs[0], None, model if no_angle(logs[0]) is None else NO_ANGLE_MODEL, constrained,
-                        request.filtering)
-    return fit_sysid_runs(logs, None, request.filtering, constrained=constrained)
+    if len(logs) == 1 and logs[0].effort.is_torque:
+        return fit_logs(logs[0], None, sysid_model(logs, model), constrained, request.filtering)
+    return fit_sysid(logs, None, request.filtering, constrained=constrained)
 
 
 @checked(entry=optional(text), units=optional(text), model=optional(model_argument), cutoff=optional(real(0.0)),
-         decimate=optional(whole(1)), sensitivity=flag, motor=optional(text), runs=text)
+         decimate=optional(whole(1)), sensitivity=flag, mechanism=optional(text), motor=optional(text), runs=text)
 def fit_wpilog(source, *, entry: str | None = None, units: str | None = None, model: str | JointModel | None = None,
                cutoff: float | None = None, decimate: int | None = None, sensitivity: bool = True,
-               motor: str | None = None, runs: str = "all"):
+               mechanism: str | None = None, motor: str | None = None, runs: str = "all"):
     """Fit a WPILib data log as `jointid fit --wpilog` does.
 
     Parameters
@@ -119,8 +147,11 @@ def fit_wpilog(source, *, entry: str | None = None, units: str | None = None, mo
     units : {'rotations', 'radians', 'degrees', 'meters'}, optional
         The position's unit over the entries' metadata (`--units`); a length is read in metres.
     model : str or JointModel, optional
-        'coulomb+angle-offset' (WPILib's arm feedforward) by default; where q is no angle (a length, or a
-        velocity-only routine's integrated velocity) kA, kV and kS without gravity.
+        A model by name over the mechanism's (e.g. 'coulomb+angle-offset', WPILib's arm feedforward).
+    mechanism : {'simple', 'elevator', 'arm'}, optional
+        What the routine characterised: a simple motor (flywheel, roller, drive: SimpleMotorFeedforward), an
+        elevator (ElevatorFeedforward) or an arm (ArmFeedforward); None chooses from the log by BIC and says why
+        (the fit's `mechanism.note()`).
     cutoff, decimate : float, int
         The low-pass (`--cutoff`, `--decimate`); a SysId routine's tests are not low-passed unless a cutoff is
         given, since each dynamic test starts with a step.
@@ -134,8 +165,8 @@ def fit_wpilog(source, *, entry: str | None = None, units: str | None = None, mo
     Returns
     -------
     PooledRuns or LoadedLogs
-        A SysId routine's tests fitted alone and pooled (`params` and `bse` are the pooled gains kA, kG, kV, kS and
-        the offset q0, `names` the tests); any other log's one fit.
+        A SysId routine's tests fitted alone and pooled (`params` and `bse` are the pooled gains: kA, kV, kS, and kG
+        for an elevator, kG and the offset q0 for an arm; `names` the tests); any other log's one fit.
 
     Raises
     ------
@@ -159,11 +190,21 @@ def fit_wpilog(source, *, entry: str | None = None, units: str | None = None, mo
         raise ValueError(f"units: one of 'rotations', 'radians', 'degrees', 'meters'; got {units!r}")
     if runs not in ("all", "first"):
         raise ValueError(f"runs: one of 'all', 'first'; got {runs!r}")
+    from ..options import MECHANISMS
+
+    if mechanism not in (None, *MECHANISMS):
+        raise ValueError(f"mechanism: one of {', '.join(map(repr, MECHANISMS))}; got {mechanism!r}")
     filtering = FilterRequest(cutoff, decimate)
     request = LoadRequest(os.fspath(source), wpilog=True, entries=entries, units=units, filtering=filtering,
                           sysid_motor=motor, sysid_runs=runs)
     logs = load_joint_logs(request)
     chosen = model_named(model) if isinstance(model, str) else model
-    if len(logs) == 1:
-        return fit_logs(logs[0], None, sysid_model(logs, chosen), filtering=filtering, sensitivity=sensitivity)
-    return fit_sysid_runs(logs, chosen, filtering, sensitivity=sensitivity)
+    if len(logs) == 1 and logs[0].effort.is_torque:
+        return fit_logs(logs[0], None, sysid_model(logs, chosen), filtering=filtering,
+                        sensitivity=sensitivity)
+    from .mechanism import MechanismError
+
+    try:
+        return fit_sysid(logs, chosen, filtering, sensitivity=sensitivity, mechanism=mechanism)
+    except MechanismError as error:
+        raise ValueError(str(error)) from None

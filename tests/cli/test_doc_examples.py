@@ -186,6 +186,14 @@ def write_drive_log(folder: Path) -> None:
     write_motor_log(folder / "sysid_drive.wpilog", DRIVE_EXAMPLE)
 
 
+def copy_flywheel_log(folder: Path) -> None:
+    """sysid_flywheel.wpilog (sysid.md): the committed example, a shooter's routine simulated by
+    tests/support/sysid_mechanisms.py."""
+    pytest.importorskip("wpiutil")
+    (folder / "sysid_flywheel.wpilog").write_bytes(
+        (ROOT / "docs" / "examples" / "sysid_flywheel.wpilog").read_bytes())
+
+
 FIXTURES = {
     "bad.csv": lambda folder: (folder / "bad.csv").write_text("t,q,qd,qdd,tau\n0,0,NaN,0,1\n0.1,0,0,0,1\n"),
     "units.csv": lambda folder: (folder / "units.csv").write_text(
@@ -193,6 +201,7 @@ FIXTURES = {
     "arm_": write_bags,
     "sysid_arm.wpilog": copy_sysid_log,
     "sysid_drive.wpilog": write_drive_log,
+    "sysid_flywheel.wpilog": copy_flywheel_log,
 }
 """Files the docs' examples read without an example writing them first, by the text in a command that names them."""
 

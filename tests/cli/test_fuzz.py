@@ -399,10 +399,10 @@ def test_exclude_covering_every_sample_is_one_clear_line(capsys, in_tmp, interva
 
 def test_every_wrote_line_shows_an_odd_output_name_escaped(capsys, in_tmp):
     """An ESC or a BEL in an output name reached the terminal raw in simulate's, export's and design's 'Wrote'."""
-    from jointid.files import shown_path
+    from jointid.text_safety import shown_name
 
     for argv, name in ((["simulate", "--out"], "a\x1b[2Jb.csv"), (["export", "--mass", "1", "--urdf"], "j\x07.urdf"),
                        (["design", "--samples", "24", "--out"], "m\u202e.json")):
         status, out, err = run(capsys, [*argv, name])
         assert (status, err) == (0, ""), err
-        assert f"Wrote {shown_path(name)}" in out and not {c for c in out if not c.isprintable() and c != "\n"}
+        assert f"Wrote {shown_name(name)}" in out and not {c for c in out if not c.isprintable() and c != "\n"}

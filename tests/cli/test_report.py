@@ -359,7 +359,7 @@ def test_hostile_names_are_escaped_alike_in_every_face_and_markdown_links_resolv
 
     from markdown_it import MarkdownIt
 
-    from jointid.files import shown_path
+    from jointid.text_safety import shown_name
 
     monkeypatch.chdir(tmp_path)
     other = "plain.csv"
@@ -376,7 +376,7 @@ def test_hostile_names_are_escaped_alike_in_every_face_and_markdown_links_resolv
     for face in (out, page, text):
         assert raw_controls(face) == set(), raw_controls(face)
     _, page_text = parsed(tmp_path / "run.html")  # strict: a raw ESC or BEL is a parse error
-    shown = shown_path(HOSTILE)  # the command line's escaping, e.g. in a refusal's message
+    shown = shown_name(HOSTILE)  # how every face shows a name it did not choose
     rendered = MarkdownIt("commonmark").render(text)
     assert shown in page_text and shown in html.unescape(rendered)  # the Markdown reads as the name, escaped
     assert "onerror" not in re.sub(r"&lt;img src=x onerror=alert\(1\)&gt;", "", rendered)

@@ -6,16 +6,14 @@ connections. The lesson's numbers checked here are the lesson's own table (DESIG
 
 from __future__ import annotations
 
-import asyncio
 import json
 import os
 import socket
 import sys
 
-import aiohttp
 import pytest
 
-from tests.support.serve_support import BrowserTerminal, ServedExplorer, process_alive
+from tests.support.serve_support import BrowserTerminal, ServedExplorer, path_field, process_alive, run
 
 SLOW_FIT = {"I": -1.607788, "h": 0.400094, "B": 0.109966}
 """The lesson's slow motion at noise 0.20 (DESIGN.md's table)."""
@@ -41,16 +39,6 @@ def server(data_tree):
     served = ServedExplorer("--noise", "0.2", "--max-sessions", "2", "--data", str(data_tree / "data"))
     yield served
     served.stop()
-
-
-def run(scenario):
-    """Run an async scenario with one HTTP client session."""
-
-    async def main():
-        async with aiohttp.ClientSession() as http:
-            return await scenario(http)
-
-    return asyncio.run(main())
 
 
 def test_the_browser_sees_the_lesson_and_downloads_the_fit_and_the_session_ends_with_the_socket(server):
@@ -150,18 +138,11 @@ def test_ctrl_o_in_the_browser_reads_only_inside_the_data_folder(server, data_tr
     run(scenario)
 
 
-def path_field(tab: BrowserTerminal) -> str:
-    """What the Open dialog's path field shows (the line under its label, left of any notification)."""
-    lines = tab.screen.display
-    label = next(index for index, line in enumerate(lines) if "Path (Enter opens it):" in line)
-    start = lines[label].index("Path")
-    return lines[label + 1][start:].split("▌")[0].split("│")[0].strip()
-
-
 @pytest.fixture(scope="module")
 def idle_server():
-    """`jointid serve --idle-timeout 3` without --data."""
-    served = ServedExplorer("--idle-timeout", "3")
+    """`jointid serve --idle-timeout 10` without --data (longer than an explorer takes to start on a machine
+    loaded by other tests: at 3 s a session was ended before it had drawn)."""
+    served = ServedExplorer("--idle-timeout", "10")
     yield served
     served.stop()
 
@@ -176,7 +157,7 @@ def test_an_abandoned_session_ends_after_the_idle_timeout_and_ctrl_o_is_off_with
         pid = int(idle_server.wait_for_line(r"session started: pid (\d+)", start).group(1))
         await tab.wait_for_close()  # nothing typed since: the server ends the session
         code, reason = tab.close_reason
-        assert code == 1001 and reason == "Session ended after 3 s without a key. Reload the page to start again."
+        assert code == 1001 and reason == "Session ended after 10 s without a key. Reload the page to start again."
         idle_server.session_ended(pid, start)
         assert not process_alive(pid)
 

@@ -124,6 +124,7 @@ def test_the_swerve_log_fits_with_no_flags_all_four_motors_pooled_per_metre(swer
     assert "drives 4 motors" in reading and "pooled as one mechanism" in reading
     assert "q in metres" in reading
     assert "kG" not in swerve_fit["pooled"]["estimate"]  # no cos of metres
+    assert swerve_fit["mechanism"]["mechanism"] == "simple"  # a drive: SimpleMotorFeedforward, chosen unasked
     kv = swerve_fit["pooled"]["estimate"]["kV"]
     for motor in MOTORS:  # one mechanism: within 6 % of every motor's own SysId kV
         reference = sysid_reference(SWERVE, motor)["kV"]

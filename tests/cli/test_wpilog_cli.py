@@ -220,7 +220,7 @@ def test_log_info_escapes_the_logs_names_and_units_as_every_message_does(capsys,
     """Entry names and units are the log's: a raw ESC, BEL or CR would drive the terminal (they were printed raw)."""
     from support.datalog_bytes import joint_log
 
-    from jointid.files import shown_path
+    from jointid.text_safety import shown_name
 
     name, unit = "q\x1b[2J\x07", "rad\rians\u202e"
     path = tmp_path / "odd\x1b]0;title\x07.wpilog"
@@ -228,5 +228,5 @@ def test_log_info_escapes_the_logs_names_and_units_as_every_message_does(capsys,
     status, out, err = run(capsys, "log-info", path)
     assert (status, err) == (0, "")
     assert not {c for c in out if not c.isprintable() and c != "\n"}, out
-    for shown in (shown_path(name), shown_path(unit), shown_path(path)):
+    for shown in (shown_name(name), shown_name(unit), shown_name(str(path))):
         assert shown in out

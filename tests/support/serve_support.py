@@ -13,6 +13,7 @@ import asyncio
 import json
 import os
 import re
+import resource
 import socket
 import subprocess
 import sys
@@ -40,12 +41,19 @@ def free_port() -> int:
 class ServedExplorer:
     """`jointid serve` running in a subprocess on a free port; its log lines are read as they come."""
 
-    def __init__(self, *flags: str) -> None:
+    def __init__(self, *flags: str, open_files: int | None = None) -> None:
+        """Start `jointid serve --port PORT *flags`; with `open_files`, under that limit of open files (soft and
+        hard, so the server cannot raise it)."""
         self.port = free_port()
+
+        def limit_open_files() -> None:
+            if open_files is not None:
+                resource.setrlimit(resource.RLIMIT_NOFILE, (open_files, open_files))
+
         self.process = subprocess.Popen(
             [sys.executable, "-m", "jointid", "serve", "--port", str(self.port), *flags],
             stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, bufsize=1,
-            env={**os.environ, "PYTHONUNBUFFERED": "1"},
+            env={**os.environ, "PYTHONUNBUFFERED": "1"}, preexec_fn=limit_open_files,
         )
         self.lines: list[str] = []
         self.changed = threading.Condition()
@@ -109,6 +117,33 @@ class ServedExplorer:
             self.process.stdout.close()
 
 
+def run(scenario):
+    """Run an async scenario with one HTTP client session."""
+
+    async def main():
+        async with aiohttp.ClientSession() as http:
+            return await scenario(http)
+
+    return asyncio.run(main())
+
+
+def path_field(tab: BrowserTerminal) -> str:
+    """What the Open dialog's path field shows (the line under its label, left of any notification)."""
+    lines = tab.screen.display
+    label = next(index for index, line in enumerate(lines) if "Path (Enter opens it):" in line)
+    start = lines[label].index("Path")
+    return lines[label + 1][start:].split("▌")[0].split("│")[0].strip()
+
+
+def disposition_name(response: aiohttp.ClientResponse) -> str:
+    """The file name a browser saves a download as: its Content-Disposition's `filename*` (RFC 6266), else
+    `filename`, read by aiohttp's parser of the header."""
+    from aiohttp.multipart import content_disposition_filename, parse_content_disposition
+
+    _, fields = parse_content_disposition(response.headers["Content-Disposition"])
+    return content_disposition_filename(fields, "filename")
+
+
 def process_alive(pid: int) -> bool:
     """Whether process `pid` exists and has not ended (a zombie counts as ended)."""
     try:
@@ -139,9 +174,11 @@ class BrowserTerminal:
         self.changed = asyncio.Event()
         self.reader: asyncio.Task | None = None
 
-    async def connect(self, focus: bool = True) -> BrowserTerminal:
-        """Open the WebSocket as the page does (and give the terminal focus, as a click on the page does)."""
-        self.socket = await self.http.ws_connect(f"{self.server.url}/ws?width={self.width}&height={self.height}")
+    async def connect(self, focus: bool = True, origin: str | None = None) -> BrowserTerminal:
+        """Open the WebSocket as the page does (and give the terminal focus, as a click on the page does); with
+        `origin`, as a page from that origin does (a browser sends it with every WebSocket)."""
+        self.socket = await self.http.ws_connect(f"{self.server.url}/ws?width={self.width}&height={self.height}",
+                                                 origin=origin)
         self.reader = asyncio.create_task(self._read())
         await self.send(["resize", {"width": self.width, "height": self.height}])
         if focus:
@@ -226,9 +263,7 @@ class BrowserTerminal:
         """Fetch a delivery as the page does: its file name, content type and bytes."""
         async with self.http.get(f"{self.server.url}/download/{key}") as response:
             assert response.status == 200, await response.text()
-            disposition = response.headers["Content-Disposition"]
-            name = disposition.split("filename=", 1)[1]
-            return name, response.headers["Content-Type"], await response.read()
+            return disposition_name(response), response.headers["Content-Type"], await response.read()
 
     async def close(self) -> None:
         """Close the connection as a browser closing the tab does."""

@@ -58,38 +58,45 @@ def voltage(test: str, direction: int, t):
 
 def simulate_test(test: str, direction: int, times: np.ndarray, gains: dict = GAINS):
     """(q, qd) of the arm at `times` (s from the test's start, increasing), from rest hanging down."""
+    kS, kG, kV, kA, offset = (gains[k] for k in ("kS", "kG", "kV", "kA", "offset"))
+    net = lambda t, q: float(voltage(test, direction, t)) - kG * math.cos(q + offset)  # noqa: E731
+    return stick_slip(net, kS, kV, kA, -math.pi / 2 - offset, times)
+
+
+def stick_slip(net, kS: float, kV: float, kA: float, start: float, times: np.ndarray, max_step: float = np.inf,
+               rtol: float = 1e-11):
+    """(x, v) at `times` of kA a = net(t, x) - kS sgn(v) - kV v from rest at `start`, where the mechanism stays put
+    while |net(t, x)| <= kS (stiction): solve_ivp piece by piece between stops."""
     from scipy.integrate import solve_ivp
     from scipy.optimize import brentq
 
-    kS, kG, kV, kA, offset = (gains[k] for k in ("kS", "kG", "kV", "kA", "offset"))
     end = float(times[-1])
-    net = lambda t, q: float(voltage(test, direction, t)) - kG * math.cos(q + offset)  # noqa: E731
-    t, q, qd, moving = 0.0, -math.pi / 2 - offset, 0.0, 0
+    t, q, qd, moving = 0.0, start, 0.0, 0
     pieces = []  # (start, stop, function of t -> (q, qd))
     while t < end:
         if moving == 0:
-            start = t
+            begin = t
             if abs(net(t, q)) <= kS:  # stuck until the voltage overcomes gravity and stiction
                 grid = np.arange(t, end + 1e-3, 1e-3)
                 over = [s for s in grid if abs(net(s, q)) > kS]
                 if not over:
-                    pieces.append((start, end, lambda s, q=q: (q, 0.0)))
+                    pieces.append((begin, end, lambda s, q=q: (q, 0.0)))
                     break
                 later = over[0]
-                t = brentq(lambda s, q=q: abs(net(s, q)) - kS, max(later - 1e-3, start), later, xtol=1e-12) + 1e-12
-            pieces.append((start, t, lambda s, q=q: (q, 0.0)))
+                t = brentq(lambda s, q=q: abs(net(s, q)) - kS, max(later - 1e-3, begin), later, xtol=1e-12) + 1e-12
+            pieces.append((begin, t, lambda s, q=q: (q, 0.0)))
             moving = 1 if net(t, q) > 0 else -1
             continue
 
         def rhs(s, y, d=moving):
-            return [y[1], (float(voltage(test, direction, s)) - kS * d - kG * math.cos(y[0] + offset) - kV * y[1]) / kA]
+            return [y[1], (net(s, y[0]) - kS * d - kV * y[1]) / kA]
 
         def stops(s, y, d=moving):
             return y[1]
 
         stops.terminal, stops.direction = True, -moving
-        solution = solve_ivp(rhs, (t, end), [q, qd], method="DOP853", rtol=1e-11, atol=1e-12, dense_output=True,
-                             events=stops)
+        solution = solve_ivp(rhs, (t, end), [q, qd], method="DOP853", rtol=rtol, atol=1e-12, dense_output=True,
+                             events=stops, max_step=max_step)
         stop = float(solution.t[-1])
         pieces.append((t, stop, lambda s, f=solution.sol: tuple(f(s))))
         t, (q, qd) = stop, solution.y[:, -1]
@@ -97,13 +104,17 @@ def simulate_test(test: str, direction: int, times: np.ndarray, gains: dict = GA
             qd, moving = 0.0, 0
             t += 1e-12
     q_out, qd_out = np.empty(len(times)), np.empty(len(times))
-    for k, s in enumerate(times):
-        for start, stop, state in pieces:
-            if start <= s <= stop:
-                q_out[k], qd_out[k] = state(s)
-                break
-        else:
-            q_out[k], qd_out[k] = pieces[-1][2](pieces[-1][1])
+    times = np.asarray(times, dtype=float)
+    done = np.zeros(len(times), dtype=bool)
+    for first, last, state in pieces:  # each piece evaluated at all its times at once (its dense output)
+        inside = ~done & (times >= first) & (times <= last)
+        if inside.any():
+            values = [np.broadcast_to(np.asarray(value, dtype=float), inside.sum())
+                      for value in state(times[inside])]
+            q_out[inside], qd_out[inside] = values
+            done |= inside
+    if not done.all():
+        q_out[~done], qd_out[~done] = pieces[-1][2](pieces[-1][1])
     return q_out, qd_out
 
 

@@ -1,4 +1,5 @@
-"""The gains a controller takes, in their own view: WPILib's ArmFeedforward kS, kG, kV, kA of the log shown, and
+"""The gains a controller takes, in their own view: the mechanism's WPILib feedforward (SimpleMotorFeedforward,
+ElevatorFeedforward or ArmFeedforward) of the log shown, and
 the physical parameters behind a voltage log's gains when the motor is known."""
 
 from __future__ import annotations

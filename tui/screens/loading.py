@@ -11,7 +11,7 @@ from textual.containers import Vertical
 from textual.screen import ModalScreen
 from textual.widgets import Label, ProgressBar, Static
 
-from jointid.files import shown_path
+from jointid.text_safety import shown_name
 
 
 class LoadingScreen(ModalScreen[None]):
@@ -54,7 +54,7 @@ class LoadingScreen(ModalScreen[None]):
     def compose(self) -> ComposeResult:
         """File name, progress bar, hint."""
         with Vertical():
-            yield Label(f"Loading {shown_path(os.path.basename(self.path))}", markup=False)
+            yield Label(f"Loading {shown_name(os.path.basename(self.path))}", markup=False)
             yield ProgressBar(total=None, show_eta=False, id="load-progress")
             yield Static("Escape cancels; the current data stay.", markup=False, id="load-hint")
 

@@ -38,6 +38,7 @@ from jointid.present.status import (
 from jointid.present.text import format_number
 from jointid.studies.experiment import run_experiment
 from jointid.synthetic.motions import TRAINING_MOTIONS
+from jointid.text_safety import shown_name
 from jointid.synthetic.settings import DEFAULT_SETTINGS, Settings
 
 from ..ranges import FIELD_LABELS, STEP_RANGES
@@ -226,8 +227,8 @@ class MainScreen(Screen):
                 tooltip="The log's notes: how it was read, filtered and checked, and what the fit left out"),
         # Not in the footer (80 columns have no room): a voltage log's note names it, the help and the palette list it.
         Binding("g", "gains", "Gains", priority=True, show=False,
-                tooltip="A log's WPILib ArmFeedforward gains: kS, kG, kV, kA (a voltage log, or a torque log with "
-                "--motor)"),
+                tooltip="A log's WPILib feedforward gains: kS, kV, kA, and kG of an arm or elevator (a voltage log, "
+                "or a torque log with --motor)"),
         # Only with several runs (check_action); the log note names it.
         Binding("u", "runs", "Runs", priority=True, show=False,
                 tooltip="Several runs: each run's fit beside the pooled one; a digit there shows a run"),
@@ -647,7 +648,7 @@ class MainScreen(Screen):
         return None if conventions is None else conventions.motor
 
     def action_gains(self) -> None:
-        """Open the gains view: WPILib's ArmFeedforward gains of the log shown (and the motor's physical parameters
+        """Open the gains view: the WPILib feedforward gains of the log shown (and the motor's physical parameters
         behind a voltage log's); a notification when the fit gives none (a torque log without a motor)."""
         from jointid.studies.gains import GainsError
 
@@ -781,17 +782,15 @@ class MainScreen(Screen):
             return
         if dialog.chooser is not None and dialog.chooser.is_attached:
             dialog.chooser.dismiss()
-        from jointid.files import shown_path  # not on the first frame's path
-
-        first = logs.runs[0].training if hasattr(logs, "runs") else None
-        if first is not None and first.name != shown_path(os.path.basename(first.path)) \
+        if hasattr(logs, "runs") and logs.runs[0].training.name != shown_name(os.path.basename(
+                logs.runs[0].training.path)) \
                 and all(run.training.path == dialog.path for run in logs.runs):
             # A SysId data log's tests (no other runs come from one file): shown from the first, in the model
             # they were fitted with.
             self.settings = replace(self.settings, model=logs.runs[0].result.model.name)
             self.set_runs(logs, 0)
-            self.notify(f"{len(logs.runs)} SysId tests of {shown_path(dialog.path)}, fitted alone and pooled; u: "
-                        "every test", title="SysId log loaded")
+            self.notify(f"{len(logs.runs)} SysId tests of {shown_name(dialog.path)}, fitted alone and pooled; u: every test",
+                        title="SysId log loaded")
             return
         if hasattr(logs, "runs"):
             self.set_runs(logs, len(logs.runs) - 1)
@@ -838,7 +837,7 @@ class MainScreen(Screen):
             from ..web import deliver_export
 
             json_name, svg_name = deliver_export(self.app, stem, document, svg)
-            self.notify(f"Your browser downloads {json_name} and {svg_name}", title="Exported")
+            self.notify(f"Your browser downloads {shown_name(json_name)} and {shown_name(svg_name)}", title="Exported")
             return
         self.app.push_screen(ExportScreen(stem), lambda folder: self.write_export(folder, stem, document, svg))
 
@@ -855,9 +854,7 @@ class MainScreen(Screen):
         except ExportError as error:
             self.notify(str(error), title="Nothing exported", severity="error")
             return
-        from jointid.files import shown_path
-
-        self.notify(f"Wrote {shown_path(json_path)} and {shown_path(svg_path)}", title="Exported")
+        self.notify(f"Wrote {shown_name(str(json_path))} and {shown_name(str(svg_path))}", title="Exported")
 
     def action_write_report(self) -> None:
         """Write the report of what is shown (`jointid report` of the same source) into the current folder (in a
@@ -885,7 +882,7 @@ class MainScreen(Screen):
                 self.app.call_from_thread(self.notify, str(error), title="No report written", severity="error")
                 return
             name = self.app.call_from_thread(deliver_report, self.app, stem, page)
-            self.app.call_from_thread(self.notify, f"Your browser downloads {name}", title="Report written")
+            self.app.call_from_thread(self.notify, f"Your browser downloads {shown_name(name)}", title="Report written")
             return
         try:
             folder = os.getcwd()
@@ -896,4 +893,4 @@ class MainScreen(Screen):
         except (ExportError, ReportExtraMissing) as error:
             self.app.call_from_thread(self.notify, str(error), title="No report written", severity="error")
             return
-        self.app.call_from_thread(self.notify, f"Wrote {path}", title="Report written")
+        self.app.call_from_thread(self.notify, f"Wrote {shown_name(str(path))}", title="Report written")

@@ -27,6 +27,7 @@ from jointid.logs.conventions import EntryMap, LogConventions
 from jointid.logs.effort import EffortReading
 from jointid.logs.request import HELDOUT, RUN, TRAINING, LoadRequest
 from jointid.options import DEFAULT_ORDER, DEFAULT_WINDOW
+from jointid.text_safety import shown_name, typed_name
 
 from ..widgets.footer import KeyFooter
 from ..widgets.marks import ClearCheckbox, ClearRadioButton
@@ -40,6 +41,11 @@ class LogTree(DirectoryTree):
     def __init__(self, path: str | Path, *, data_folder: Path | None = None, **kwargs) -> None:
         super().__init__(path, **kwargs)
         self.data_folder = data_folder
+
+    def process_label(self, label):
+        """A name as the tree shows it: escaped (text_safety.shown_name), since a file's name may hold bytes that
+        are not UTF-8 or a terminal's control sequences."""
+        return super().process_label(shown_name(label) if isinstance(label, str) else label)
 
     def filter_paths(self, paths: Iterable[Path]) -> Iterable[Path]:
         """Leave out names starting with a dot, and in a browser whatever lies outside the data folder."""
@@ -249,9 +255,18 @@ class OpenLogScreen(ModalScreen[None]):
 
         self.app.push_screen(WpilogEntryScreen(path), picked)
 
+    def existing(self, typed: str) -> str:
+        """The path typed, or the name it shows escaped (text_safety.typed_name: `caf\\xe9.csv` for a name whose
+        bytes are not UTF-8) when only that exists."""
+        base = "" if self.data_folder is None else self.data_folder  # in a browser relative paths start there
+        for candidate in (typed, typed_name(typed)):
+            if os.path.lexists(os.path.join(base, candidate)):
+                return candidate
+        return typed
+
     def on_input_submitted(self, message: Input.Submitted) -> None:
         """Enter in the path field: a folder opens in the tree, a file is loaded; nothing or a typo stays here."""
-        path = os.path.expanduser(message.value.strip())
+        path = self.existing(os.path.expanduser(message.value.strip()))
         if not path:
             self.notify("Type the path of a CSV log or ROS bag, or choose one in the folder tree.",
                         title="No file chosen", severity="warning")
@@ -264,7 +279,7 @@ class OpenLogScreen(ModalScreen[None]):
             self.query_one(DirectoryTree).path = path
             return
         if not os.path.lexists(path):  # say so here, where the path can still be corrected
-            self.notify(f"{path}: no such file", title="No file chosen", severity="warning")
+            self.notify(f"{shown_name(path)}: no such file", title="No file chosen", severity="warning")
             return
         self.choose(path)
 
@@ -272,7 +287,7 @@ class OpenLogScreen(ModalScreen[None]):
         """A file chosen in the tree is loaded (a bag's after its joint is picked); the path field shows it, so a
         file that cannot be used is named there to correct."""
         field = self.query_one("#open-path", Input)
-        field.value = str(message.path)
+        field.value = shown_name(str(message.path))
         field.cursor_position = len(field.value)
         self.choose(str(message.path))
 

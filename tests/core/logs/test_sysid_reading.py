@@ -17,7 +17,7 @@ from jointid.logs.table import LogError
 from jointid.logs.timewindow import TimeWindow
 from jointid.logs.velocity_lag import velocity_lag
 from jointid.logs.wpilog import read_wpilog_table, read_wpilog_tables, wpilog_info
-from jointid.studies.sysid import NO_ANGLE_MODEL, fit_sysid_runs
+from jointid.studies.sysid import fit_sysid_runs
 
 wpiutil = pytest.importorskip("wpiutil")
 
@@ -179,10 +179,6 @@ def test_a_test_too_short_is_left_out_and_named(logs):
 def test_an_entry_map_naming_a_string_entry_is_refused(logs):
     with pytest.raises(LogError, match="entry 'sysid-test-state-drive' holds string, not numbers"):
         read_wpilog_table(logs["metres"], EntryMap.parse("q=sysid-test-state-drive,tau=voltage-left-drive"))
-
-
-def test_the_no_angle_model_has_no_gravity():
-    assert NO_ANGLE_MODEL.index_of("h") is None and NO_ANGLE_MODEL.angle_offset is None
 
 
 def test_a_state_recorded_between_two_samples_ends_a_run_with_no_gap():
