@@ -52,6 +52,9 @@ slowest, the three pendulum runs pooled, takes about 1 s)."""
 REAL_LOG_NAMES = re.compile(r"\bpendulum_\w+\.csv\b")
 """A command naming one of the real pendulum runs runs in ../shared/real-logs."""
 
+VENV_BIN = ".venv/bin/"
+"""README's and serve.md's examples run the programs of the set-up's virtual environment, as a reader does."""
+
 SHELL_SYNTAX = re.compile(r"[|<>;&`$]")
 
 OUTPUT_FLAGS = ("--out", "--mujoco", "--urdf")
@@ -76,7 +79,10 @@ class Example:
 
     @property
     def program(self) -> str:
-        return shlex.split(self.command)[0]
+        """The program run: `jointid` also when written as the set-up's `.venv/bin/jointid` (the environment the
+        tests run in)."""
+        program = shlex.split(self.command)[0]
+        return program.removeprefix(VENV_BIN) if program.startswith(VENV_BIN) else program
 
     @property
     def writes_files(self) -> bool:
@@ -211,12 +217,21 @@ def copy_sysid_log(folder: Path) -> None:
     (folder / "sysid_arm.wpilog").write_bytes((ROOT / "docs" / "examples" / "sysid_arm.wpilog").read_bytes())
 
 
+def copy_docs_examples(folder: Path) -> None:
+    """docs/examples/ as README's examples name it from the checkout's root."""
+    (folder / "docs" / "examples").mkdir(parents=True, exist_ok=True)
+    for example in (ROOT / "docs" / "examples").iterdir():
+        if example.is_file():
+            (folder / "docs" / "examples" / example.name).write_bytes(example.read_bytes())
+
+
 FIXTURES = {
     "bad.csv": lambda folder: (folder / "bad.csv").write_text("t,q,qd,qdd,tau\n0,0,NaN,0,1\n0.1,0,0,0,1\n"),
     "units.csv": lambda folder: (folder / "units.csv").write_text(
         "time_s,position_deg,velocity_deg_s,torque_nm,tau_cmd\n0,0,0,1,1\n"),
     "arm_": write_bags,
     "sysid_arm.wpilog": copy_sysid_log,
+    "docs/examples/": copy_docs_examples,
 }
 """Files the docs' examples read without an example writing them first, by the text in a command that names them."""
 
