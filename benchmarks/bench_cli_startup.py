@@ -38,6 +38,8 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
+from common import ENVIRONMENT, JOINTID  # noqa: E402
+
 from jointid.cli import SUBCOMMANDS  # noqa: E402
 from jointid.options import TRAINING_MOTION_NAMES  # noqa: E402
 
@@ -45,13 +47,6 @@ ROUNDS = 9
 HELP_GOAL = 2.0
 COMMAND_GOAL = 1.3
 
-ENVIRONMENT = {name: value for name, value in os.environ.items() if name != "PYTHONDONTWRITEBYTECODE"}
-ENVIRONMENT["PYTHONPATH"] = os.pathsep.join(p for p in (str(ROOT), os.environ.get("PYTHONPATH")) if p)
-"""This tree's jointid first on the path; bytecode caching allowed, as on a user's machine."""
-
-SCRIPT = Path(sys.executable).parent / "jointid"
-JOINTID = [sys.executable, str(SCRIPT)] if SCRIPT.exists() else [sys.executable, "-m", "jointid"]
-"""The console script pip installed (run by this interpreter, so that PYTHONPATH picks this tree)."""
 
 PYTHON_START = [sys.executable, "-c", "pass"]
 NUMPY_IMPORT = [sys.executable, "-c", "import numpy"]

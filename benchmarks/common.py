@@ -7,6 +7,8 @@ puts this folder first on sys.path. The scripts put the repository root there fo
 from __future__ import annotations
 
 import gc
+import os
+import sys
 import tracemalloc
 from pathlib import Path
 
@@ -14,6 +16,17 @@ import numpy as np
 
 from jointid.model.terms import predict_torque
 from jointid.synthetic.motions import TRAINING_MOTIONS
+
+ROOT = Path(__file__).resolve().parent.parent
+
+ENVIRONMENT = {name: value for name, value in os.environ.items() if name != "PYTHONDONTWRITEBYTECODE"}
+ENVIRONMENT["PYTHONPATH"] = os.pathsep.join(p for p in (str(ROOT), os.environ.get("PYTHONPATH")) if p)
+"""The environment of the fresh processes timed: this tree's jointid first on the path, bytecode caching allowed
+as on a user's machine (this VM sets PYTHONDONTWRITEBYTECODE)."""
+
+SCRIPT = Path(sys.executable).parent / "jointid"
+JOINTID = [sys.executable, str(SCRIPT)] if SCRIPT.exists() else [sys.executable, "-m", "jointid"]
+"""The console script pip installed (run by this interpreter, so that PYTHONPATH picks this tree)."""
 
 
 def write_log(path: Path, rows: int) -> None:
