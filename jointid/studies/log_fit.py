@@ -301,19 +301,21 @@ def _fit(training: JointLog, heldout: JointLog | None, model: JointModel, constr
     """
     data = training.data
     filtered, tau = filtered_regressors(training, model, (chosen,))[0] if low_passed is None else low_passed
-    rows = chosen.rows(data.count)
+    rows = slice(None, None, chosen.decimation)  # the rows `chosen` keeps, as views: indexing would copy them
     t = None if data.t is None else data.t[rows]
     exclusions = None if t is None else _exclusions(training, model, chosen, filtered, tau, t, exclusion, found,
                                                     start)
-    kept = np.ones(len(rows), dtype=bool) if exclusions is None else exclusions.kept
-    fitted = JointData(t=None if t is None else t[kept], q=data.q[rows][kept], qd=data.qd[rows][kept],
-                       qdd=data.qdd[rows][kept], tau=tau[kept])
+    kept = np.ones(len(tau), dtype=bool) if exclusions is None else exclusions.kept
+    every = bool(kept.all())
+    pick = (lambda values: values) if every else (lambda values: values[kept])  # noqa: E731
+    fitted = JointData(t=None if t is None else pick(t), q=pick(data.q[rows]), qd=pick(data.qd[rows]),
+                       qdd=pick(data.qdd[rows]), tau=pick(tau))
     correlation = None
     if chosen.active:
         correlation = (np.flatnonzero(kept), correlation_lag(int(kept.sum()), chosen))
     try:
         result = fit_joint(fitted, None if heldout is None else _without_polynomial_ends(heldout), model=model,
-                           constrained=constrained, heldout_is_noiseless=False, regressor=filtered[kept],
+                           constrained=constrained, heldout_is_noiseless=False, regressor=pick(filtered),
                            correlation=correlation)
     except NonFiniteError as error:
         raise LogError(training.path, f"cannot be fitted: {error}; rescale its columns (other units)") from None
