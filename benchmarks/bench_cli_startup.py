@@ -28,17 +28,14 @@ runs, and one warm-up round writes the caches).
 
 from __future__ import annotations
 
-import os
 import statistics
-import subprocess
 import sys
-import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from common import ENVIRONMENT, JOINTID  # noqa: E402
+from common import JOINTID, launch  # noqa: E402
 
 from jointid.cli import SUBCOMMANDS  # noqa: E402
 from jointid.options import TRAINING_MOTION_NAMES  # noqa: E402
@@ -61,22 +58,6 @@ COMMANDS = {
     "jointid matrix": ["matrix"],
     "jointid torque --q 1 --qd 2 --qdd 3": ["torque", "--q", "1", "--qd", "2", "--qdd", "3"],
 }
-
-
-def launch(command: list[str]) -> tuple[float, float]:
-    """(wall, CPU) seconds of one fresh process running `command` to its exit (status 0 required).
-
-    CPU is the child's user + system time (os.wait4), which other processes on this shared machine
-    disturb far less than wall time.
-    """
-    start = time.perf_counter()
-    process = subprocess.Popen(command, cwd=ROOT, env=ENVIRONMENT, stdout=subprocess.DEVNULL)
-    _, status, usage = os.wait4(process.pid, 0)
-    wall = time.perf_counter() - start
-    process.returncode = os.waitstatus_to_exitcode(status)
-    if process.returncode:
-        raise SystemExit(f"{command} exited with {process.returncode}")
-    return wall, usage.ru_utime + usage.ru_stime
 
 
 def spread(values: list[float]) -> str:

@@ -19,9 +19,7 @@ time beyond the like-for-like fit (median of 3 calls each, CPU seconds), to say 
 
 from __future__ import annotations
 
-import os
 import statistics
-import subprocess
 import sys
 import tempfile
 import time
@@ -31,25 +29,12 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from bench_log_load import BASELINE_SCRIPT  # noqa: E402  (this folder is first on sys.path)
-from common import ENVIRONMENT, JOINTID, write_log  # noqa: E402
+from common import JOINTID, launch, write_log  # noqa: E402
 
 ROUNDS = 7
 ROWS = 1_000_000
 LIKE_FOR_LIKE = ["--model", "plain", "--no-robust", "--cutoff", "0"]
 GOALS = {"like for like": 1.0, "every default": 1.5}
-
-
-def wall_seconds(command: list[str]) -> tuple[float, float]:
-    """(wall, CPU) seconds of one fresh process run to its end (status 0 required); CPU is the child's user and
-    system time from os.wait4, less moved than wall time by the other processes of a busy machine."""
-    start = time.perf_counter()
-    child = subprocess.Popen(command, cwd=ROOT, env=ENVIRONMENT, stdout=subprocess.DEVNULL)
-    _, status, usage = os.wait4(child.pid, 0)
-    seconds = time.perf_counter() - start
-    child.returncode = os.waitstatus_to_exitcode(status)
-    if child.returncode:
-        raise SystemExit(f"{command} exited with {child.returncode}")
-    return seconds, usage.ru_utime + usage.ru_stime
 
 
 def spread(values: list[float]) -> str:
@@ -113,14 +98,14 @@ def main() -> int:
                     "every default": JOINTID + ["fit", "--csv", str(path), "--json"]}
         print(f"log: {rows:,} rows x 5 columns, {path.stat().st_size / 1e6:.1f} MB; {rounds} interleaved rounds")
         for command in commands.values():  # warm-up: bytecode caches, the page cache
-            wall_seconds(command)
+            launch(command)
         seconds: dict[str, list[tuple[float, float]]] = {name: [] for name in commands}
         ratios: dict[str, list[float]] = {name: [] for name in GOALS}
         cpu_ratios: dict[str, list[float]] = {name: [] for name in GOALS}
         names = list(commands)
         for index in range(rounds):
             order = names[index % len(names):] + names[:index % len(names)]
-            this_round = {name: wall_seconds(commands[name]) for name in order}
+            this_round = {name: launch(commands[name]) for name in order}
             for name, value in this_round.items():
                 seconds[name].append(value)
             for name in GOALS:

@@ -8,7 +8,9 @@ from __future__ import annotations
 
 import gc
 import os
+import subprocess
 import sys
+import time
 import tracemalloc
 from pathlib import Path
 
@@ -47,3 +49,19 @@ def peak_memory(function, path) -> int:
         return tracemalloc.get_traced_memory()[1]
     finally:
         tracemalloc.stop()
+
+
+def launch(command: list[str]) -> tuple[float, float]:
+    """(wall, CPU) seconds of one fresh process running `command` to its exit (status 0 required).
+
+    CPU is the child's user + system time (os.wait4), which other processes on this shared machine
+    disturb far less than wall time.
+    """
+    start = time.perf_counter()
+    process = subprocess.Popen(command, cwd=ROOT, env=ENVIRONMENT, stdout=subprocess.DEVNULL)
+    _, status, usage = os.wait4(process.pid, 0)
+    wall = time.perf_counter() - start
+    process.returncode = os.waitstatus_to_exitcode(status)
+    if process.returncode:
+        raise SystemExit(f"{command} exited with {process.returncode}")
+    return wall, usage.ru_utime + usage.ru_stime
