@@ -28,15 +28,14 @@ runs, and one warm-up round writes the caches).
 
 from __future__ import annotations
 
-import os
 import statistics
-import subprocess
 import sys
-import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
+
+from common import JOINTID, launch  # noqa: E402
 
 from jointid.cli import SUBCOMMANDS  # noqa: E402
 from jointid.options import TRAINING_MOTION_NAMES  # noqa: E402
@@ -45,13 +44,6 @@ ROUNDS = 9
 HELP_GOAL = 2.0
 COMMAND_GOAL = 1.3
 
-ENVIRONMENT = {name: value for name, value in os.environ.items() if name != "PYTHONDONTWRITEBYTECODE"}
-ENVIRONMENT["PYTHONPATH"] = os.pathsep.join(p for p in (str(ROOT), os.environ.get("PYTHONPATH")) if p)
-"""This tree's jointid first on the path; bytecode caching allowed, as on a user's machine."""
-
-SCRIPT = Path(sys.executable).parent / "jointid"
-JOINTID = [sys.executable, str(SCRIPT)] if SCRIPT.exists() else [sys.executable, "-m", "jointid"]
-"""The console script pip installed (run by this interpreter, so that PYTHONPATH picks this tree)."""
 
 PYTHON_START = [sys.executable, "-c", "pass"]
 NUMPY_IMPORT = [sys.executable, "-c", "import numpy"]
@@ -66,22 +58,6 @@ COMMANDS = {
     "jointid matrix": ["matrix"],
     "jointid torque --q 1 --qd 2 --qdd 3": ["torque", "--q", "1", "--qd", "2", "--qdd", "3"],
 }
-
-
-def launch(command: list[str]) -> tuple[float, float]:
-    """(wall, CPU) seconds of one fresh process running `command` to its exit (status 0 required).
-
-    CPU is the child's user + system time (os.wait4), which other processes on this shared machine
-    disturb far less than wall time.
-    """
-    start = time.perf_counter()
-    process = subprocess.Popen(command, cwd=ROOT, env=ENVIRONMENT, stdout=subprocess.DEVNULL)
-    _, status, usage = os.wait4(process.pid, 0)
-    wall = time.perf_counter() - start
-    process.returncode = os.waitstatus_to_exitcode(status)
-    if process.returncode:
-        raise SystemExit(f"{command} exited with {process.returncode}")
-    return wall, usage.ru_utime + usage.ru_stime
 
 
 def spread(values: list[float]) -> str:

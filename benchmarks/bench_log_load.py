@@ -27,7 +27,6 @@ both estimates against the true parameters, and exits 1 if a goal is missed.
 from __future__ import annotations
 
 import gc
-import os
 import statistics
 import subprocess
 import sys
@@ -41,7 +40,7 @@ import pandas
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from common import write_log  # noqa: E402  (this folder is first on sys.path)
+from common import ENVIRONMENT, JOINTID, write_log  # noqa: E402  (this folder is first on sys.path)
 
 from jointid.logs.csv_reader import load_log, read_table  # noqa: E402
 from jointid.estimation.exclusion import ExclusionRequest  # noqa: E402
@@ -66,11 +65,6 @@ theta = np.linalg.lstsq(X, frame["tau"], rcond=None)[0]
 print(*theta)
 """
 """What a user would write instead of `jointid fit --csv FILE --json`."""
-
-ENVIRONMENT = {name: value for name, value in os.environ.items() if name != "PYTHONDONTWRITEBYTECODE"}
-ENVIRONMENT["PYTHONPATH"] = os.pathsep.join(p for p in (str(ROOT), os.environ.get("PYTHONPATH")) if p)
-SCRIPT = Path(sys.executable).parent / "jointid"
-JOINTID = [sys.executable, str(SCRIPT)] if SCRIPT.exists() else [sys.executable, "-m", "jointid"]
 
 
 AT_THE_READ = """\

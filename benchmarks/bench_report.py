@@ -21,7 +21,6 @@ the goal is missed.
 
 from __future__ import annotations
 
-import os
 import re
 import statistics
 import subprocess
@@ -33,16 +32,12 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from common import write_log  # this folder is first on sys.path
+from common import ENVIRONMENT, JOINTID, write_log  # this folder is first on sys.path
 
 ROUNDS = 9
 ROWS = 1_000_000
 GOAL = 1.5
 
-ENVIRONMENT = {name: value for name, value in os.environ.items() if name != "PYTHONDONTWRITEBYTECODE"}
-ENVIRONMENT["PYTHONPATH"] = os.pathsep.join(p for p in (str(ROOT), os.environ.get("PYTHONPATH")) if p)
-SCRIPT = Path(sys.executable).parent / "jointid"
-JOINTID = [sys.executable, str(SCRIPT)] if SCRIPT.exists() else [sys.executable, "-m", "jointid"]
 IN_ONE_PROCESS = [sys.executable, "-c", (
     "import sys; import jointid.present.chart_process as charts; "
     "charts.ChartProcess.__init__ = lambda self: setattr(self, 'process', None); "

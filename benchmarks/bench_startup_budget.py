@@ -30,12 +30,13 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from common import ENVIRONMENT  # noqa: E402  (this folder is first on sys.path)
+
 ROUNDS = 9
 BEST_OF = 3
 THRESHOLD = 0.05
-
-ENVIRONMENT = {name: value for name, value in os.environ.items() if name != "PYTHONDONTWRITEBYTECODE"}
-ENVIRONMENT["PYTHONPATH"] = os.pathsep.join(p for p in (str(ROOT), os.environ.get("PYTHONPATH")) if p)
 
 
 def command(argv: list[str], undo: str = "") -> str:

@@ -5,19 +5,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from ..options import (
-    CRITERIA,
-    DEFAULT_CRITERION,
-    DEFAULT_HARMONICS,
-    DEFAULT_NOISE,
-    DEFAULT_PERIOD,
-    DEFAULT_SEED,
-    DEFAULT_STARTS,
-    HARMONIC_LIMITS,
-    PERIOD_LIMITS,
-    RICH_ENVELOPE,
-    STARTS_LIMITS,
-)
+from .. import options  # the design's defaults and limits, as studies.design takes them
 from .arguments import (
     UserError,
     bounded_number,
@@ -37,8 +25,8 @@ PROGRESS_SECONDS = 2.0
 def criterion_name(text: str) -> str:
     """An argparse type for a design criterion: d, a or cond."""
     name = text.strip().lower()
-    if name not in CRITERIA:
-        raise argparse.ArgumentTypeError(f"must be one of {', '.join(CRITERIA)}; got {text!r}")
+    if name not in options.CRITERIA:
+        raise argparse.ArgumentTypeError(f"must be one of {', '.join(options.CRITERIA)}; got {text!r}")
     return name
 
 
@@ -54,7 +42,7 @@ def add_parser(subparsers) -> None:
         "expected standard error beside rich motion's at the same samples, noise and model, both condition "
         "numbers and the limits' margins. --out writes the motion file that --motion-file reads.",
     )
-    envelope = RICH_ENVELOPE
+    envelope = options.RICH_ENVELOPE
     parser.add_argument("--q-max", type=positive_number, default=envelope["q_max"], metavar="RAD",
                         help=f"angle limit |q| (rad), at most pi; default {envelope['q_max']:g} (rich motion's)")
     parser.add_argument("--qd-max", type=positive_number, default=envelope["qd_max"], metavar="RAD/S",
@@ -63,27 +51,29 @@ def add_parser(subparsers) -> None:
                         help=f"acceleration limit |qdd| (rad/s²); default {envelope['qdd_max']:g} (rich motion's)")
     parser.add_argument("--tau-max", type=positive_number, default=None, metavar="NM",
                         help="actuator torque limit |tau| of the true joint (N m); default none")
-    low, high = HARMONIC_LIMITS
-    parser.add_argument("--harmonics", type=whole_number(low, high), default=DEFAULT_HARMONICS, metavar="K",
-                        help=f"harmonics of the series, {low} to {high}; default {DEFAULT_HARMONICS}")
-    low, high = PERIOD_LIMITS
-    parser.add_argument("--period", type=bounded_number(low, high), default=DEFAULT_PERIOD, metavar="T",
-                        help=f"period (s), {low:g} to {high:g}; default {DEFAULT_PERIOD:g}")
+    low, high = options.HARMONIC_LIMITS
+    parser.add_argument("--harmonics", type=whole_number(low, high), default=options.DEFAULT_HARMONICS, metavar="K",
+                        help=f"harmonics of the series, {low} to {high}; default {options.DEFAULT_HARMONICS}")
+    low, high = options.PERIOD_LIMITS
+    parser.add_argument("--period", type=bounded_number(low, high), default=options.DEFAULT_PERIOD, metavar="T",
+                        help=f"period (s), {low:g} to {high:g}; default {options.DEFAULT_PERIOD:g}")
     parser.add_argument("--samples", type=setting_type("samples"), default=24, metavar="N",
                         help="training samples over 0..8 s the design is for; default 24")
-    parser.add_argument("--noise", type=setting_type("noise"), default=DEFAULT_NOISE, metavar="X",
-                        help=f"torque noise bound (N m) of the expected standard errors; default {DEFAULT_NOISE:.2f}")
+    parser.add_argument("--noise", type=setting_type("noise"), default=options.DEFAULT_NOISE, metavar="X",
+                        help="torque noise bound (N m) of the expected standard errors; "
+                        f"default {options.DEFAULT_NOISE:.2f}")
     parser.add_argument("--model", type=setting_type("model"), default="plain", metavar="NAME",
                         help="fitted model the design is for (as for fit --model); default plain")
-    parser.add_argument("--criterion", type=criterion_name, default=DEFAULT_CRITERION, metavar="{d,a,cond}",
+    parser.add_argument("--criterion", type=criterion_name, default=options.DEFAULT_CRITERION, metavar="{d,a,cond}",
                         help="d: maximise log det of the information matrix (relative units); a: minimise the sum "
                         "of relative variances; cond: minimise the column-scaled condition number; "
-                        f"default {DEFAULT_CRITERION}")
-    low, high = STARTS_LIMITS
-    parser.add_argument("--starts", type=whole_number(low, high), default=DEFAULT_STARTS, metavar="S",
-                        help=f"random starts of the optimiser, {low} to {high}; default {DEFAULT_STARTS}")
-    parser.add_argument("--seed", type=whole_number(0, 2**32 - 1), default=DEFAULT_SEED, metavar="SEED",
-                        help=f"seed of the random starts (the same seed gives the same design); default {DEFAULT_SEED}")
+                        f"default {options.DEFAULT_CRITERION}")
+    low, high = options.STARTS_LIMITS
+    parser.add_argument("--starts", type=whole_number(low, high), default=options.DEFAULT_STARTS, metavar="S",
+                        help=f"random starts of the optimiser, {low} to {high}; default {options.DEFAULT_STARTS}")
+    parser.add_argument("--seed", type=whole_number(0, 2**32 - 1), default=options.DEFAULT_SEED, metavar="SEED",
+                        help="seed of the random starts (the same seed gives the same design); "
+                        f"default {options.DEFAULT_SEED}")
     parser.add_argument("--out", metavar="FILE", help="write the designed motion to this JSON motion file")
     parser.add_argument("--force", action="store_true", help="replace FILE if it exists (only a regular file: never a symlink, a FIFO, a device or a folder)")
     parser.add_argument("--json", action="store_true", help="print one JSON object instead of text")

@@ -355,10 +355,28 @@ def fit_loaded_logs(args: argparse.Namespace) -> LoadedLogs:
     else:
         model = model_named(args.model or log_model(args))
     try:
-        return fit_logs(training, heldout, model=model, constrained=getattr(args, "constrained", False),
-                        filtering=filter_options(args), exclusion=exclusion_options(args))
+        with fit_progress(args, training.data.count):
+            return fit_logs(training, heldout, model=model,
+                            constrained=getattr(args, "constrained", False), filtering=filter_options(args),
+                            exclusion=exclusion_options(args))
     except LogError as error:  # numbers beyond double precision
         raise UserError(str(error)) from None
+
+
+def fit_progress(args: argparse.Namespace, count: int):
+    """The seconds of a fit at an explicit --decimate on a terminal (such a fit may take minutes), with the memory
+    it takes; nothing otherwise."""
+    import contextlib
+
+    if getattr(args, "decimate", None) is None:
+        return contextlib.nullcontext()
+    from ..memory import in_words
+    from ..studies.log_fit import fit_memory
+    from .progress import elapsed_on_terminal
+
+    kept = -(-count // args.decimate)
+    return elapsed_on_terminal(f"jointid: fitting {kept:,} samples (about {in_words(fit_memory(count, args.decimate))}"
+                               " of memory)")
 
 
 def log_model(args: argparse.Namespace) -> str:

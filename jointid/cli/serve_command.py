@@ -15,6 +15,7 @@ import errno
 import os
 import sys
 
+from ..memory import available_memory
 from ..text_safety import shown_name
 from .arguments import (
     OneLineParser,
@@ -164,18 +165,6 @@ def data_folder(path: str | None) -> str | None:
         problem = "not a folder" if os.path.lexists(path) else "no such folder"
         raise UserError(f"--data {shown_path(path)}: {problem}")
     return os.path.realpath(path)
-
-
-def available_memory() -> int:
-    """Bytes of memory available for new processes now (Linux's MemAvailable; elsewhere all physical memory)."""
-    try:
-        with open("/proc/meminfo", encoding="ascii") as meminfo:
-            for line in meminfo:
-                if line.startswith("MemAvailable:"):
-                    return int(line.split()[1]) * 1024
-    except (OSError, ValueError, IndexError):
-        pass
-    return os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
 
 
 def default_max_sessions(memory: int, cores: int = 1) -> int:

@@ -238,6 +238,10 @@ class ParallelFilter:
         kept = len(self.rows(len(column)))
         if kept == 0:
             return np.empty(0)
+        if column[0] == column[-1] and not np.any(column != column[0]):
+            # A constant (a torque bias's column): the taps sum to 1 and its extension is the same constant, so
+            # the output is the constant itself, which filtering would give to rounding.
+            return np.full(kept, column[0])
         fitted = max(3, int(round(0.5 * self.rate / self.cutoff)))
         plan = _fft_plan(len(taps), step, kept, len(column) + 2 * half)
         if plan is None:

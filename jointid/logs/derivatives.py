@@ -192,6 +192,8 @@ def differentiate(q: np.ndarray, step: float, window: int, order: int) -> tuple[
     floor = ROUNDING_FLOOR * float(np.max(np.abs(q))) if len(q) else 0.0
     if not np.max(np.abs(velocity), initial=0.0) > floor / step:
         velocity = np.zeros_like(velocity)
+    # A speed at the level of rounding has no sign (Coulomb friction's column is sign qd): zero, on every CPU.
+    velocity[np.abs(velocity) <= floor / step] = 0.0
     if not np.max(np.abs(acceleration), initial=0.0) > floor / step / step:
         acceleration = np.zeros_like(acceleration)
     return velocity, acceleration

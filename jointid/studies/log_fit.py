@@ -28,6 +28,7 @@ from ..logs.derivatives import MAX_WINDOW, smooth
 from ..logs.pipeline import JointLog
 from ..logs.request import HELDOUT, TRAINING, LoadRequest, load_joint_log
 from ..logs.table import LoadCancelled, LogError
+from ..memory import available_memory, in_words
 from ..model.terms import CANDIDATE_TERMS, PLAIN, JointModel, in_effort, model_argument
 from ..norms import rms
 from ..options import DEFAULT_ORDER, LOG_MODEL
@@ -43,6 +44,16 @@ its refits, e.g. a million samples unfiltered or 200,000 at full rate under a lo
 
 ROBUST_COST = 250
 """The robust step's and the solver's work per fitted sample, in lags of the standard errors' correlation sum."""
+
+FIT_BYTES_PER_SAMPLE = 800
+"""Memory a log fit (refits and robust step included) takes per fitted sample beyond the loaded log: the peak
+resident set of `fit --decimate 1` grew by 690 bytes a row from 250,000 to 500,000 rows (250 and 423 MB), with a
+margin."""
+
+
+def fit_memory(count: int, decimation: int) -> int:
+    """Bytes a fit of `count` samples decimated by `decimation` needs beyond the loaded log."""
+    return -(-count // decimation) * FIT_BYTES_PER_SAMPLE
 
 
 @dataclass(frozen=True, eq=False)
@@ -174,7 +185,7 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
         raise LogError(heldout.path, f"holds {heldout.effort.name} ({heldout.effort.unit}) but the training log "
                        f"{training.effort.name} ({training.effort.unit}); read both alike (--effort)")
     chosen = low_pass_for(training, filtering)
-    check_work(training, chosen)
+    check_work(training, chosen, explicit=filtering.decimate is not None)
     others = _cutoff_variants(training, chosen) if sensitivity else []
     # Each full-rate column is built once and low-passed by the chosen filter and the sensitivity check's
     # cutoff refits' alike, so no full-rate regressor is held.
@@ -243,31 +254,44 @@ def correlation_lag(count: int, chosen: ParallelFilter, decimation: int | None =
     return max(int(4 * (count / 100) ** (2 / 9)), 2 * support)
 
 
-def check_work(log: JointLog, chosen: ParallelFilter) -> None:
-    """LogError, saying how to fit less, when fitting the log as `chosen` asks is beyond FIT_BUDGET (a fit of ten
-    million samples took minutes and gigabytes)."""
+def check_work(log: JointLog, chosen: ParallelFilter, explicit: bool = False) -> None:
+    """LogError, saying how to fit less, when fitting the log as `chosen` asks is beyond FIT_BUDGET (about ten
+    seconds) and the decimation was chosen automatically, or, when the user asked for it (`explicit`), beyond the
+    memory available now (an explicit request the machine can serve is served, however long it takes)."""
     count = log.data.count
 
     def work(decimation: int) -> int:
         kept = -(-count // decimation)
         return kept * (correlation_lag(kept, chosen, decimation) + ROBUST_COST)
 
-    if work(chosen.decimation) <= FIT_BUDGET:
-        return
+    if explicit:
+        available = available_memory()
+        if fit_memory(count, chosen.decimation) <= available:
+            return
+        too_much = lambda decimation: fit_memory(count, decimation) > available  # noqa: E731
+        why = (f"needs about {in_words(fit_memory(count, chosen.decimation))} of memory and "
+               f"{in_words(available)} are available")
+    else:
+        if work(chosen.decimation) <= FIT_BUDGET:
+            return
+        too_much = lambda decimation: work(decimation) > FIT_BUDGET  # noqa: E731
+        why = f"are about {work(chosen.decimation) / FIT_BUDGET:.0f} times the work a fit takes on unasked (ten " \
+              f"seconds or so)"
     kept = -(-count // chosen.decimation)
     every = "" if chosen.decimation == 1 else f", every {chosen.decimation:,}th of {count:,}"
     stretch = "fit a stretch of it (--train-window START:END)"
     advice = stretch
     if chosen.rate is not None:  # evenly sampled: it can be decimated
         low, high = chosen.decimation, chosen.decimation
-        while work(high) > FIT_BUDGET:
+        while too_much(high) and high < count:
             low, high = high, 2 * high
         while high - low > 1:
             middle = (low + high) // 2
-            low, high = (low, middle) if work(middle) <= FIT_BUDGET else (middle, high)
+            low, high = (middle, high) if too_much(middle) else (low, middle)
         advice = f"decimate by {high:,} or more (--decimate {high}), or {stretch}"
-    raise LogError(log.path, f"{kept:,} samples to fit{every} are about {work(chosen.decimation) / FIT_BUDGET:.0f} "
-                   f"times the work a fit takes on (ten seconds or so); {advice}")
+        if not explicit:
+            advice += f"; --decimate 1 fits every sample (about {in_words(fit_memory(count, 1))} of memory)"
+    raise LogError(log.path, f"{kept:,} samples to fit{every} {why}; {advice}")
 
 
 def _fit(training: JointLog, heldout: JointLog | None, model: JointModel, constrained: bool,
@@ -283,19 +307,21 @@ def _fit(training: JointLog, heldout: JointLog | None, model: JointModel, constr
     """
     data = training.data
     filtered, tau = filtered_regressors(training, model, (chosen,))[0] if low_passed is None else low_passed
-    rows = chosen.rows(data.count)
+    rows = slice(None, None, chosen.decimation)  # the rows `chosen` keeps, as views: indexing would copy them
     t = None if data.t is None else data.t[rows]
     exclusions = None if t is None else _exclusions(training, model, chosen, filtered, tau, t, exclusion, found,
                                                     start)
-    kept = np.ones(len(rows), dtype=bool) if exclusions is None else exclusions.kept
-    fitted = JointData(t=None if t is None else t[kept], q=data.q[rows][kept], qd=data.qd[rows][kept],
-                       qdd=data.qdd[rows][kept], tau=tau[kept])
+    kept = np.ones(len(tau), dtype=bool) if exclusions is None else exclusions.kept
+    every = bool(kept.all())
+    pick = (lambda values: values) if every else (lambda values: values[kept])  # noqa: E731
+    fitted = JointData(t=None if t is None else pick(t), q=pick(data.q[rows]), qd=pick(data.qd[rows]),
+                       qdd=pick(data.qdd[rows]), tau=pick(tau))
     correlation = None
     if chosen.active:
         correlation = (np.flatnonzero(kept), correlation_lag(int(kept.sum()), chosen))
     try:
         result = fit_joint(fitted, None if heldout is None else _without_polynomial_ends(heldout), model=model,
-                           constrained=constrained, heldout_is_noiseless=False, regressor=filtered[kept],
+                           constrained=constrained, heldout_is_noiseless=False, regressor=pick(filtered),
                            correlation=correlation)
     except NonFiniteError as error:
         raise LogError(training.path, f"cannot be fitted: {error}; rescale its columns (other units)") from None

@@ -6,7 +6,11 @@ from pathlib import Path
 
 import pytest
 
-REAL_LOGS = Path(__file__).resolve().parents[3] / "shared" / "real-logs"
+_CHECKOUT = Path(__file__).resolve().parents[2]
+# Beside the checkout as CI places it, or beside the folder of a checkout made by `git worktree add` (/work/wt/NAME).
+REAL_LOGS = next((folder for folder in (_CHECKOUT.parent / "shared" / "real-logs",
+                                        _CHECKOUT.parent.parent / "shared" / "real-logs") if folder.is_dir()),
+                 _CHECKOUT.parent / "shared" / "real-logs")
 """The folder of the three measured runs and their README."""
 
 needs_real_logs = pytest.mark.skipif(not REAL_LOGS.is_dir(), reason="../shared/real-logs is not beside the checkout")

@@ -3,12 +3,21 @@
 The logs are written by `jointid simulate` into a temporary folder that is made
 the current directory, so the paths on screen are the same on every run.
 Regenerate on purpose with `--snapshot-update` and look at the PNGs first.
+
+A fit's readouts are compared at their printed precision (support/printed_numbers.py: one unit of the last digit
+of a 6-decimal readout), every tag and every word exactly: the last digit of a real log's Fc or RMSE differs
+between CPUs (OPENBLAS_CORETYPE=Prescott shows it on any machine), the layout does not.
 """
 
 from __future__ import annotations
 
+import re
+from pathlib import Path
+
 import pytest
+import pytest_textual_snapshot
 from support.log_files import CORPUS
+from support.printed_numbers import CHART_CELLS, screens_agree
 from support.real_logs import REAL_LOGS, needs_real_logs
 from support.robot_logs import robot_log, write_log
 from support.tui_support import make_app
@@ -22,6 +31,41 @@ from jointid.model.terms import model_named
 from jointid.options import LOG_MODEL
 from jointid.studies.log_fit import LoadRequest, fit_log, fit_logs
 from jointid.studies.runs import fit_runs
+
+
+@pytest.fixture(autouse=True)
+def readouts_at_their_precision(monkeypatch):
+    """The snapshots of this module match when their layout and words are the same and their numbers agree at
+    their printed precision (the plugin compares through its extension's `matches`)."""
+    def matches(self, *, serialized_data, snapshot_data) -> bool:
+        return snapshot_data is not None and screens_agree(str(snapshot_data), str(serialized_data))
+
+    monkeypatch.setattr(pytest_textual_snapshot.SVGImageExtension, "matches", matches)
+
+
+def test_a_readout_one_unit_off_or_a_chart_pixel_moved_matches_and_a_word_a_place_or_a_colour_does_not():
+    # A stored picture of the real log changed as another CPU changed it (0.174814 -> 0.174815, a dot of the chart
+    # moved to the next cell), and as it must not.
+    stored = (Path(__file__).resolve().parents[2] / "snapshots" / "test_log_snapshots"
+              / "test_a_real_log_with_pushes_shows_what_was_left_out[80x24].svg").read_text(encoding="utf-8")
+    readout = "Fc&#160;0.174814"
+    assert readout in stored
+    assert screens_agree(stored, stored.replace(readout, "Fc&#160;0.174815"))
+    assert not screens_agree(stored, stored.replace(readout, "Fc&#160;0.174816"))
+    assert not screens_agree(stored, stored.replace(readout, "Fv&#160;0.174814"))
+    run = re.search(r'<text class="[\w-]+" x="([\d.]+)"[^>]*>[^<]*' + readout, stored)
+    moved = stored[:run.start(1)] + f"{float(run.group(1)) + 12.2:.1f}" + stored[run.end(1):]
+    assert not screens_agree(stored, moved)  # the readout one column to the right
+    dots = [m for m in re.finditer(r'>([\u2800-\u28ff])<', stored)]
+    assert len(dots) > 2 * CHART_CELLS
+    def with_dots(count):
+        text = stored
+        for m in reversed(dots[:count]):
+            text = text[:m.start(1)] + chr(ord(m.group(1)) ^ 1) + text[m.end(1):]  # one dot on or off
+        return text
+    assert screens_agree(stored, with_dots(2)) and not screens_agree(stored, with_dots(CHART_CELLS + 1))
+    styles = re.findall(r"\.terminal-r\d+ \{ fill: (#[0-9a-f]{6})", stored)
+    assert not screens_agree(stored, stored.replace(styles[0], "#123456", 1))  # a colour
 
 
 @pytest.fixture

@@ -345,3 +345,17 @@ def test_the_note_names_the_filter_and_counts_in_ordinals():
     assert low_pass_short_note(chosen) == "torque and regressor low-passed at 5 Hz, every 21st sample kept"
     assert ", every 22nd sample" in low_pass_short_note(ParallelFilter(5.0, 200.0, 22, ""))
     assert ", every 12th sample" in low_pass_short_note(ParallelFilter(5.0, 200.0, 12, ""))
+
+
+def test_a_constant_column_comes_out_as_the_constant_the_filter_gives_to_rounding():
+    """A torque bias's column is skipped by the filter (its taps sum to 1): what the filter computes for it, with
+    scipy's own convolution of the extended column as the reference, is the constant to rounding."""
+    chosen = ParallelFilter(2.0, 1000.0, 7, "cutoff given")
+    column = np.full(20_000, 2.5)
+    out = chosen.apply_column(column)
+    assert out.shape == (len(chosen.rows(len(column))),) and np.all(out == 2.5)
+    from scipy.signal import fftconvolve
+
+    half = chosen.design.half
+    reference = fftconvolve(np.full(len(column) + 2 * half, 2.5), chosen.design.taps[::-1], mode="valid")[::7]
+    np.testing.assert_allclose(out, reference, rtol=1e-12)

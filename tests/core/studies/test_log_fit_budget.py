@@ -1,17 +1,23 @@
-"""A log fit's work is bounded: beyond FIT_BUDGET it is refused in one line that names the decimation that fits.
+"""A log fit's work is bounded: an automatic choice beyond FIT_BUDGET, or an explicit --decimate beyond the memory
+available, is refused in one line that names the decimation that fits; an explicit one the machine can serve is fitted.
 
-A million rows at --decimate 1 took 12 GB and minutes, ten million a traceback; the mechanism is tested here
-at small scale with the budget lowered.
+A million rows at --decimate 1 once took 12 GB and minutes, ten million a traceback; the mechanism is tested here
+at small scale with the budget lowered and the available memory injected (no test allocates gigabytes).
 """
 
 from __future__ import annotations
 
+import io
+import json
 import re
+import threading
 
 import numpy as np
 import pytest
 
 from jointid.cli import main
+from jointid.cli.progress import elapsed_on_terminal
+from jointid.studies.log_fit import FIT_BYTES_PER_SAMPLE
 from jointid.model.terms import G
 
 pytestmark = pytest.mark.filterwarnings("error::RuntimeWarning")
@@ -40,20 +46,74 @@ def run(capsys, argv):
     return status, captured.out, captured.err
 
 
-def test_work_beyond_the_budget_is_one_line_naming_the_least_decimation_that_fits(capsys, tmp_path, monkeypatch):
+def available(monkeypatch, size):
+    """The machine made to have `size` bytes of memory available (what check_work reads)."""
+    monkeypatch.setattr("jointid.studies.log_fit.available_memory", lambda: size)
+
+
+def test_an_explicit_decimation_the_memory_allows_is_fitted_however_much_work(capsys, tmp_path, monkeypatch):
     path = write_log(tmp_path / "log.csv")
-    monkeypatch.setattr("jointid.studies.log_fit.FIT_BUDGET", 300_000)
+    monkeypatch.setattr("jointid.studies.log_fit.FIT_BUDGET", 300_000)  # the automatic choice's budget, exceeded
+    available(monkeypatch, 6_001 * FIT_BYTES_PER_SAMPLE)  # exactly what 6,001 samples need
+    status, out, err = run(capsys, ["fit", "--csv", path, "--decimate", "1", "--cutoff", "4", "--json"])
+    assert (status, err) == (0, ""), err
+    assert json.loads(out)["low_pass"]["decimation"] == 1
+
+
+def test_an_explicit_decimation_beyond_the_memory_is_one_line_naming_the_least_that_fits(capsys, tmp_path,
+                                                                                          monkeypatch):
+    path = write_log(tmp_path / "log.csv")
+    available(monkeypatch, 2_000 * FIT_BYTES_PER_SAMPLE)  # room for 2,000 of the 6,001 samples
     status, out, err = run(capsys, ["fit", "--csv", path, "--decimate", "1", "--cutoff", "4"])
     assert (status, out) == (2, "") and len(err.splitlines()) == 1, err
-    assert "6,001 samples to fit are about" in err and "times the work a fit takes on" in err
+    needed, free = 6_001 * FIT_BYTES_PER_SAMPLE / 1e6, 2_000 * FIT_BYTES_PER_SAMPLE / 1e6
+    assert f"6,001 samples to fit needs about {needed:.0f} MB of memory and {free:.0f} MB are available" in err, err
     least = int(re.search(r"decimate by ([\d,]+) or more \(--decimate (\d+)\)", err).group(2))
-    assert least > 1 and "--train-window START:END" in err
+    assert least == 4 and "--train-window START:END" in err  # ceil(6,001 / 4) = 1,501 fit; ceil(6,001 / 3) not
     assert run(capsys, ["fit", "--csv", path, "--decimate", least, "--cutoff", "4", "--json"])[0] == 0
-    assert "times the work" in run(capsys, ["fit", "--csv", path, "--decimate", least - 1, "--cutoff", "4"])[2]
+    assert "of memory" in run(capsys, ["fit", "--csv", path, "--decimate", least - 1, "--cutoff", "4"])[2]
     # Every path to a log fit has the same bound: compare, and several runs (--csv twice).
     for command in (["compare"], ["fit", "--csv", path]):
         status, out, err = run(capsys, [*command, "--csv", path, "--decimate", "1", "--cutoff", "4"])
-        assert status == 2 and "times the work a fit takes on" in err, err
+        assert status == 2 and "of memory and" in err, err
+
+
+def test_an_automatic_choice_beyond_the_budget_names_the_decimation_and_the_memory_of_every_sample(
+        capsys, tmp_path, monkeypatch):
+    path = write_log(tmp_path / "log.csv")
+    monkeypatch.setattr("jointid.studies.log_fit.FIT_BUDGET", 300_000)
+    status, out, err = run(capsys, ["fit", "--csv", path, "--cutoff", "0"])  # unfiltered: no decimation chosen
+    assert (status, out) == (2, "") and len(err.splitlines()) == 1, err
+    assert "6,001 samples to fit are about" in err and "times the work a fit takes on" in err
+    least = int(re.search(r"decimate by ([\d,]+) or more \(--decimate (\d+)\)", err).group(2))
+    assert least > 1 and f"--decimate 1 fits every sample (about {6_001 * FIT_BYTES_PER_SAMPLE / 1e6:.0f} MB" in err
+    available(monkeypatch, 10**12)
+    assert run(capsys, ["fit", "--csv", path, "--cutoff", "0", "--decimate", "1", "--json"])[0] == 0
+
+
+def test_a_long_fit_shows_its_seconds_and_memory_on_a_terminal_and_clears_the_line(monkeypatch):
+    ticked = threading.Event()
+
+    class Terminal(io.StringIO):
+        def isatty(self):
+            return True
+
+        def write(self, text):
+            if text.endswith(": 1 s"):
+                ticked.set()
+            return super().write(text)
+
+    terminal = Terminal()
+    monkeypatch.setattr("jointid.cli.progress.FIRST_TICK", 0.0)
+    with elapsed_on_terminal("jointid: fitting 6,001 samples (about 5 MB of memory)", terminal):
+        assert ticked.wait(30)  # the ticker's first line, written by its own thread
+    shown = terminal.getvalue()
+    assert shown.startswith("\rjointid: fitting 6,001 samples (about 5 MB of memory): 1 s") and shown.endswith("\r")
+    assert shown.rsplit("\r", 2)[-2].strip() == ""  # the line is blanked before the command's output
+    piped = io.StringIO()  # not a terminal: nothing at all
+    with elapsed_on_terminal("jointid: fitting", piped):
+        pass
+    assert piped.getvalue() == ""
 
 
 def test_a_log_that_cannot_be_decimated_is_told_to_fit_a_stretch(capsys, tmp_path, monkeypatch):
