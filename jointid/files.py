@@ -29,11 +29,14 @@ is a symlink, a directory, a FIFO, a device or a socket is refused (replacing
 /dev/null with a regular file would break the system for everyone).
 
 A process killed outright (`kill -9`) cannot remove its temporary files. The
-temporaries are named `.NAME.PID-TOKEN.jointid-part`, one TOKEN per group; the
-next write into the same folder removes those whose process no longer runs,
-and, for a group that was killed between the links of its members (the
-explorer's JSON and SVG pair), also the members already linked into place
-(recognised as the same file as their temporary), so a group never stays half there.
+temporaries are named `.jointid.PID-TOKEN-MEMBER.jointid-part`, one TOKEN per
+group: short, whatever the final name's length (a legal 254-character name
+must stay writable), and free of it. The next write into the same folder
+removes those whose process no longer runs, and, for a group that was killed
+between the links of its members (the explorer's JSON and SVG pair: a member
+whose temporary has no second link was never placed), also the members already
+linked into place (the files of the folder that are the same file as their
+temporary), so a group never stays half there.
 
 Confined reading (`confine_reading`): a session of `jointid serve` reads only
 inside its --data folder. Every read there opens the path from the folder's
@@ -60,8 +63,10 @@ from typing import BinaryIO, Iterator, Sequence, TextIO
 
 TEMPORARY_SUFFIX = ".jointid-part"
 """Ending of every temporary file this module creates (and the only ones it ever removes)."""
-TEMPORARY_PATTERN = re.compile(r"^\.(?P<name>.+)\.(?P<pid>\d+)-(?P<token>[0-9a-f]{8})" + re.escape(TEMPORARY_SUFFIX) + "$")
-"""A temporary of this module's naming: the final name, the id of the process that created it, its group's token."""
+TEMPORARY_PATTERN = re.compile(r"^\.jointid\.(?P<pid>[1-9]\d{0,9})-(?P<token>[0-9a-f]{8})-(?P<member>\d{1,6})"
+                               + re.escape(TEMPORARY_SUFFIX) + "$")
+"""A temporary of this module's naming: the id of the process that created it (at most 10 digits, so a stray name
+cannot hold a number os.kill overflows on), its group's token, its place in the group."""
 NEW_FILE_MODE = 0o666
 """Mode asked for when creating a file; the umask takes away from it, as for `open(..., "w")`."""
 
@@ -78,6 +83,20 @@ def shown_path(path) -> str:
     """
     text = os.fsdecode(path) if isinstance(path, bytes) else str(os.fspath(path))
     return text if text.isprintable() else repr(text)
+
+
+def shown_command(words) -> str:
+    """A command line as shown: each word escaped as every name is (`text_safety.shown_name`: a raw ESC in a file
+    name would drive the terminal that shows the line), then quoted for a shell.
+
+    >>> shown_command(["jointid", "fit", "--csv", "run 1.csv"]), shown_command(["--out", "a\\x1bb"])
+    ("jointid fit --csv 'run 1.csv'", "--out 'a\\\\x1bb'")
+    """
+    import shlex
+
+    from .text_safety import shown_name
+
+    return " ".join(shlex.quote(shown_name(str(word))) for word in words)
 
 
 def file_kind(mode: int) -> str | None:
@@ -228,31 +247,25 @@ class NotRegularFile(ExportError):
     """The destination is a symlink, a directory, a FIFO, a device or a socket, which are never replaced."""
 
 
-def temporary_path(path: str, token: str | None = None) -> str:
-    """A temporary name beside `path`, carrying this process's id (so a later run can tell it is stale) and the
-    group's `token` (fresh when None)."""
-    folder, name = os.path.split(path)
+def temporary_path(path: str, token: str | None = None, member: int = 0) -> str:
+    """A temporary name beside `path`, carrying this process's id (so a later run can tell it is stale), the
+    group's `token` (fresh when None) and the `member`'s place in it; never longer than 45 characters."""
+    folder = os.path.dirname(path)
     token = secrets.token_hex(4) if token is None else token
-    return os.path.join(folder, f".{name}.{os.getpid()}-{token}{TEMPORARY_SUFFIX}")
+    return os.path.join(folder, f".jointid.{os.getpid()}-{token}-{member}{TEMPORARY_SUFFIX}")
 
 
 def _process_exists(pid: int) -> bool:
+    """Whether process `pid` may still run (True when we cannot tell, so its file is left alone)."""
     if pid == os.getpid():
         return True
     try:
         os.kill(pid, 0)  # signal 0: only asks whether the process exists
     except ProcessLookupError:
         return False
-    except OSError:  # it exists but belongs to someone else, or we cannot tell: leave its file alone
+    except (OSError, OverflowError, ValueError):  # someone else's, or no pid this system has: leave it alone
         return True
     return True
-
-
-def _same_file(one: str, other: str) -> bool:
-    try:
-        return os.path.samefile(one, other)
-    except OSError:
-        return False
 
 
 def remove_stale_temporaries(folder: str) -> list[str]:
@@ -267,16 +280,19 @@ def remove_stale_temporaries(folder: str) -> list[str]:
         entries = list(os.scandir(folder))
     except OSError:
         return removed  # cannot list the folder: the write itself will say why
-    groups = defaultdict(list)  # (pid, token) -> [(temporary, final)]
+    groups = defaultdict(list)  # (pid, token) -> [(temporary, its stat)]
     for entry in entries:
         match = TEMPORARY_PATTERN.match(entry.name)
         if match is None or _process_exists(int(match["pid"])):
             continue
-        groups[match["pid"], match["token"]].append((entry.path, os.path.join(folder, match["name"])))
+        try:
+            groups[match["pid"], match["token"]].append((entry.path, entry.stat(follow_symlinks=False)))
+        except OSError:
+            continue  # removed meanwhile by another run
     for members in groups.values():
         unwanted = [temporary for temporary, _ in members]
-        if not all(os.path.lexists(final) for _, final in members):  # killed before linking them all
-            unwanted += [final for temporary, final in members if _same_file(temporary, final)]
+        if any(found.st_nlink < 2 for _, found in members):  # killed before linking them all
+            unwanted += _linked_finals(entries, members)
         for path in unwanted:
             try:
                 os.unlink(path)
@@ -284,6 +300,24 @@ def remove_stale_temporaries(folder: str) -> list[str]:
             except OSError:
                 pass  # another run removed it first, or we may not: it is only litter
     return removed
+
+
+def _linked_finals(entries: list, members: list) -> list[str]:
+    """The files of the folder (`entries`) that are the same file as one of the temporaries `members` under
+    another name: the members a killed group had already linked into place."""
+    inodes = {(found.st_dev, found.st_ino) for _, found in members if found.st_nlink > 1}
+    temporaries = {temporary for temporary, _ in members}
+    finals = []
+    for entry in entries:
+        if entry.path in temporaries or not inodes:
+            continue
+        try:
+            found = entry.stat(follow_symlinks=False)
+        except OSError:
+            continue
+        if (found.st_dev, found.st_ino) in inodes:
+            finals.append(entry.path)
+    return finals
 
 
 def refuse_special_destination(path: str) -> None:
@@ -303,9 +337,10 @@ def _reason(error: OSError) -> str:
     return getattr(error, "strerror", None) or str(error) or type(error).__name__
 
 
-def _open_temporary(path: str, token: str) -> tuple[str, TextIO]:
-    """Create a new temporary file for `path` in the group `token` (mode from the umask) and open it as UTF-8 text."""
-    temporary = temporary_path(path, token)
+def _open_temporary(path: str, token: str, member: int) -> tuple[str, TextIO]:
+    """Create a new temporary file for `path`, the `member`-th of the group `token` (mode from the umask), and
+    open it as UTF-8 text."""
+    temporary = temporary_path(path, token, member)
     descriptor = os.open(temporary, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0),
                          NEW_FILE_MODE)
     try:
@@ -363,8 +398,8 @@ def atomic_outputs(paths: Sequence, *, overwrite: bool = False) -> Iterator[list
     placed: list[str] = []
     done = False
     try:
-        for path in paths:
-            temporary, handle = _open_temporary(path, token)
+        for member, path in enumerate(paths):
+            temporary, handle = _open_temporary(path, token, member)
             temporaries.append(temporary)
             handles.append(handle)
         yield handles

@@ -126,7 +126,9 @@ def run(args: argparse.Namespace) -> int:
     else:
         print(design_text(result))
         if args.out is not None:
-            print(f"\nWrote {args.out}: train on it with --motion-file {args.out}.")
+            from ..text_safety import shown_name
+
+            print(f"\nWrote {shown_name(args.out)}: train on it with --motion-file {shown_name(args.out)}.")
     return ExitStatus.SUCCESS
 
 

@@ -140,6 +140,9 @@ def identified_from_json(path: str) -> Identified:
         document = json.loads(data.decode("utf-8"))
     except (UnicodeDecodeError, ValueError) as error:
         raise UserError(f"{shown}: not JSON ({_first_line(error)}); give what `jointid fit --json` prints") from None
+    except RecursionError:  # the parser recurses per level: a few thousand brackets are past its stack
+        raise UserError(f"{shown}: JSON nested too deeply; a fit's JSON is a few levels deep (give what `jointid "
+                        "fit --json` prints)") from None
     if not isinstance(document, dict):
         raise UserError(f"{shown}: not a fit's JSON object; give what `jointid fit --json` prints")
     name = os.path.basename(os.path.normpath(path))

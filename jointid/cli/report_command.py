@@ -61,6 +61,7 @@ def run(args: argparse.Namespace) -> int:
     """Fit, build the report, write it (HTML, and Markdown with its charts) as one group; print where."""
     from ..files import ExportError, write_texts
     from ..present.report_charts import ReportExtraMissing
+    from ..text_safety import shown_name
 
     check_destinations(report_paths(args), args.force)
     check_drawing_library()
@@ -81,8 +82,9 @@ def run(args: argparse.Namespace) -> int:
         hint = " (add --force to replace it)" if "already exists" in str(error) else ""
         raise UserError(f"{error}{hint}") from None
     chart_files = len(texts) - 2
-    written = args.out if args.markdown is None else \
-        f"{args.out}, {args.markdown} and {chart_files} chart{'s' if chart_files != 1 else ''} beside it"
+    charts = f"{chart_files} chart{'s' if chart_files != 1 else ''} beside it"
+    written = shown_name(args.out) if args.markdown is None else \
+        f"{shown_name(args.out)}, {shown_name(args.markdown)} and {charts}"
     print(f"Wrote {written}.")
     return ExitStatus.SUCCESS
 
@@ -156,10 +158,11 @@ def report_paths(args: argparse.Namespace) -> list[str]:
 
 
 def command_line(argv: list[str]) -> str:
-    """The command as typed, for the report's footer: 'jointid report --motion slow ...'."""
-    import shlex
+    """The command as typed, for the report's footer: 'jointid report --motion slow ...' (a word holding a character
+    that is not printable escaped as every name is, by shown_name)."""
+    from ..files import shown_command
 
-    return " ".join(["jointid", *map(shlex.quote, argv)])
+    return shown_command(["jointid", *argv])
 
 
 def report_texts(args: argparse.Namespace, command: str, charts=None) -> dict[str, str]:

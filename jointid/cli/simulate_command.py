@@ -201,6 +201,7 @@ def run(args: argparse.Namespace) -> int:
 
     from ..files import ExportError, atomic_output
     from ..model.truth import TrueJoint
+    from ..text_safety import shown_name
     from ..synthetic.motions import ALL_MOTIONS
     from ..synthetic.noise import torque_noise
 
@@ -241,5 +242,6 @@ def run(args: argparse.Namespace) -> int:
     except ExportError as error:
         hint = " (add --force to replace it)" if "already exists" in str(error) else ""
         raise UserError(f"{error}{hint}") from None
-    print(f"Wrote {args.out}: {samples} samples of {', '.join(names)} ({motion.name} motion, {duration:g} s).")
+    print(f"Wrote {shown_name(args.out)}: {samples} samples of {', '.join(names)} ({motion.name} motion, "
+          f"{duration:g} s).")
     return ExitStatus.SUCCESS

@@ -36,7 +36,11 @@ Other logs (AdvantageKit, CTRE) name their entries with an EntryMap
 entry), and their unit with `--units` when the metadata does not say.
 
 A file cut short: the reader stops quietly at an incomplete record, so the last
-record it gives is checked to end where the file ends (`_ends_the_file`).
+record it gives is checked to end where the file ends (`_ends_the_file`). A
+damaged one: the reader decodes texts and numbers only when asked, and fails with
+a UnicodeDecodeError or TypeError on bytes that are not UTF-8 or a record of the
+wrong size; such a failure is turned into one LogError naming the entry and what
+is wrong with it (`_damaged`).
 """
 
 from __future__ import annotations
@@ -52,7 +56,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..files import FileRefused, check_readable, open_for_reading
+from ..files import FileRefused, check_readable, open_for_reading, shown_command
 from .pipeline import check_finite
 from .table import LoadCancelled, LogError, LogTable
 from .velocity_lag import lag_note, velocity_lag
@@ -71,6 +75,12 @@ HEADER_BYTES = 12
 
 NUMERIC_TYPES = {"double": "getDouble", "float": "getFloat", "int64": "getInteger"}
 """Entry types read as numbers, and the record method that decodes each."""
+
+NUMBER_BYTES = {"double": 8, "float": 4, "int64": 8}
+"""The payload size of one record of each numeric type (the format's specification)."""
+
+START_TEXTS = ("name", "type", "metadata")
+"""The length-prefixed strings of a Start control record's payload, after its type byte and 4-byte entry id."""
 
 STATE_PREFIX = "sysid-test-state-"
 """The start of a SysId routine's test-state entry's name; the routine's name follows."""
@@ -150,7 +160,7 @@ def unit_text(metadata: str) -> str | None:
     if text.startswith("{"):
         try:
             found = json.loads(text)
-        except ValueError:
+        except (ValueError, RecursionError):  # nested too deep for the parser: no unit it can read either
             return None
         value = found.get("unit", found.get("units")) if isinstance(found, dict) else None
         return str(value).strip() or None if value is not None else None
@@ -226,6 +236,20 @@ def open_reader(path):
     return reader
 
 
+def extra_header(path: str, reader) -> str:
+    """The log's extra header string; LogError when its bytes are not UTF-8."""
+    try:
+        return reader.getExtraHeader()
+    except UnicodeDecodeError as error:
+        raise LogError(path, f"is damaged: its extra header holds bytes that are not UTF-8 ({_bad_byte(error)})"
+                       ) from None
+
+
+def _bad_byte(error: UnicodeDecodeError) -> str:
+    """Which byte a UnicodeDecodeError stopped at, e.g. 'byte 0xff at 3'."""
+    return f"byte 0x{error.object[error.start]:02x} at {error.start}"
+
+
 def _ends_the_file(path: str, size: int, record, extra_header: str) -> bool:
     """True when the last record read (or the header, when there is none) ends exactly where the file does."""
     if record is None:
@@ -236,7 +260,8 @@ def _ends_the_file(path: str, size: int, record, extra_header: str) -> bool:
         tail = handle.read()
     if not tail.endswith(payload):
         return False
-    wanted = (record.getEntry(), record.getSize(), record.getTimestamp())
+    # The reader gives C++'s signed integers; the file holds unsigned ones (an id of 2**31 reads as -2**31).
+    wanted = (record.getEntry() & 0xFFFF_FFFF, record.getSize() & 0xFFFF_FFFF, record.getTimestamp() & (2**64 - 1))
     end = len(tail) - len(payload)
     for length in range(3, 18):  # 1 header byte, an id of 1-4 bytes, a size of 1-4, a time stamp of 1-8
         start = end - length
@@ -322,25 +347,29 @@ def read_entries(path, wanted: Callable[[str, str], bool], *, count_all: bool = 
     by_id: dict[int, Entry] = {}
     collected: dict[str, tuple[list, list]] = {}
     sinks: dict[int, tuple] = {}
+    header = extra_header(path, reader)
     record = None
-    for index, record in enumerate(reader):
-        entry = record.getEntry()
-        if entry == 0:
-            _control(record, entries, by_id, sinks, collected, wanted)
-        else:
-            sink = sinks.get(entry)
-            if sink is not None:
-                times, values, decode = sink
-                times.append(record.getTimestamp())
-                values.append(decode(record))
-            if count_all:
-                _count(by_id.get(entry), record)
-        if not index & (PROGRESS_RECORDS - 1) and index:
-            if cancel is not None and cancel():
-                raise LoadCancelled(path)
-            if progress is not None:
-                progress(min(index * RECORD_BYTES_GUESS, size - 1), size)
-    if not _ends_the_file(path, size, record, reader.getExtraHeader()):
+    try:
+        for index, record in enumerate(reader):
+            entry = record.getEntry()
+            if entry == 0:
+                _control(path, record, entries, by_id, sinks, collected, wanted)
+            else:
+                sink = sinks.get(entry)
+                if sink is not None:
+                    times, values, decode = sink
+                    times.append(record.getTimestamp())
+                    values.append(decode(record))
+                if count_all:
+                    _count(by_id.get(entry), record)
+            if not index & (PROGRESS_RECORDS - 1) and index:
+                if cancel is not None and cancel():
+                    raise LoadCancelled(path)
+                if progress is not None:
+                    progress(min(index * RECORD_BYTES_GUESS, size - 1), size)
+    except (UnicodeDecodeError, TypeError) as error:  # caught here, not per record: the loop is the hot path
+        raise _damaged(path, record, by_id, error) from None
+    if not _ends_the_file(path, size, record, header):
         raise LogError(path, "is cut short or damaged: its last record ends before the file does (a log copied "
                        "while the robot was still writing it?)")
     if progress is not None:
@@ -353,14 +382,16 @@ def read_entries(path, wanted: Callable[[str, str], bool], *, count_all: bool = 
     return entries, series
 
 
-def _control(record, entries, by_id, sinks, collected, wanted) -> None:
+def _control(path: str, record, entries, by_id, sinks, collected, wanted) -> None:
     """Apply a control record: an entry started (collected when wanted), finished, or given new metadata."""
     if record.isStart():
         data = record.getStartData()
+        _check_metadata(path, data.name, data.metadata)
         entry = entries.get(data.name)
         if entry is None:
             entry = entries[data.name] = Entry(data.entry, data.name, data.type, data.metadata)
         by_id[data.entry] = entry
+        sinks.pop(data.entry, None)  # a Start (re)assigns the id: what its records were decoded as before is gone
         decode = NUMERIC_TYPES.get(data.type, "getString" if data.type == "string" else None)
         if decode is not None and data.type == entry.type and wanted(data.name, data.type):
             times, values = collected.setdefault(data.name, ([], []))
@@ -373,7 +404,60 @@ def _control(record, entries, by_id, sinks, collected, wanted) -> None:
         data = record.getSetMetadataData()
         entry = by_id.get(data.entry)
         if entry is not None:
+            _check_metadata(path, entry.name, data.metadata)
             entry.metadata = data.metadata
+
+
+def _check_metadata(path: str, name: str, metadata: str) -> None:
+    """LogError when an entry's metadata is JSON nested too deep to parse (no logger writes that; a hostile file)."""
+    if metadata.lstrip().startswith(("{", "[")):
+        try:
+            json.loads(metadata)
+        except RecursionError:
+            raise LogError(path, f"is damaged: the metadata of entry {name!r} is JSON nested too deep to read "
+                           f"({len(metadata)} characters)") from None
+        except ValueError:
+            pass  # not JSON: a unit's name that happens to start with a brace, read as text
+
+
+def _damaged(path: str, record, by_id: dict, error: Exception) -> LogError:
+    """The one-line LogError for a record the reader failed to decode: texts that are not UTF-8, or a number's
+    record of the wrong size; raises `error` again when it is neither (a fault of this program, not the file's)."""
+    stamp = f"{(record.getTimestamp() & (2**64 - 1)) * 1e-6:.6f} s"
+    raw = bytes(record.getRaw())
+    if record.getEntry() == 0:
+        kind, fields = ("Start", START_TEXTS) if record.isStart() else ("SetMetadata", ("metadata",))
+        entry_id = int.from_bytes(raw[1:5], "little")
+        if isinstance(error, UnicodeDecodeError):
+            field = _bad_text(raw[5:], fields)
+            return LogError(path, f"is damaged: the {field} in the {kind} record of entry id {entry_id} (time stamp "
+                            f"{stamp}) is not UTF-8 ({_bad_byte(error)} of it)")
+        raise error
+    entry = by_id.get(record.getEntry())
+    if entry is None:
+        raise error
+    if isinstance(error, UnicodeDecodeError):
+        return LogError(path, f"is damaged: entry {entry.name!r} has a string record at {stamp} that is not UTF-8 "
+                        f"({_bad_byte(error)})")
+    expected = NUMBER_BYTES.get(entry.type)
+    if expected is None or len(raw) == expected:
+        raise error
+    return LogError(path, f"is damaged: entry {entry.name!r} is of type {entry.type} ({expected} bytes a record) "
+                    f"but its record at {stamp} holds {len(raw)} bytes")
+
+
+def _bad_text(payload: bytes, fields: tuple[str, ...]) -> str:
+    """The first of a control record's length-prefixed strings `fields` whose bytes are not UTF-8."""
+    at = 0
+    for field in fields:
+        length = int.from_bytes(payload[at: at + 4], "little")
+        text = payload[at + 4: at + 4 + length]
+        at += 4 + length
+        try:
+            text.decode("utf-8")
+        except UnicodeDecodeError:
+            return field
+    return "text"
 
 
 def _count(entry: Entry | None, record) -> None:
@@ -673,8 +757,9 @@ REPEATS = ("all", "first")
 
 
 def fit_line(path: str, *flags: str) -> str:
-    """`jointid fit --wpilog PATH FLAGS...` quoted so that it pastes into a shell as is."""
-    return shlex.join(["jointid", "fit", "--wpilog", os.fspath(path), *flags])
+    """`jointid fit --wpilog PATH FLAGS...` quoted so that it pastes into a shell as is (a name with a character
+    that is not printable escaped, as every name is shown)."""
+    return shown_command(["jointid", "fit", "--wpilog", os.fspath(path), *flags])
 
 
 def _checked_pairs(path: str, entries: dict[str, Entry], entry_map) -> dict[str, str]:
@@ -1014,8 +1099,8 @@ def wpilog_info(path, *, progress=None, cancel=None) -> WpilogInfo:
     runs = {}
     for name, found in series.items():
         runs[name[len(STATE_PREFIX):]] = _state_stretches(found)
-    reader = open_reader(path)
-    return WpilogInfo(path, reader.getExtraHeader(), tuple(entries.values()), tuple(routines), tuple(lacking), runs)
+    return WpilogInfo(path, extra_header(path, open_reader(path)), tuple(entries.values()), tuple(routines),
+                      tuple(lacking), runs)
 
 
 def _state_stretches(series: Series) -> tuple[tuple[str, int, int, int], ...]:

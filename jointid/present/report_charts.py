@@ -71,6 +71,9 @@ def _matplotlib():
         raise ReportExtraMissing(EXTRA_HINT) from None
     matplotlib.rcParams.update({
         "svg.fonttype": "none",  # text as <text>: selectable, and no font is embedded or fetched
+        # Titles hold file names: "$5 and $6.csv" is text, not math (as math it lost its dollars, and "$\\foo$"
+        # raised a ParseFatalException); no chart draws any math of its own.
+        "text.parse_math": False, "text.usetex": False,
         "font.family": "sans-serif",
         "font.size": 9,
         "text.color": TEXT_COLOUR, "axes.edgecolor": TEXT_COLOUR, "axes.labelcolor": TEXT_COLOUR,

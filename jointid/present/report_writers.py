@@ -17,6 +17,7 @@ from __future__ import annotations
 import html
 import os
 import re
+import urllib.parse
 
 from .report import Chart, Heading, Paragraph, Preformatted, Report, Table
 
@@ -129,6 +130,17 @@ def _markdown_text(text: str) -> str:
     return _MARKDOWN_SPECIAL.sub(r"\\\1", text)
 
 
+def _fence(text: str) -> str:
+    """A code fence longer than any run of backticks in `text`, so nothing inside can close it."""
+    longest = max((len(run) for run in re.findall(r"`+", text)), default=0)
+    return "`" * max(3, longest + 1)
+
+
+def _link_target(name: str) -> str:
+    """A file name as a link's destination: percent-encoded, so spaces and parentheses do not end the link."""
+    return urllib.parse.quote(name)
+
+
 def chart_file_name(markdown_path: str, chart: Chart) -> str:
     """'slow-training.svg' beside 'slow.md'."""
     stem = os.path.splitext(os.path.basename(markdown_path))[0]
@@ -146,7 +158,7 @@ def markdown_files(report: Report, markdown_path: str, footer: str) -> dict[str,
         elif isinstance(block, Paragraph):
             lines += [_markdown_text(block.text), ""]
         elif isinstance(block, Preformatted):
-            fence = "````" if "```" in block.text else "```"
+            fence = _fence(block.text)
             lines += [fence + "text", block.text, fence, ""]
         elif isinstance(block, Table):
             numbers = [all(_NUMBER_CELL.match(row[index]) for row in block.rows)
@@ -159,7 +171,7 @@ def markdown_files(report: Report, markdown_path: str, footer: str) -> dict[str,
         elif isinstance(block, Chart):
             name = chart_file_name(markdown_path, block)
             files[os.path.join(folder, name)] = svg_file(block.svg)
-            lines += [f"![{_markdown_text(block.title)}]({name})", "", _markdown_text(block.caption), ""]
+            lines += [f"![{_markdown_text(block.title)}]({_link_target(name)})", "", _markdown_text(block.caption), ""]
     lines += ["---", "", _markdown_text(footer), ""]
     return {markdown_path: "\n".join(lines), **files}
 

@@ -20,6 +20,7 @@ from collections.abc import Mapping
 
 from ..model.rigid_link import RigidLink
 from ..model.terms import G
+from ..text_safety import shown_name
 from .text import format_number, join_words
 
 ROD_THICKNESS = 0.05
@@ -173,7 +174,7 @@ def export_text(link: RigidLink, parameters: Mapping[str, float], model: str, wr
     if link.mass_moment > 0:
         lines.append(f"Small swings about hanging straight down: period 2 pi sqrt(I/(h g)) = "
                      f"{link.small_swing_period:.4f} s without damping.")
-    files = [f"{path} ({FORMATS[kind]})" for kind, path in written.items()]
+    files = [f"{shown_name(path)} ({FORMATS[kind]})" for kind, path in written.items()]
     lines.append(f"Wrote {join_words(files)}.")
     return "\n".join(lines)
 

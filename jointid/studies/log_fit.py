@@ -401,11 +401,16 @@ def _exclusions(training: JointLog, model: JointModel, chosen: ParallelFilter, X
                            f"sample; " + (f"the log spans {span} from its start" if base == "from the log's start"
                                           else f"the samples span {span} {base}"))
         pushes |= inside
+    left = int((~pushes).sum())
+    if request.by_hand and left < X.shape[1]:  # said here: the robust step would take the median of nothing
+        raise LogError(training.path, f"--exclude leaves {left or 'none'} of its {len(t)} samples to fit; the "
+                       f"model's {X.shape[1]} parameters need at least as many (the log spans 0 to "
+                       f"{float(since[-1]):.6g} s from its start)")
     level = estimate = None
     if found is not None:
         for start, end in found:
             pushes |= (since >= start) & (since <= end)
-    elif request.robust and (~still).sum() > 4 * X.shape[1]:
+    elif request.robust and (~still & ~pushes).sum() > 4 * X.shape[1]:
         lag = correlation_lag(len(t), chosen)
         flagged, level, estimate = outside_torques(X, tau, ~still & ~pushes, rest, coulomb, support, lag, start)
         if not model.effort.is_torque:  # a voltage step's response is the signal, not an outside torque

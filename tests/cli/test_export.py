@@ -169,7 +169,7 @@ def test_a_full_disk_leaves_neither_file(capsys, tmp_path, monkeypatch):
 
     def fdopen(descriptor, *args, **kwargs):  # the URDF's temporary finds the disk full
         handle = real_fdopen(descriptor, *args, **kwargs)
-        if ".b.urdf." in os.readlink(f"/proc/self/fd/{descriptor}"):
+        if os.readlink(f"/proc/self/fd/{descriptor}").endswith("-1.jointid-part"):  # the group's second: b.urdf
             handle.write = disk_full
         return handle
 
@@ -202,7 +202,9 @@ def test_bad_input_is_one_line(capsys, tmp_path, monkeypatch, argv, expected):
 
 def test_a_file_that_is_not_a_fits_json_is_one_line(capsys, tmp_path):
     for text, expected in (("{", "not JSON"), ("[1]", "not a fit's JSON object"),
-                           ('{"model": "plain", "estimate": {"I": "x"}}', "estimate is not an object of numbers")):
+                           ('{"model": "plain", "estimate": {"I": "x"}}', "estimate is not an object of numbers"),
+                           ("[" * 200_000 + "]" * 200_000, "JSON nested too deeply"),  # was a RecursionError
+                           ('{"a":' * 100_000 + "1" + "}" * 100_000, "JSON nested too deeply")):
         (tmp_path / "fit.json").write_text(text)
         assert expected in refused(capsys, "export", "--from-json", tmp_path / "fit.json", "--mass", 1,
                                    "--mujoco", tmp_path / "a.xml")

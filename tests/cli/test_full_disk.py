@@ -178,12 +178,23 @@ def test_a_temporary_left_by_a_killed_simulate_is_removed_by_the_next_write(tmp_
         writer.send_signal(signal.SIGKILL)
         writer.wait()
     left = names(tmp_path)
-    assert len(left) == 1 and left[0].startswith(".big.csv.") and left[0].endswith(TEMPORARY_SUFFIX), left
+    assert len(left) == 1 and left[0].startswith(".jointid.") and left[0].endswith(TEMPORARY_SUFFIX), left
     # A live writer's temporary is not touched.
-    live = tmp_path / f".other.csv.{os.getpid()}-0123abcd{TEMPORARY_SUFFIX}"
+    live = tmp_path / f".jointid.{os.getpid()}-0123abcd-0{TEMPORARY_SUFFIX}"
     live.write_text("in progress")
     assert main(["simulate", "--out", str(big)]) == 0
     assert names(tmp_path) == sorted(["big.csv", live.name])
+
+
+def test_odd_names_in_the_output_folder_do_not_stop_a_write(tmp_path, capsys):
+    """A stray temporary-like name with a 20-digit process id made every write fail ("not a finite number"), and
+    a legal 254-character name failed ("File name too long": its temporary was longer)."""
+    stray = tmp_path / ".a.99999999999999999999-deadbeef.jointid-part"
+    stray.write_text("")
+    longest = "r" * (os.pathconf(tmp_path, "PC_NAME_MAX") - 5) + ".csv"
+    for name in ("run.csv", longest):
+        assert main(["simulate", "--out", str(tmp_path / name)]) == 0, capsys.readouterr().err
+    assert names(tmp_path) == sorted([stray.name, "run.csv", longest])
 
 
 # --- jointid simulate ------------------------------------------------------------------------

@@ -385,3 +385,24 @@ def test_a_flag_repeated_ten_thousand_times_is_one_line_and_two_thousand_runs_pa
     assert args.runs == names and args.csv == "run0.csv"
     args = parse(["fit", "--csv", "x.csv", *["--exclude", "1:2"] * 1000])
     assert len(args.exclude) == 1000
+
+
+@pytest.mark.parametrize("intervals", [["0:8"], ["0:4", "4:8"], ["0:"], ["0:7.9"]])
+def test_exclude_covering_every_sample_is_one_clear_line(capsys, in_tmp, intervals):
+    """It printed numpy's 'Mean of empty slice' and then 'a result is not a finite number' (the robust step took the
+    median of no residual)."""
+    argv = ["fit", "--csv", "x.csv", *(word for interval in intervals for word in ("--exclude", interval))]
+    status, out, err = run(capsys, argv)
+    assert (status, out) == (2, "") and len(err.splitlines()) == 1, err
+    assert err.startswith("jointid: x.csv: --exclude leaves ") and "samples to fit" in err, err
+
+
+def test_every_wrote_line_shows_an_odd_output_name_escaped(capsys, in_tmp):
+    """An ESC or a BEL in an output name reached the terminal raw in simulate's, export's and design's 'Wrote'."""
+    from jointid.text_safety import shown_name
+
+    for argv, name in ((["simulate", "--out"], "a\x1b[2Jb.csv"), (["export", "--mass", "1", "--urdf"], "j\x07.urdf"),
+                       (["design", "--samples", "24", "--out"], "m\u202e.json")):
+        status, out, err = run(capsys, [*argv, name])
+        assert (status, err) == (0, ""), err
+        assert f"Wrote {shown_name(name)}" in out and not {c for c in out if not c.isprintable() and c != "\n"}

@@ -3,6 +3,7 @@ gives for the same input, with no reference to anything outside it; bad input is
 
 from __future__ import annotations
 
+import html
 import importlib.util
 import json
 import os
@@ -330,3 +331,80 @@ def test_every_text_is_escaped_a_file_name_with_markup_included(tmp_path, capsys
     assert f"Training log {name}" in text  # shown as written
     assert document.find(".//b") is None and document.find(".//i") is None  # and never read as markup
     assert 'run \\<b\\>1\\<i\\> & "2".csv' in (tmp_path / "run.md").read_text(encoding="utf-8")
+
+
+# Names the program did not choose: math, markup, terminal escapes and bidi overrides ---------------------------
+
+HOSTILE = "x\x1b[2J\x07\u202e ````\n<img src=x onerror=alert(1)>.csv"
+"""A file name with a terminal escape, a bell, a right-to-left override, a code fence and an HTML tag."""
+
+
+def raw_controls(text: str) -> set[str]:
+    """The characters of `text` a face must never show as they are: not printable, other than newline and tab."""
+    return {c for c in text if not c.isprintable() and c not in "\n\t"}
+
+
+def test_a_file_name_is_drawn_as_text_not_as_math(tmp_path, capsys, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    name = "cost $5 and $6 $\\foo$.csv"  # was a ParseFatalException (exit 1), and lost its dollars
+    assert main(["simulate", "--out", name]) == 0
+    assert main(["report", "--csv", name, "--out", "run.html"]) == 0, capsys.readouterr().err
+    document, _ = parsed(tmp_path / "run.html")
+    svg_texts = ["".join(node.itertext()) for node in document.iter() if str(node.tag).endswith("text")]
+    assert f"Fit the training log {name}" in svg_texts
+
+
+def test_hostile_names_are_escaped_alike_in_every_face_and_markdown_links_resolve(tmp_path, capsys, monkeypatch):
+    from urllib.parse import unquote
+
+    from markdown_it import MarkdownIt
+
+    from jointid.text_safety import shown_name
+
+    monkeypatch.chdir(tmp_path)
+    other = "plain.csv"
+    for name in (HOSTILE, other):
+        assert main(["simulate", "--out", name, "--motion", "rich"]) == 0
+    capsys.readouterr()
+    markdown = "my report (final).md"  # an ordinary name whose links broke on the space and the parentheses
+    status = main(["report", "--csv", HOSTILE, "--csv", other, "--motor", "NEO\x1b\x07", "--gear", "10", "--out",
+                   "run.html", "--markdown", markdown])
+    out, err = capsys.readouterr()
+    assert status == 0, err
+    page = (tmp_path / "run.html").read_text(encoding="utf-8")
+    text = (tmp_path / markdown).read_text(encoding="utf-8")
+    for face in (out, page, text):
+        assert raw_controls(face) == set(), raw_controls(face)
+    _, page_text = parsed(tmp_path / "run.html")  # strict: a raw ESC or BEL is a parse error
+    shown = shown_name(HOSTILE)  # how every face shows a name it did not choose
+    rendered = MarkdownIt("commonmark").render(text)
+    assert shown in page_text and shown in html.unescape(rendered)  # the Markdown reads as the name, escaped
+    assert "onerror" not in re.sub(r"&lt;img src=x onerror=alert\(1\)&gt;", "", rendered)
+    targets = re.findall(r'<img src="([^"]*)"', rendered)
+    charts = sorted(path.name for path in tmp_path.glob("*.svg"))
+    assert len(charts) == 4 and sorted(unquote(target) for target in targets) == charts
+    assert all(name.startswith("my report (final)-") for name in charts)
+
+
+def test_markdown_fences_hold_any_text_and_chart_links_take_any_file_name(tmp_path):
+    """A preformatted text (a table of run names) cannot close its fence and inject HTML, whatever backticks it
+    holds; a chart file beside 'my report (final).md' is linked so that the link reaches it."""
+    from urllib.parse import unquote
+
+    from markdown_it import MarkdownIt
+
+    from jointid.present.report import Chart, Preformatted, Report
+    from jointid.present.report_writers import markdown_files
+
+    inside = "run    rows\n````\n<img src=x onerror=alert(1)>\n`````` 24"
+    report = Report("title", "subject", (Preformatted(inside), Chart("training", "Fit", "caption", ("", ()),
+                                                                      svg="<svg></svg>")))
+    markdown = str(tmp_path / "my report (final).md")
+    files = markdown_files(report, markdown, "footer")
+    tokens = MarkdownIt("commonmark").parse(files[markdown])
+    fences = [token for token in tokens if token.type == "fence"]
+    assert [token.content for token in fences] == [inside + "\n"]  # the text whole, in one fence
+    assert not [token for token in tokens if token.type.startswith("html")]
+    (image,) = [child for token in tokens if token.children for child in token.children if child.type == "image"]
+    assert unquote(image.attrs["src"]) == "my report (final)-training.svg"
+    assert str(tmp_path / "my report (final)-training.svg") in files

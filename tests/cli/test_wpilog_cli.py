@@ -1,6 +1,7 @@
 """Command line for WPILib data logs: log-info, fit --wpilog on a SysId routine, and bad logs refused in one line."""
 
 import json
+import socket
 
 import pytest
 from support.cli_support import run
@@ -186,3 +187,46 @@ def test_report_and_export_take_a_sysid_log_as_fit_does(capsys, arm_log, tmp_pat
     status, out, err = run(capsys, "export", "--wpilog", str(arm_log), "--mass", "4", "--urdf",
                            str(tmp_path / "c.urdf"))
     assert status == 2 and "gives gains in volts" in err and not (tmp_path / "c.urdf").exists()
+
+
+@pytest.mark.parametrize("case", ["entry-name-not-utf8", "extra-header-not-utf8", "double-of-4-bytes",
+                                  "unit-nested-200000-deep"])
+def test_a_damaged_log_is_one_line_and_status_two_in_every_command(capsys, tmp_path, case):
+    """Written byte by byte from the specification: each command that reads the log refuses it in one line (they
+    were UnicodeDecodeError, TypeError and RecursionError tracebacks)."""
+    from support.cli_support import refused
+    from support.datalog_bytes import damaged_logs
+
+    data, word = damaged_logs()[case]
+    path = tmp_path / f"{case}.wpilog"
+    path.write_bytes(data)
+    entries = ("--entry", "q=q,tau=tau")
+    commands = [("fit", "--wpilog", path, *entries),
+                ("report", "--wpilog", path, *entries, "--out", tmp_path / "r.html"),
+                ("export", "--wpilog", path, *entries, "--mass", "1", "--mujoco", tmp_path / "j.xml")]
+    if case != "double-of-4-bytes":  # log-info counts records without decoding their numbers
+        commands.append(("log-info", path))
+    with socket.socket() as taken:  # serve reads the log before it listens: a taken port is never reached
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        commands.append(("serve", "--port", taken.getsockname()[1], "--wpilog", path, *entries))
+        for command in commands:
+            line = refused(capsys, *command)
+            assert f"{path}: is damaged: " in line and word in line, (command[0], line)
+    assert not (tmp_path / "r.html").exists() and not (tmp_path / "j.xml").exists()
+
+
+def test_log_info_escapes_the_logs_names_and_units_as_every_message_does(capsys, tmp_path):
+    """Entry names and units are the log's: a raw ESC, BEL or CR would drive the terminal (they were printed raw)."""
+    from support.datalog_bytes import joint_log
+
+    from jointid.text_safety import shown_name
+
+    name, unit = "q\x1b[2J\x07", "rad\rians\u202e"
+    path = tmp_path / "odd\x1b]0;title\x07.wpilog"
+    path.write_bytes(joint_log(q_name=name, q_unit=unit))
+    status, out, err = run(capsys, "log-info", path)
+    assert (status, err) == (0, "")
+    assert not {c for c in out if not c.isprintable() and c != "\n"}, out
+    for shown in (shown_name(name), shown_name(unit), shown_name(str(path))):
+        assert shown in out

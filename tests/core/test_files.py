@@ -176,3 +176,24 @@ def test_a_group_killed_after_its_last_link_is_kept_whole(tmp_path):
     assert done.returncode == -signal.SIGKILL and len(os.listdir(tmp_path)) == 4  # both, and both temporaries
     remove_stale_temporaries(str(tmp_path))
     assert sorted(os.listdir(tmp_path)) == ["fit.json", "fit.svg"]
+
+
+# Odd names in the output folder -------------------------------------------------------------------------
+
+
+def test_the_longest_legal_name_can_be_written(tmp_path):
+    # The temporary beside it was longer than the name and so over the file system's limit (NAME_MAX).
+    limit = os.pathconf(tmp_path, "PC_NAME_MAX")
+    path = tmp_path / ("n" * (limit - 4) + ".txt")
+    write_text(path, "whole")
+    assert path.read_text() == "whole" and os.listdir(tmp_path) == [path.name]
+
+
+@pytest.mark.parametrize("stray", [".a.99999999999999999999-deadbeef.jointid-part",
+                                   ".jointid.9999999999-deadbeef-0.jointid-part",
+                                   ".jointid.99999999999999999999-deadbeef-0.jointid-part"])
+def test_a_stray_temporary_with_an_impossible_process_id_is_left_alone(tmp_path, stray):
+    # Its process id overflowed os.kill, and every write into the folder failed ("not a finite number").
+    (tmp_path / stray).write_text("not ours to judge")
+    write_text(tmp_path / "out.txt", "written")
+    assert sorted(os.listdir(tmp_path)) == sorted([stray, "out.txt"])

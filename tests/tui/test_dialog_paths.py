@@ -102,9 +102,9 @@ def test_an_export_killed_between_its_two_files_leaves_its_name_to_the_next_one(
     done = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"], capture_output=True, text=True,
                           check=True)
     dead = done.stdout.strip()  # a process id that no longer runs, as the killed writer's
-    for name, text in (("stem.json", "{}"), ("stem.svg", "<svg/>")):
-        (tmp_path / f".{name}.{dead}-0123abcd{TEMPORARY_SUFFIX}").write_text(text)
-    os.link(tmp_path / f".stem.json.{dead}-0123abcd{TEMPORARY_SUFFIX}", tmp_path / "stem.json")  # its one link
+    for member, text in enumerate(("{}", "<svg/>")):  # the pair's temporaries, JSON first
+        (tmp_path / f".jointid.{dead}-0123abcd-{member}{TEMPORARY_SUFFIX}").write_text(text)
+    os.link(tmp_path / f".jointid.{dead}-0123abcd-0{TEMPORARY_SUFFIX}", tmp_path / "stem.json")  # its one link
     paths = write_export(tmp_path, "stem", {"fit": 1}, "<svg>new</svg>")
     assert [path.name for path in paths] == ["stem.json", "stem.svg"]
     assert sorted(os.listdir(tmp_path)) == ["stem.json", "stem.svg"]

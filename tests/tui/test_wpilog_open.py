@@ -7,6 +7,7 @@ import pytest
 pytest.importorskip("wpiutil")
 
 import wpiutil  # noqa: E402
+from support.datalog_bytes import damaged_logs  # noqa: E402
 from support.sysid_arm import TESTS, Routine, routine_samples, write_routine_log  # noqa: E402
 from support.tui_support import make_app  # noqa: E402
 from test_logs import SIZE, main_screen, synchronous  # noqa: E402
@@ -40,7 +41,9 @@ def logs(tmp_path_factory):
     broken = folder / "broken.wpilog"
     data = sysid.read_bytes()
     broken.write_bytes(data[: len(data) // 3 + 3])
-    return {"sysid": sysid, "plain": plain, "broken": broken}
+    damaged = folder / "damaged.wpilog"
+    damaged.write_bytes(damaged_logs()["entry-name-not-utf8"][0])
+    return {"sysid": sysid, "plain": plain, "broken": broken, "damaged": damaged}
 
 
 async def settle(pilot, until=None):
@@ -135,14 +138,15 @@ async def test_another_log_asks_for_the_angle_the_effort_and_the_unit(logs, monk
     assert list(q) == list(expected.source.columns["q"])
 
 
+@pytest.mark.parametrize(("case", "expected"), [("broken", "cut short or damaged"), ("damaged", "is not UTF-8")])
 @synchronous
-async def test_a_broken_log_is_one_notification_and_nothing_changes(logs):
+async def test_a_broken_log_is_one_notification_and_nothing_changes(logs, case, expected):
     app = make_app()
     async with app.run_test(size=SIZE) as pilot:
-        await open_path(pilot, logs["broken"])
+        await open_path(pilot, logs[case])
         await settle(pilot, lambda: not isinstance(app.screen, WpilogEntryScreen))
         assert not isinstance(app.screen, WpilogEntryScreen)
         (note,) = app._notifications
-        assert note.severity == "error" and "cut short or damaged" in note.message
+        assert note.severity == "error" and expected in note.message
         await pilot.press("escape")
         assert isinstance(app.screen, MainScreen) and app.screen.logs is None

@@ -10,6 +10,8 @@ from textual.containers import Vertical
 from textual.widgets import Label, OptionList, Static
 from textual.widgets.option_list import Option
 
+from jointid.text_safety import shown_name
+
 from ..widgets.footer import KeyFooter
 from .picker import SurveyPicker
 
@@ -28,7 +30,7 @@ class BagJointScreen(SurveyPicker):
     def compose(self) -> ComposeResult:
         """Heading, the joint list (filled once the bag is surveyed), hint, keys."""
         with Vertical() as box:
-            box.border_title = f"Choose a joint of {os.path.basename(os.path.normpath(self.path))}"
+            box.border_title = f"Choose a joint of {shown_name(os.path.basename(os.path.normpath(self.path)))}"
             yield Label("Reading the bag's JointState topics…", id="bag-status", markup=False)
             yield OptionList(id="bag-joints")
             yield Static("Up/Down choose a joint, Enter loads it (q from position, tau from effort, qd from "

@@ -16,6 +16,8 @@ from textual.containers import Vertical
 from textual.widgets import Label, OptionList, Static
 from textual.widgets.option_list import Option
 
+from jointid.text_safety import shown_name
+
 from ..widgets.footer import KeyFooter
 from .picker import SurveyPicker
 
@@ -38,7 +40,7 @@ class WpilogEntryScreen(SurveyPicker):
     def compose(self) -> ComposeResult:
         """Heading, the entry list (filled once the log is surveyed), hint, keys."""
         with Vertical() as box:
-            box.border_title = f"Choose the entries of {os.path.basename(os.path.normpath(self.path))}"
+            box.border_title = f"Choose the entries of {shown_name(os.path.basename(os.path.normpath(self.path)))}"
             yield Label("Reading the log's entries…", id="wpilog-status", markup=False)
             yield OptionList(id="wpilog-entries")
             yield Static("Up/Down choose, Enter takes it: the angle (q) first, then the effort (tau, a torque or "

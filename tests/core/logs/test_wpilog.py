@@ -1,7 +1,9 @@
 """WPILib data logs: read through robotpy-wpiutil, put on one time base, a SysId routine's tests fitted as runs.
 
-Every log here is written with robotpy-wpiutil's own writer; the SysId routine comes from an independent simulation
-of the arm behind known gains (tests/support/sysid_arm.py), and the gains are checked against those numbers.
+The logs are written with robotpy-wpiutil's own writer, but for the damaged ones (and big entry ids), written byte
+by byte from the format's specification (tests/support/datalog_bytes.py); the SysId routine comes from an
+independent simulation of the arm behind known gains (tests/support/sysid_arm.py), and the gains are checked against
+those numbers.
 """
 
 import math
@@ -188,3 +190,57 @@ def test_the_library_fits_a_data_log_as_the_command_line_does(routine):
         jointid.fit_wpilog(routine["rotations"], entry="position")
     with pytest.raises(LogError, match="nowhere.wpilog"):
         jointid.fit_wpilog("nowhere.wpilog")
+
+
+# ---------------------------------------------------------------------------------------------- damaged logs
+# Written byte by byte from the format's specification (tests/support/datalog_bytes.py), not by robotpy-wpiutil.
+
+from support.datalog_bytes import damaged_logs, joint_log  # noqa: E402
+
+from jointid.logs.wpilog import read_entries  # noqa: E402
+
+DAMAGED = damaged_logs()
+
+
+@pytest.mark.parametrize("case", sorted(DAMAGED))
+def test_a_damaged_log_is_one_line_naming_the_file_and_the_fault(tmp_path, case):
+    data, word = DAMAGED[case]
+    path = tmp_path / f"{case}.wpilog"
+    path.write_bytes(data)
+    with pytest.raises(LogError) as caught:
+        read_entries(path, lambda name, kind: True, count_all=True)  # every record decoded, as fit and log-info may
+    message = str(caught.value)
+    assert message.startswith(f"{path}: is damaged: ") and "\n" not in message and word in message, message
+
+
+def test_the_library_raises_a_value_error_for_a_damaged_log(tmp_path):
+    from jointid import fit_wpilog
+
+    path = tmp_path / "not-utf8.wpilog"
+    path.write_bytes(DAMAGED["metadata-not-utf8"][0])
+    with pytest.raises(ValueError, match="metadata in the Start record of entry id 1 .* is not UTF-8"):
+        fit_wpilog(path, entry="q=q,tau=tau")
+
+
+def test_entry_ids_of_2_to_the_31_and_more_are_a_whole_log(tmp_path):
+    # Entry ids are unsigned 32-bit numbers (the specification); the reader hands them over as signed ones.
+    path = tmp_path / "big-ids.wpilog"
+    data = joint_log(q_id=2**31 + 5, tau_id=2**32 - 1)
+    path.write_bytes(data)
+    table = read_wpilog_table(path, EntryMap.parse("q=q,tau=tau"), units="radians")
+    samples = 40
+    k = np.arange(samples)
+    assert np.array_equal(table.columns["q"], 0.5 * (k / samples) ** 2)
+    assert np.array_equal(table.columns["tau"], 1.0 + 0.01 * k)
+    path.write_bytes(data[:-3])  # and one cut inside its last record is still seen
+    with pytest.raises(LogError, match="cut short or damaged"):
+        read_wpilog_table(path, EntryMap.parse("q=q,tau=tau"), units="radians")
+
+
+def test_an_id_started_again_as_another_type_is_not_decoded_as_the_first(tmp_path):
+    from support.datalog_bytes import start, string
+
+    path = tmp_path / "restarted.wpilog"
+    path.write_bytes(joint_log() + start(1, "q", "string", "", 9_000_000) + string(1, 9_000_001, "hi"))
+    entries, series = read_entries(path, lambda name, kind: True)
+    assert len(series["q"].values) == 40 and entries["q"].type == "double"  # the string record is not q's
