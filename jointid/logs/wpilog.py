@@ -57,6 +57,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..files import FileRefused, check_readable, open_for_reading, shown_command
+from ..text_safety import shown_name
 from .pipeline import check_finite
 from .table import LoadCancelled, LogError, LogTable
 from .velocity_lag import lag_note, velocity_lag
@@ -911,10 +912,10 @@ def _joint_table(path: str, entries: dict[str, Entry], series: dict[str, Series]
     columns = {"t": t, **{name: columns_raw[name] for name in ("q", "qd", "qdd", "tau") if name in columns_raw}}
     quantity_names = [(key, pairs[key]) for key in ("q", "qd", "qdd", "tau", "state") if key in pairs]
     if routine is not None:
-        moves = (f"q from {routine.position}, " if routine.position else "") + \
-            (f"qd from {routine.velocity}, " if routine.velocity else "")
+        moves = (f"q from {shown_name(routine.position)}, " if routine.position else "") + \
+            (f"qd from {shown_name(routine.velocity)}, " if routine.velocity else "")
         notes.insert(0, f"SysId routine {routine.routine!r}, motor {routine.motor!r}: {moves}effort from "
-                     f"{routine.voltage} (volts), tests from {routine.state}.")
+                     f"{shown_name(routine.voltage)} (volts), tests from {shown_name(routine.state)}.")
     if routine is not None and not routine.velocity:
         sysid_notes.append(f"Motor {routine.motor!r} logged no velocity: its lag cannot be checked.")
     table = WpilogTable(
