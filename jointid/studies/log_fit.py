@@ -29,7 +29,7 @@ from ..logs.request import HELDOUT, TRAINING, LoadRequest, load_joint_log
 from ..logs.table import LoadCancelled, LogError
 from ..model.terms import CANDIDATE_TERMS, PLAIN, JointModel, in_effort, model_argument
 from ..norms import rms
-from ..options import DEFAULT_ORDER, LOG_MODEL
+from ..options import DEFAULT_ORDER
 from ..samples import JointData
 from .sensitivity import FACTORS, SensitivityCheck, Variant, sensitivity_check
 
@@ -575,14 +575,14 @@ def fit_log(
     from ..model.terms import model_named
 
     from ..logs.effort import EffortReading, read_effort
-    from ..options import VOLTAGE_LOG_MODEL
+    from ..options import default_log_model
 
     try:
         reading = EffortReading(effort, 1.0, gear, kt, efficiency)
     except ValueError as error:
         raise ValueError(f"fit_log(): {error}") from None
     if model is None:
-        model = VOLTAGE_LOG_MODEL if effort == "voltage" else LOG_MODEL
+        model = default_log_model(effort)
     fitted_model = model_named(model) if isinstance(model, str) else model
     if not isinstance(fitted_model, JointModel):
         raise TypeError(f"model must be a model name or a JointModel; got {type(model).__name__}")
