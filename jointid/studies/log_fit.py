@@ -137,15 +137,16 @@ class LoadedLogs:
         return tuple(f"{role} {text}" for role, text in zip(roles, self.source_texts()))
 
     def source_texts(self) -> tuple[str, ...]:
-        """Each log's source_text, the training log's with the samples left after the low-pass and decimation."""
+        """Each log's source_text, the training log's with the samples fitted, and what left the others out: one
+        count in every face ('1170 samples, 351 fitted after the low-pass, decimation and what was left out')."""
         texts = [log.source_text() for log in self.logs]
         chosen, left = self.filter, self.exclusions
         left_out = left is not None and not left.kept.all()
+        texts[0] += f", {self.result.training.count} fitted"
         if chosen is not None and (chosen.active or chosen.decimation > 1 or left_out):
             steps = [step for step, used in (("the low-pass", chosen.active), ("decimation", chosen.decimation > 1),
                                              ("what was left out", left_out)) if used]
-            texts[0] += f" ({self.result.training.count} after {', '.join(steps[:-1])}" \
-                        f"{' and ' if len(steps) > 1 else ''}{steps[-1]})"
+            texts[0] += f" after {', '.join(steps[:-1])}{' and ' if len(steps) > 1 else ''}{steps[-1]}"
         return tuple(texts)
 
 

@@ -865,15 +865,19 @@ class MainScreen(Screen):
             return
         if hasattr(logs, "runs"):
             self.set_runs(logs, len(logs.runs) - 1)
-            self.notify(f"{logs.runs[-1].training.source_text()}; u: every run and the pooled fit",
+            self.notify(f"{logs.runs[-1].source_texts()[0]}; u: every run and the pooled fit",
                         title=f"Run {len(logs.runs)} added")
             return
         if self.logs is None and self.synthetic_model is None:  # given back when the log is left
             self.synthetic_model = self.settings.model
         self.settings = replace(self.settings, model=logs.result.model.name)  # p, the title and later logs see it
         self.set_logs(logs)
-        loaded = logs.heldout if logs.heldout is not None and logs.heldout.path == dialog.path else logs.training
-        self.notify(loaded.source_text(), title="Held-out log loaded" if loaded is logs.heldout else "Log loaded")
+        # The texts of the command line's first lines: the samples fitted counted as the note counts them.
+        training, *heldout = logs.source_texts()
+        if heldout and logs.heldout.path == dialog.path:
+            self.notify(heldout[0], title="Held-out log loaded")
+        else:
+            self.notify(training, title="Log loaded")
 
     # --- export -------------------------------------------------------------------------
 

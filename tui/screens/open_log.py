@@ -83,7 +83,7 @@ class OpenLogScreen(ModalScreen[None]):
     OpenLogScreen RadioSet {
         width: auto;
         height: auto;
-        margin-right: 2;
+        margin-right: 1;
     }
     OpenLogScreen RadioSet > ClearRadioButton {
         width: auto;
