@@ -9,15 +9,10 @@ pressed as a user would, and waits are on the app's own messages.
 
 from __future__ import annotations
 
-import asyncio
-import functools
-import inspect
-
 import numpy as np
 import pytest
-from support.bursts import MessageWatch, closed, send_burst
+from support.bursts import closed, send_burst, with_app
 from support.real_logs import REAL_LOGS, needs_real_logs
-from support.tui_support import make_app
 from textual.widgets import Input
 
 import jointid
@@ -35,22 +30,8 @@ SIZE = (80, 24)
 """The smallest terminal the explorer supports, and a browser's default under `jointid serve`."""
 
 
-def at_80x24(test):
-    """Run an async test body as test(pilot, app, watch, **fixtures) on a fresh explorer at 80x24."""
-
-    @functools.wraps(test)
-    def run(**fixtures):
-        async def body():
-            watch = MessageWatch()
-            app = make_app()
-            async with app.run_test(size=SIZE, message_hook=watch, notifications=True) as pilot:
-                await test(pilot, app, watch, **fixtures)
-
-        asyncio.run(body())
-
-    signature = inspect.signature(test)
-    run.__signature__ = signature.replace(parameters=list(signature.parameters.values())[3:])
-    return run
+at_80x24 = with_app(size=SIZE, notifications=True)
+"""Run an async test body as test(pilot, app, watch, **fixtures) on a fresh explorer at 80x24."""
 
 
 def main_screen(app) -> MainScreen:

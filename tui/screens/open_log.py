@@ -184,8 +184,8 @@ class OpenLogScreen(ModalScreen[None]):
                 yield Input("1" if current is None else f"{current.gear:g}", id="open-gear", compact=True,
                             disabled=current is None)
                 yield Label("kt (N m/A)")
-                yield Input("" if current is None else f"{current.kt:g}", id="open-kt", compact=True,
-                            disabled=current is None)
+                yield Input("" if current is None else f"{current.kt:g}", placeholder="needed", id="open-kt",
+                            compact=True, disabled=current is None)
                 yield Label("efficiency")
                 yield Input("1" if current is None else f"{current.efficiency:g}", id="open-efficiency",
                             compact=True, disabled=current is None)
