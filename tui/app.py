@@ -16,7 +16,7 @@ from textual.screen import Screen
 from jointid.options import DEFAULT_ORDER, DEFAULT_WINDOW
 from jointid.synthetic.settings import DEFAULT_SETTINGS, Settings
 
-from .notices import NEWS_SECONDS, ROUTINE_SECONDS, fold_paths, toast_text_width
+from .notices import NEWS_SECONDS, ROUTINE_SECONDS
 from .palette import TourCommands
 from .screens.main import MainScreen
 from .third_party import adapter as third_party
@@ -85,11 +85,9 @@ class JointIdApp(App):
 
     def notify(self, message: str, *, title: str = "", severity="information", timeout: float | None = None,
                markup: bool = True) -> None:
-        """Textual's `App.notify`, with a warning's default timeout short and long paths wrapped between their
-        folders (tui/notices.py)."""
+        """Textual's `App.notify`, with a warning's default timeout short (tui/notices.py)."""
         if timeout is None:
             timeout = ROUTINE_SECONDS if severity == "warning" else NEWS_SECONDS
-        message = fold_paths(message, toast_text_width(self.size.width))  # a long path wraps between its folders
         super().notify(message, title=title, severity=severity, timeout=timeout, markup=markup)
 
     def on_notify(self, event) -> None:

@@ -208,6 +208,7 @@ async def test_a_long_path_in_a_notification_wraps_between_its_folders(pilot, ap
 
     await watch.until(app, lambda: len(app.screen.query(Toast)) == 1 and app.screen.query_one(Toast).size.height > 2,
                       "the notification laid out")
+    assert all("\n" not in n.message for n in app._notifications)  # its text stays one line; the box wraps it
     lines = toast_lines(app)
     text = str(path)
     start = next((i for i, line in enumerate(lines) if line.startswith(text[:10])), None)
