@@ -44,6 +44,12 @@ LOG_MODEL = "coulomb+bias"
 VOLTAGE_LOG_MODEL = "coulomb+angle-offset"
 """A voltage log's default model: WPILib SysId's arm, V = kS sgn qd + kG cos(q + q0) + kV qd + kA qdd."""
 
+
+def default_log_model(effort: str | None = None) -> str:
+    """The model a log whose effort is `effort` ('torque', 'current', 'voltage'; None: torque) is fitted with unless
+    told otherwise: the command line's, the library's and the explorer's Ctrl+O default alike."""
+    return VOLTAGE_LOG_MODEL if effort == "voltage" else LOG_MODEL
+
 SETTING_DEFAULTS = {
     "motion": "rich",
     "noise": 0.0,

@@ -13,7 +13,7 @@ from __future__ import annotations
 import argparse
 from typing import TYPE_CHECKING
 
-from ..options import DEFAULT_ORDER, LOG_MODEL, SETTING_DEFAULTS, VOLTAGE_LOG_MODEL
+from ..options import DEFAULT_ORDER, SETTING_DEFAULTS, default_log_model
 from .arguments import UserError, finite_float, whole_number
 from .effort_arguments import (
     EFFORT_FLAGS,
@@ -381,7 +381,7 @@ def fit_progress(args: argparse.Namespace, count: int):
 
 def log_model(args: argparse.Namespace) -> str:
     """The model a log is fitted with when --model is not given: SysId's arm for a voltage log, else LOG_MODEL."""
-    return VOLTAGE_LOG_MODEL if getattr(args, "effort", None) == "voltage" else LOG_MODEL
+    return default_log_model(getattr(args, "effort", None))
 
 
 def fit_any_logs(args: argparse.Namespace):

@@ -115,7 +115,7 @@ class JointLog:
     def source_text(self) -> str:
         """One line describing what was read, e.g. for the line above the readouts."""
         units = "degrees converted to radians" if self.position_unit == "degrees" else self.position_unit
-        return f"{shown_name(self.path)}: {self.read_text or f'{self.rows} rows'} ({units}), {self.data.count} samples fitted"
+        return f"{shown_name(self.path)}: {self.read_text or f'{self.rows} rows'} ({units}), {self.data.count} samples"
 
 
 

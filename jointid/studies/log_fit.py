@@ -31,7 +31,7 @@ from ..logs.table import LoadCancelled, LogError
 from ..memory import available_memory, in_words
 from ..model.terms import CANDIDATE_TERMS, PLAIN, JointModel, in_effort, model_argument
 from ..norms import rms
-from ..options import DEFAULT_ORDER, LOG_MODEL
+from ..options import DEFAULT_ORDER
 from ..samples import JointData
 from ..text_safety import shown_name
 from .angle_models import check_angle_model
@@ -153,15 +153,16 @@ class LoadedLogs:
         return tuple(f"{role} {text}" for role, text in zip(roles, self.source_texts()))
 
     def source_texts(self) -> tuple[str, ...]:
-        """Each log's source_text, the training log's with the samples left after the low-pass and decimation."""
+        """Each log's source_text, the training log's with the samples fitted, and what left the others out: one
+        count in every face ('1170 samples, 351 fitted after the low-pass, decimation and what was left out')."""
         texts = [log.source_text() for log in self.logs]
         chosen, left = self.filter, self.exclusions
         left_out = left is not None and not left.kept.all()
+        texts[0] += f", {self.result.training.count} fitted"
         if chosen is not None and (chosen.active or chosen.decimation > 1 or left_out):
             steps = [step for step, used in (("the low-pass", chosen.active), ("decimation", chosen.decimation > 1),
                                              ("what was left out", left_out)) if used]
-            texts[0] += f" ({self.result.training.count} after {', '.join(steps[:-1])}" \
-                        f"{' and ' if len(steps) > 1 else ''}{steps[-1]})"
+            texts[0] += f" after {', '.join(steps[:-1])}{' and ' if len(steps) > 1 else ''}{steps[-1]}"
         return tuple(texts)
 
 
@@ -622,14 +623,14 @@ def fit_log(
     from ..model.terms import model_named
 
     from ..logs.effort import EffortReading, read_effort
-    from ..options import VOLTAGE_LOG_MODEL
+    from ..options import default_log_model
 
     try:
         reading = EffortReading(effort, 1.0, gear, kt, efficiency)
     except ValueError as error:
         raise ValueError(f"fit_log(): {error}") from None
     if model is None:
-        model = VOLTAGE_LOG_MODEL if effort == "voltage" else LOG_MODEL
+        model = default_log_model(effort)
     fitted_model = model_named(model) if isinstance(model, str) else model
     if not isinstance(fitted_model, JointModel):
         raise TypeError(f"model must be a model name or a JointModel; got {type(model).__name__}")

@@ -88,7 +88,7 @@ def test_text_output_names_the_logs_and_the_notes(capsys, tmp_path):
     path.write_text("\n".join(rows) + "\n")
     status, out, err = run(capsys, "fit", "--csv", path, "--model", "plain")
     assert (status, err) == (0, "")
-    assert out.splitlines()[0] == f"Training log {path}: 50 rows (radians), 50 samples fitted (50 after the low-pass)"
+    assert out.splitlines()[0] == f"Training log {path}: 50 rows (radians), 50 samples, 50 fitted after the low-pass"
     assert "Fitted inertia (kg m²)          0.800000" in out
     assert f"Note: {path}: ignored columns 'motor_temp'." in out
 

@@ -88,15 +88,18 @@ class MessageWatch:
         return sum(1 for where, message in self.handled if where is pump and isinstance(message, message_type))
 
 
-def with_app(test):
-    """Run an async test body as test(pilot, app, watch, **fixtures) on a fresh explorer (watch: its MessageWatch)."""
+def with_app(test=None, *, size: tuple[int, int] = SIZE, notifications: bool = False):
+    """Run an async test body as test(pilot, app, watch, **fixtures) on a fresh explorer (watch: its MessageWatch),
+    at `size`, with its notifications drawn when asked (`with_app(size=(80, 24), notifications=True)`)."""
+    if test is None:
+        return functools.partial(with_app, size=size, notifications=notifications)
 
     @functools.wraps(test)
     def run(**fixtures):
         async def body():
             watch = MessageWatch()
             app = make_app()
-            async with app.run_test(size=SIZE, message_hook=watch) as pilot:
+            async with app.run_test(size=size, message_hook=watch, notifications=notifications) as pilot:
                 await test(pilot, app, watch, **fixtures)
 
         asyncio.run(body())

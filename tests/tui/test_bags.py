@@ -66,14 +66,13 @@ async def test_ctrl_o_on_a_bag_picks_a_joint_and_fits_it_as_the_command_line_doe
         assert isinstance(app.screen, MainScreen) and screen.logs is not None
         assert screen.logs.training.read_brief == "'shoulder', 2000 messages"
         estimate, model = screen.logs.result.estimate, screen.settings.model
-    # Ctrl+O fits with the explorer's model setting, the lesson's plain model by default
-    # (`jointid fit --bag` defaults to coulomb+bias): the command line is given the same model.
-    assert model == "plain"
+    # Ctrl+O fits a new log with the log defaults, as `jointid fit --bag` does without --model.
+    assert model == "coulomb+bias"
     capsys.readouterr()
-    assert main(["fit", "--bag", str(bags["good"]), "--joint", "shoulder", "--model", model, "--json"]) == 0
+    assert main(["fit", "--bag", str(bags["good"]), "--joint", "shoulder", "--json"]) == 0
     expected = json.loads(capsys.readouterr().out)["estimate"]
-    assert list(expected) == ["I", "h", "B"]
-    assert [float(v) for v in estimate] == [expected[name] for name in ("I", "h", "B")]
+    assert list(expected) == ["I", "h", "B", "Fc", "tau0"]
+    assert [float(v) for v in estimate] == [expected[name] for name in expected]
 
 
 @synchronous

@@ -60,3 +60,18 @@ def test_the_browser_section_says_what_differs_as_the_code_does_it():
     assert "`jointid serve --data DIR`" in section and "without `--data`, Ctrl+O is off" in section
     assert "jointid serve --data DIR" in NO_DATA_FOLDER  # the notification names the same flag
     assert f"for {DEFAULT_IDLE_TIMEOUT // 60} minutes (the server's `--idle-timeout`)" in section
+
+
+def test_the_joint_logs_section_says_once_what_a_log_hides_and_names_the_log_defaults_from_the_code():
+    from jointid.logs.conventions import ZEROS
+    from jointid.options import default_log_model
+
+    section = HELP[HELP.index("## Joint logs"):HELP.index("## Precision")]
+    assert "*from log*" not in section and "read from log" not in section  # the fields are hidden, not relabelled
+    hidden = sentence_with("are hidden")
+    assert all(name in hidden for name in ("noise, samples and seed fields", "Reset", "known synthetic parameters"))
+    defaults = sentence_with("log defaults, as `jointid --csv`")
+    assert f"model {default_log_model('torque')} ({default_log_model('voltage')} for a voltage log)" in defaults
+    for option in ("**Zero right**", *(f"**{zero}**" for zero in ZEROS if zero != "right"), "**Degrees**",
+                   "**Clockwise**", "**Current**", "`--zero`", "`--clockwise`", "`--kt`"):
+        assert option in section, option

@@ -59,7 +59,7 @@ async def test_enter_enter_in_the_export_dialog_writes_one_pair(pilot, app, watc
 @pytest.fixture
 def log_file(tmp_path, capsys):
     path = tmp_path / "rich.csv"
-    assert main(["simulate", "--out", str(path), "--noise", "0.05"]) == 0
+    assert main(["simulate", "--out", str(path), "--noise", "0.05", "--samples", "400"]) == 0
     capsys.readouterr()
     return path
 

@@ -18,7 +18,8 @@ from jointid.estimation.low_pass import FilterRequest
 from jointid.logs import csv_reader
 from jointid.logs.csv_reader import load_log
 from jointid.logs.table import LogError
-from jointid.options import DEFAULT_ORDER, DEFAULT_WINDOW
+from jointid.model.terms import model_named
+from jointid.options import DEFAULT_ORDER, DEFAULT_WINDOW, LOG_MODEL
 from jointid.present import charts
 from jointid.present.charts import ordinal
 from jointid.present.readouts import readouts
@@ -69,7 +70,8 @@ async def test_a_loaded_log_shows_the_cores_fit_of_the_same_file(logs, capsys):
     async with app.run_test(size=SIZE) as pilot:
         await load(pilot, train)
         screen = main_screen(app)
-        expected = logfit.fit_logs(load_log(train)).result
+        # A log opened with Ctrl+O is fitted with the log defaults, as `jointid --csv` fits it.
+        expected = logfit.fit_logs(load_log(train), model=model_named(LOG_MODEL)).result
         assert screen.query_one(ReadoutPanel).items == readouts(expected)
         # The default low-pass extends the log's ends instead of trimming them, and keeps every D-th sample,
         # D = rate / (20 cutoff) rounded down (about 20 per cutoff hertz); the fit leaves out what the robust
@@ -91,7 +93,8 @@ async def test_the_heldout_log_is_predicted_against_its_measured_torques(logs, c
         await load(pilot, train, filtering=FilterRequest(0))  # all 600 samples, to see the chart thin them
         await load(pilot, test, HELDOUT)
         screen = main_screen(app)
-        expected = logfit.fit_logs(load_log(train), load_log(test), filtering=FilterRequest(0)).result
+        expected = logfit.fit_logs(load_log(train), load_log(test), model_named(LOG_MODEL),
+                                   filtering=FilterRequest(0)).result
         assert screen.query_one(ReadoutPanel).items == readouts(expected)
         assert screen.result.heldout_rmse == pytest.approx(expected.heldout_rmse, rel=0, abs=0)
         assert "against measured torques" in str(screen.query_one("#status").render())
@@ -200,7 +203,7 @@ async def test_bad_files_leave_everything_as_it_was(tmp_path, role):
     async with app.run_test(size=SIZE) as pilot:
         await load(pilot, good)
         screen = app.screen
-        logs, before = screen.logs, displayed_readouts(screen)
+        logs, before, settings = screen.logs, displayed_readouts(screen), screen.settings
         charts = [screen.query_one(f"#{c}-chart").data for c in ("training", "heldout")]
         for name in BAD_FILES:
             path = write_bad(bad_folder, name)
@@ -212,7 +215,7 @@ async def test_bad_files_leave_everything_as_it_was(tmp_path, role):
             assert screen.logs is logs and displayed_readouts(screen) == before, name
             assert [screen.query_one(f"#{c}-chart").data for c in ("training", "heldout")] == charts
             assert [(n.message, n.severity) for n in app._notifications] == [(str(expected.value), "error")], name
-        assert screen.settings == make_app().initial_settings
+        assert screen.settings == settings
 
 
 @synchronous
@@ -257,10 +260,9 @@ async def test_export_writes_the_command_lines_json_and_an_svg_and_never_overwri
         await export(pilot, tmp_path / "missing")
         model = main_screen(app).settings.model
     assert (folder / "train-fit.json").read_text() == "precious\n"
-    # The explorer fits a log with its own model setting, the lesson's plain model unless p changes it
-    # (`jointid fit --csv` defaults to coulomb+bias): the same fit on the command line names it.
-    assert model == "plain"
-    expected = cli_json(capsys, "--csv", train, "--heldout", test, "--model", model)
+    # The explorer fits a log opened with Ctrl+O with the log defaults, as `jointid fit --csv` without --model.
+    assert model == LOG_MODEL
+    expected = cli_json(capsys, "--csv", train, "--heldout", test)
     for stem in ("train-fit-2", "train-fit-3"):
         assert json.loads((folder / f"{stem}.json").read_text()) == expected
         assert (folder / f"{stem}.svg").read_text().startswith("<svg")
@@ -445,7 +447,7 @@ async def test_k_and_the_model_refit_a_loaded_log_in_a_worker_and_a_stale_refit_
         assert screen.logs is loaded  # the press returns at once: the refit runs in a worker
         await pilot.app.workers.wait_for_complete()
         await pilot.pause()
-        expected = logfit.fit_logs(load_log(train), constrained=True).result
+        expected = logfit.fit_logs(load_log(train), model=model_named(LOG_MODEL), constrained=True).result
         assert screen.logs.training is loaded.training and screen.logs.result.constrained
         assert screen.query_one(ReadoutPanel).items == readouts(expected)
         screen.change_fit("model", "coulomb")

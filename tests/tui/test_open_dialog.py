@@ -69,7 +69,7 @@ async def test_a_file_chosen_in_the_tree_that_cannot_be_loaded_leaves_it_named_i
 @with_app
 async def test_a_log_that_loads_closes_the_dialog_and_escape_there_still_cancels(pilot, app, watch, tmp_path, capsys):
     path = tmp_path / "rich.csv"
-    assert main(["simulate", "--out", str(path), "--noise", "0.05"]) == 0
+    assert main(["simulate", "--out", str(path), "--noise", "0.05", "--samples", "400"]) == 0
     capsys.readouterr()
     dialog = await open_dialog(pilot, app)
     dialog.query_one("#open-path", Input).value = str(path)

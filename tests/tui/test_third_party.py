@@ -121,6 +121,7 @@ def test_status_lines_name_the_installed_versions():
         "textual 8.2.8: repaint-only number fields active",
         "textual 8.2.8: modal screens safe from key bursts",
         "textual 8.2.8: one notification per title",
+        "textual 8.2.8: paths in notifications wrap between folders",
     ]
     for name, version in third_party.PINNED.items():
         assert metadata.version(name) == version  # the pins match pyproject.toml's

@@ -107,7 +107,8 @@ async def test_the_open_dialog_reads_a_log_as_voltage_when_asked(tmp_path):
         dialog = app.screen
         assert isinstance(dialog, OpenLogScreen)
         assert dialog.request(str(tmp_path / "x.csv")).effort.kind == "torque"
-        assert dialog.query_one("#effort-current").disabled  # a current needs --kt from the command line
+        assert not dialog.query_one("#effort-current").disabled
+        assert dialog.query_one("#open-kt").disabled  # a current's gear, kt and efficiency only once it is chosen
         dialog.query_one("#effort-voltage").value = True
         await pilot.pause()
         assert dialog.query_one("#open-effort", RadioSet).pressed_button.id == "effort-voltage"

@@ -11,7 +11,7 @@ from textual.screen import Screen
 from textual.widgets import Markdown
 
 from jointid.cli.serve_command import DEFAULT_IDLE_TIMEOUT
-from jointid.options import DEFAULT_ORDER
+from jointid.options import DEFAULT_ORDER, default_log_model
 
 from ..palette import PHYSICS_STOPS, TOUR
 from ..ranges import NOISE_RANGE, SAMPLES_RANGE, SEED_RANGE
@@ -19,8 +19,8 @@ from ..widgets.footer import KeyFooter
 from ..widgets.stepper import Stepper
 
 HELP_FILE = Path(__file__).parent.parent / "help.md"
-"""Markdown source of the help text; `{keys}`, the ranges, the tour's length and the smoothing order are filled
-in from the code."""
+"""Markdown source of the help text; `{keys}`, the ranges, the tour's length, the smoothing order and the log
+defaults' models are filled in from the code."""
 WEB_HELP_FILE = Path(__file__).parent.parent / "help_web.md"
 """What differs in a browser (`jointid serve`), added to the help there; `{idle_minutes}` is filled in."""
 
@@ -57,6 +57,8 @@ def help_markdown(bindings: list[Binding], web: bool = False) -> str:
         tour_stops=len(TOUR) + len(PHYSICS_STOPS),
         lesson_stops=len(TOUR),
         order=DEFAULT_ORDER,
+        log_model=default_log_model("torque"),
+        voltage_log_model=default_log_model("voltage"),
         idle_minutes=f"{DEFAULT_IDLE_TIMEOUT / 60:g}",
     )
 

@@ -27,6 +27,7 @@ from textual.widgets import Static
 from jointid.estimation.fit import FitResult
 from jointid.model.terms import PLAIN, G
 from jointid.model.truth import LESSON_JOINT, TrueJoint
+from jointid.options import default_log_model
 from jointid.present.charts import heldout_chart, log_training_chart, training_chart
 from jointid.present.readouts import precision, readouts
 from jointid.present.status import (
@@ -53,6 +54,7 @@ from ..widgets.stepper import Stepper
 # The log reader, file dialog, progress dialog, export and views are imported when first used:
 # the first frame needs none of them, which buys 0.15 of the explorer's start (bench_startup_budget lazy-ui-modules).
 if TYPE_CHECKING:
+    from jointid.model.terms import JointModel
     from jointid.studies.log_fit import LoadedLogs, LoadRequest
     from jointid.studies.runs import PooledRuns
 
@@ -193,6 +195,9 @@ class MainScreen(Screen):
         # Priority, and not claimed by number fields, so these work while one has focus.
         Binding("r", "reset", "Reset", priority=True,
                 tooltip="Back to the lesson: rich motion, noise 0, 24 samples, seed 7, its joint and plain fit"),
+        # On a log, out of the footer (80 columns keep Close log and Export): the help and the palette list it.
+        Binding("r", "reset_log", "Reset the log's fit", priority=True, show=False,
+                tooltip="On a log: refit it with the log defaults (jointid --csv's model, unconstrained)"),
         Binding("question_mark", "help", "Help", key_display="?", priority=True,
                 tooltip="Keys, controls, model and things to try"),
         Binding("q", "quit", "Quit", priority=True, tooltip="Leave the explorer"),
@@ -263,6 +268,14 @@ class MainScreen(Screen):
         """The designed FourierMotion, the motion list's fourth entry once there is one."""
         self.design_view_state: tuple = (None, None, "d")
         """The design view's last (result, limit fields, criterion), shown again when it reopens."""
+        self.synthetic_model: str | None = None
+        """The synthetic experiment's model while a log opened over it with Ctrl+O is shown (the log has its own),
+        given back when the log is left; None when no log replaced it."""
+        self.loading_request: LoadRequest | None = None
+        """The request being loaded (one at a time: the progress dialog covers the screen)."""
+        self.last_reading: LoadRequest | None = None
+        """The request of the last log loaded with Ctrl+O: the dialog starts at its effort, zero, direction and unit,
+        so a held-out log or another run is read as it was."""
 
     def compose(self) -> ComposeResult:
         """Side panel with controls and readouts, chart column, too-small message, footer."""
@@ -361,6 +374,8 @@ class MainScreen(Screen):
     def show_source(self) -> None:
         """Fit the source shown (or take the log's fit) and push the result down to every widget."""
         logs, settings = self.logs, self.settings
+        if logs is None:
+            self.synthetic_model = None  # the synthetic experiment is shown with its own
         if (logs is not None) != self.has_class("-log"):
             self.refresh_bindings()  # Close log appears or goes
         self.set_class(logs is not None, "-log")
@@ -504,6 +519,13 @@ class MainScreen(Screen):
         """Set every control at once (reset, tour stops); leaves a log."""
         self.set_settings(settings)
 
+    def synthetic_settings(self) -> Settings:
+        """The settings to leave a log for: the synthetic experiment's model given back when the log was opened
+        over it with Ctrl+O (the log was fitted with its own)."""
+        if self.logs is None or self.synthetic_model is None:
+            return self.settings
+        return replace(self.settings, model=self.synthetic_model)
+
     def action_motion(self, name: str) -> None:
         """Select a training motion, the designed one included (leaving a log)."""
         if name == DESIGNED:
@@ -511,9 +533,9 @@ class MainScreen(Screen):
                 self.notify("No designed motion yet: press d to design one, then t to train on it.",
                             severity="warning")
                 return
-            self.set_settings(replace(self.settings, motion=self.designed))
+            self.set_settings(replace(self.synthetic_settings(), motion=self.designed))
             return
-        self.set_settings(replace(self.settings, motion=name))
+        self.set_settings(replace(self.synthetic_settings(), motion=name))
 
     def action_design(self) -> None:
         """Open the design view for the current samples, noise and model."""
@@ -532,7 +554,9 @@ class MainScreen(Screen):
 
     def action_reset(self) -> None:
         """Back to the lesson's experiment, as the tour's first stop: the four controls, and the lesson's joint
-        (no missing physics), the plain model and an unconstrained fit, saying so when those were changed."""
+        (no missing physics), the plain model and an unconstrained fit, saying so when those were changed; on a log,
+        back to the log defaults. The focus goes to the motion list, where the footer's keys act."""
+        self.query_one("#motion", ChoiceList).focus()  # not a number field, which would take the next digit typed
         settings = self.settings
         undone = [what for what, changed in (
             ("no missing physics", settings.true_joint.has_missing_physics),
@@ -541,6 +565,29 @@ class MainScreen(Screen):
         self.set_settings(DEFAULT_SETTINGS)
         if undone:
             self.notify(f"Back to the lesson's joint and fit: {', '.join(undone)} (p changes them).", title="Reset")
+
+    def log_defaults(self) -> str:
+        """The model the log shown is fitted with unless another is chosen: `jointid --csv`'s for its effort."""
+        return default_log_model(self.logs.result.model.effort.name)
+
+    def action_reset_log(self) -> None:
+        """r on a log: refit it with the log defaults (the model for its effort, unconstrained), saying what that
+        undid; the log stays (c leaves it), and the focus goes to the motion list, as after Reset."""
+        self.query_one("#motion", ChoiceList).focus()
+        model, settings = self.log_defaults(), self.settings
+        undone = [what for what, changed in ((f"model {model}", settings.model != model),
+                                             ("an unconstrained fit", settings.constrained)) if changed]
+        if not undone:
+            self.notify(f"The log is fitted with its defaults already: model {model}, unconstrained (p changes them; "
+                        "c leaves the log).", title="Reset")
+            return
+        self.settings = replace(settings, model=model, constrained=False)
+        if self.runs is not None:
+            self.refit_runs_worker(self.runs, self.runs.runs.index(self.logs), self.settings)
+        else:
+            self.refit_worker(self.logs, self.settings)
+        self.notify(f"Back to the log defaults: {', '.join(undone)} (p changes them; c leaves the log).",
+                    title="Reset")
 
     def action_explain_design(self) -> None:
         """4 before a design exists: say how to make one."""
@@ -617,15 +664,18 @@ class MainScreen(Screen):
     # --- logs ---------------------------------------------------------------------------
 
     def check_action(self, action: str, parameters: tuple) -> bool | None:
-        """Close log exists only while a log is shown, 4 once a motion is designed; the sweep, the matrix and Reset are off (None) while one is."""
+        """Close log exists only while a log is shown, 4 once a motion is designed; the sweep and the matrix are off
+        (None) while one is, and r resets the log's fit instead of the lesson's."""
         if action in ("close_log", "notes", "gains"):
             return self.logs is not None
         if action == "runs":
             return self.runs is not None
         if action == "motion" and parameters == (DESIGNED,):  # 4 appears once there is a designed motion
             return self.designed is not None
-        if action in ("sweep", "matrix", "reset"):  # reset: the four controls do not apply to a log
+        if action in ("sweep", "matrix"):
             return True if self.logs is None else None
+        if action in ("reset", "reset_log"):  # one r: the lesson's Reset, or on a log the log's own
+            return (self.logs is None) == (action == "reset")
         if action == "explain_synthetic":
             return self.logs is not None
         if action == "explain_design":
@@ -674,6 +724,7 @@ class MainScreen(Screen):
         if self.logs is None:
             self.notify("No log is loaded.", severity="warning")
             return
+        self.settings = self.synthetic_settings()
         self.set_logs(None)
 
     def needs_synthetic(self, view: str) -> bool:
@@ -698,11 +749,18 @@ class MainScreen(Screen):
                 self.notify(NO_DATA_FOLDER, title="Open log", severity="warning")
                 return
             folder = folder if folder is not None and is_inside(folder, data) else str(data)
+        conventions, last = self.app.conventions, self.last_reading
+        if last is not None:  # as the last log was read (the command line's --columns and --motor stay)
+            from jointid.logs.conventions import LogConventions
+
+            conventions = replace(conventions or LogConventions(), angle=last.angle,
+                                  effort=None if last.effort.kind == "torque" else last.effort)
         self.app.push_screen(OpenLogScreen(folder, data_folder=data, on_request=self.start_loading,
                                            heldout_allowed=self.logs is not None and self.runs is None,
                                            run_allowed=self.logs is not None,
                                            derivatives=self.app.derivatives, filtering=self.app.filtering,
-                                           conventions=self.app.conventions))
+                                           conventions=conventions,
+                                           degrees=last is not None and last.degrees))
 
     def start_loading(self, request: LoadRequest | None, chooser: Screen | None = None) -> None:
         """Load a chosen file in a worker behind a progress dialog; the dialog it was chosen in (`chooser`)
@@ -723,13 +781,25 @@ class MainScreen(Screen):
         from .loading import LoadingScreen
 
         dialog = LoadingScreen(request.path, chooser)
+        self.loading_request = request  # remembered once the log is shown (last_reading)
         self.app.push_screen(dialog)
-        self.load_worker(request, self.logs if self.runs is None else self.runs, dialog)
+        self.load_worker(request, self.logs if self.runs is None else self.runs, dialog, self.model_for(request))
+
+    def model_for(self, request: LoadRequest) -> JointModel:
+        """The model a chosen log is fitted with, as `jointid --csv` would: a held-out log or another run, the fit's
+        shown; a new training log, the log defaults for its effort, unless a model other than the shown log's
+        defaults was chosen for it (p, or the command line's --model), which carries over as --model would."""
+        from jointid.logs.request import TRAINING
+        from jointid.model.terms import model_named
+
+        if request.role != TRAINING or (self.logs is not None and self.settings.model != self.log_defaults()):
+            return self.settings.joint_model
+        return model_named(default_log_model(request.effort.kind))
 
     @work(thread=True, exclusive=True, group="log-load")
     def load_worker(self, request: LoadRequest, current: LoadedLogs | PooledRuns | None,
-                    dialog: LoadingScreen) -> None:
-        """Read and fit the log off the main thread; the outcome is applied on the main thread."""
+                    dialog: LoadingScreen, model: JointModel) -> None:
+        """Read and fit the log off the main thread with `model`; the outcome is applied on the main thread."""
         from jointid.logs.request import HELDOUT, RUN
         from jointid.logs.table import LoadCancelled
         from jointid.studies.log_fit import load_request
@@ -746,20 +816,20 @@ class MainScreen(Screen):
                 log = load_joint_log(request, progress=progress, cancel=dialog.cancelled.is_set)
                 if dialog.cancelled.is_set():  # as load_request: no refit is started after an Escape
                     raise LoadCancelled(request.path)
-                logs = add_run(current, log, self.settings.joint_model, self.settings.constrained)
+                logs = add_run(current, log, model, self.settings.constrained)
             elif request.wpilog and request.role != HELDOUT:  # a SysId data log opens as its tests, pooled
                 from jointid.studies.sysid import load_training_request
 
-                logs = load_training_request(request, self.settings.joint_model, self.settings.constrained,
+                logs = load_training_request(request, model, self.settings.constrained,
                                              progress, dialog.cancelled.is_set)
             elif hasattr(current, "runs"):  # several runs: each is predicted by the others; a new log replaces them
                 if request.role == HELDOUT:
                     raise ValueError(f"{request.path}: with several runs each run is predicted by the others; "
                                      "no held-out log (c leaves the runs)")
-                logs = load_request(request, None, self.settings.joint_model, self.settings.constrained,
+                logs = load_request(request, None, model, self.settings.constrained,
                                     progress, dialog.cancelled.is_set)
             else:
-                logs = load_request(request, current, self.settings.joint_model, self.settings.constrained,
+                logs = load_request(request, current, model, self.settings.constrained,
                                     progress, dialog.cancelled.is_set)
         except LoadCancelled:
             app.call_from_thread(self.finish_loading, dialog, None, "Loading cancelled; nothing changed.")
@@ -782,11 +852,14 @@ class MainScreen(Screen):
             return
         if dialog.chooser is not None and dialog.chooser.is_attached:
             dialog.chooser.dismiss()
+        self.last_reading = self.loading_request
         if hasattr(logs, "runs") and logs.runs[0].training.name != shown_name(os.path.basename(
                 logs.runs[0].training.path)) \
                 and all(run.training.path == dialog.path for run in logs.runs):
             # A SysId data log's tests (no other runs come from one file): shown from the first, in the model
             # they were fitted with.
+            if self.logs is None and self.synthetic_model is None:
+                self.synthetic_model = self.settings.model
             self.settings = replace(self.settings, model=logs.runs[0].result.model.name)
             self.set_runs(logs, 0)
             self.notify(f"{len(logs.runs)} SysId tests of {shown_name(dialog.path)}, fitted alone and pooled; u: every test",
@@ -794,12 +867,19 @@ class MainScreen(Screen):
             return
         if hasattr(logs, "runs"):
             self.set_runs(logs, len(logs.runs) - 1)
-            self.notify(f"{logs.runs[-1].training.source_text()}; u: every run and the pooled fit",
+            self.notify(f"{logs.runs[-1].source_texts()[0]}; u: every run and the pooled fit",
                         title=f"Run {len(logs.runs)} added")
             return
+        if self.logs is None and self.synthetic_model is None:  # given back when the log is left
+            self.synthetic_model = self.settings.model
+        self.settings = replace(self.settings, model=logs.result.model.name)  # p, the title and later logs see it
         self.set_logs(logs)
-        loaded = logs.heldout if logs.heldout is not None and logs.heldout.path == dialog.path else logs.training
-        self.notify(loaded.source_text(), title="Held-out log loaded" if loaded is logs.heldout else "Log loaded")
+        # The texts of the command line's first lines: the samples fitted counted as the note counts them.
+        training, *heldout = logs.source_texts()
+        if heldout and logs.heldout.path == dialog.path:
+            self.notify(heldout[0], title="Held-out log loaded")
+        else:
+            self.notify(training, title="Log loaded")
 
     # --- export -------------------------------------------------------------------------
 

@@ -1,5 +1,7 @@
-"""The Ctrl+O dialog: a path field, a folder tree, the log's role, what its effort is and its angle unit, all by
-keyboard.
+"""The Ctrl+O dialog: a path field, a folder tree, the log's role, what its effort is (a current's gear, torque
+constant and efficiency), its angle's unit, zero and direction, all by keyboard: what `jointid --csv` takes as
+--effort, --gear, --kt, --efficiency, --degrees, --zero and --clockwise, so a browser's user (`jointid serve`) can
+read any log the command line can.
 
 A ROS bag (a ROS 2 bag folder, or a .bag, .mcap or .db3 file) opens the joint
 picker next; the request then names the joint and topic. A WPILib data log
@@ -22,8 +24,10 @@ from textual.containers import Horizontal, Vertical
 from textual.screen import ModalScreen
 from textual.widgets import DirectoryTree, Input, Label, RadioSet, Static
 
+from jointid.cli.arguments import positive_number
+from jointid.cli.effort_arguments import efficiency_number
 from jointid.estimation.low_pass import FilterRequest
-from jointid.logs.conventions import EntryMap, LogConventions
+from jointid.logs.conventions import ZEROS, AngleConvention, EntryMap, LogConventions
 from jointid.logs.effort import EffortReading
 from jointid.logs.request import HELDOUT, RUN, TRAINING, LoadRequest
 from jointid.options import DEFAULT_ORDER, DEFAULT_WINDOW
@@ -31,6 +35,10 @@ from jointid.text_safety import shown_name, typed_name
 
 from ..widgets.footer import KeyFooter
 from ..widgets.marks import ClearCheckbox, ClearRadioButton
+
+
+class OptionError(ValueError):
+    """A dialog option typed wrongly (a current's gear, kt or efficiency); the message is one line for a user."""
 
 
 class LogTree(DirectoryTree):
@@ -79,15 +87,30 @@ class OpenLogScreen(ModalScreen[None]):
         height: auto;
     }
     OpenLogScreen RadioSet {
-        width: 20;
+        width: auto;
         height: auto;
-        margin-right: 2;
+        margin-right: 1;
     }
     OpenLogScreen RadioSet > ClearRadioButton {
-        width: 20;
+        width: auto;
+    }
+    OpenLogScreen #open-checks {
+        width: auto;
+        height: auto;
     }
     OpenLogScreen ClearCheckbox {
         width: auto;
+    }
+    OpenLogScreen #open-current {
+        height: 1;
+    }
+    OpenLogScreen #open-current > Label {
+        width: auto;
+        margin-right: 1;
+    }
+    OpenLogScreen #open-current > Input {
+        width: 8;
+        margin: 0 2 0 0;
     }
     OpenLogScreen DirectoryTree {
         height: 1fr;
@@ -106,7 +129,8 @@ class OpenLogScreen(ModalScreen[None]):
                  heldout_allowed: bool = False,
                  run_allowed: bool = False,
                  derivatives: tuple[int | None, int] = (DEFAULT_WINDOW, DEFAULT_ORDER),
-                 filtering: FilterRequest | None = None, conventions: LogConventions | None = None) -> None:
+                 filtering: FilterRequest | None = None, conventions: LogConventions | None = None,
+                 degrees: bool = False) -> None:
         """Create the dialog.
 
         Args:
@@ -121,8 +145,9 @@ class OpenLogScreen(ModalScreen[None]):
             derivatives: Savitzky-Golay window and order for a log without qd or qdd
                 (the explorer's --window and --order; a window of None is automatic).
             filtering: The parallel low-pass (the explorer's --cutoff and --decimate); None is automatic.
-            conventions: The column map and angle convention (the explorer's --columns, --zero and
-                --clockwise); None is jointid's own.
+            conventions: The column map, angle convention and effort the fields start at (the explorer's
+                --columns, --zero, --clockwise, --effort...; or the last log's); None is jointid's own.
+            degrees: Whether Degrees starts ticked (the last log's angles were in degrees).
         """
         super().__init__()
         self.folder = Path(folder or os.getcwd())
@@ -133,6 +158,7 @@ class OpenLogScreen(ModalScreen[None]):
         self.derivatives = derivatives
         self.filtering = FilterRequest() if filtering is None else filtering
         self.conventions = LogConventions() if conventions is None else conventions
+        self.degrees = degrees
 
     def compose(self) -> ComposeResult:
         """Path field, role and degrees options, hint, folder tree, and the dialog's keys."""
@@ -140,28 +166,39 @@ class OpenLogScreen(ModalScreen[None]):
             box.border_title = "Open a joint log (CSV, ROS bag or WPILib .wpilog)"
             yield Label("Path (Enter opens it):")
             yield Input(value=f"{self.folder}{os.sep}", id="open-path", compact=True)
+            session, angle = self.conventions.effort, self.conventions.angle
+            kind = "torque" if session is None else session.kind
             with Horizontal(id="open-options"):
                 with RadioSet(id="open-role", compact=True):
                     yield ClearRadioButton("Training log", value=True, id=f"role-{TRAINING}")
                     yield ClearRadioButton("Held-out log", id=f"role-{HELDOUT}",
                                       disabled=not self.heldout_allowed)
                     yield ClearRadioButton("Another run", id=f"role-{RUN}", disabled=not self.run_allowed)
-                session = self.conventions.effort
-                kind = "torque" if session is None else session.kind
                 with RadioSet(id="open-effort", compact=True):
                     yield ClearRadioButton("Torque (N m)", value=kind == "torque", id="effort-torque")
                     yield ClearRadioButton("Voltage (V)", value=kind == "voltage", id="effort-voltage")
-                    # A current needs its gear and kt, which only the command line gives (--effort current).
-                    yield ClearRadioButton("Current (A)", value=kind == "current", id="effort-current",
-                                           disabled=kind != "current")
-                yield ClearCheckbox("Angles in degrees", id="open-degrees", compact=True)
+                    yield ClearRadioButton("Current (A)", value=kind == "current", id="effort-current")
+                with RadioSet(id="open-zero", compact=True):  # the command line's --zero, word for word
+                    for zero in ZEROS:
+                        yield ClearRadioButton(f"Zero {zero}", value=angle.zero == zero, id=f"zero-{zero}")
+                with Vertical(id="open-checks"):
+                    yield ClearCheckbox("Degrees", self.degrees, id="open-degrees", compact=True)
+                    yield ClearCheckbox("Clockwise", angle.clockwise, id="open-clockwise", compact=True)
+            current = session if kind == "current" else None
+            with Horizontal(id="open-current"):  # --gear, --kt, --efficiency: used for a current log only
+                yield Label("Current: gear")
+                yield Input("1" if current is None else f"{current.gear:g}", id="open-gear", compact=True,
+                            disabled=current is None)
+                yield Label("kt (N m/A)")
+                yield Input("" if current is None else f"{current.kt:g}", placeholder="needed", id="open-kt",
+                            compact=True, disabled=current is None)
+                yield Label("efficiency")
+                yield Input("1" if current is None else f"{current.efficiency:g}", id="open-efficiency",
+                            compact=True, disabled=current is None)
             yield Static(
-                "Tab moves between the path, the options and the tree; in the tree Enter opens "
-                "a folder or loads a file. A ROS bag (its folder's path, or a .bag, .mcap or .db3 file) "
-                "asks for a joint next, a WPILib .wpilog for its entries (a SysId log opens as its tests). "
-                "A voltage log is fitted in volts (WPILib's gains; g shows them). "
-                "Escape cancels."
-                + (" Another run is fitted alone, then pooled with the log shown (u: every run)."
+                "Tab moves between the fields and the tree (Enter opens a folder or loads a file). Zero: where "
+                "the log's angle 0 points (a hanging pendulum's: down). Escape cancels."
+                + (" Another run is pooled with the log shown (u: every run)."
                    if self.run_allowed else " A held-out log or another run needs a training log first.")
                 + ("" if self.heldout_allowed or not self.run_allowed
                    else " With several runs each is predicted by the others: no held-out log."),
@@ -176,24 +213,67 @@ class OpenLogScreen(ModalScreen[None]):
         field.focus()
         field.cursor_position = len(field.value)
 
+    def pressed(self, options: str, default: str) -> str:
+        """The chosen option of a radio set (`open-role`...) without its id's prefix ('role-training' ->
+        'training'), or `default` when none is pressed."""
+        button = self.query_one(f"#{options}", RadioSet).pressed_button
+        return default if button is None or button.id is None else button.id.split("-", 1)[1]
+
+    def effort(self) -> EffortReading | None:
+        """What the chosen effort measured (a current's gear, kt and efficiency as typed), or None for torque;
+        OptionError naming a field typed wrongly."""
+        kind = self.pressed("open-effort", "torque")
+        if kind == "torque":
+            return None
+        if kind == "voltage":
+            session = self.conventions.effort  # the command line's --effort-scale stays with a voltage log
+            return session if session is not None and session.kind == "voltage" else EffortReading("voltage")
+        gear = self.number("open-gear", "Gear", positive_number, default=1.0)
+        kt = self.number("open-kt", "kt", positive_number)
+        efficiency = self.number("open-efficiency", "Efficiency", efficiency_number, default=1.0)
+        return EffortReading("current", 1.0, gear, kt, efficiency)
+
+    def number(self, field: str, name: str, parse: Callable[[str], float], default: float | None = None) -> float:
+        """A current option's typed value, read as the command line reads its flag; OptionError when it is not
+        one (blank: `default`, or an error when there is none)."""
+        import argparse
+
+        text = self.query_one(f"#{field}", Input).value.strip()
+        if not text and default is not None:
+            return default
+        if not text:
+            raise OptionError(f"A current log needs {name}, the motor's torque constant in N m/A "
+                              "(torque = gear x kt x efficiency x current).")
+        try:
+            return parse(text)
+        except argparse.ArgumentTypeError as error:
+            raise OptionError(f"{name} {error}.") from None
+
     def request(self, path: str, joint: str | None = None, topic: str | None = None, *, wpilog: bool = False,
                 entries: EntryMap | None = None, units: str | None = None) -> LoadRequest:
         """The load request for a path (and a bag's joint and topic, or a data log's entries and unit) with the
-        chosen role and unit."""
-        pressed = self.query_one("#open-role", RadioSet).pressed_button
-        roles = {f"role-{role}": role for role in (TRAINING, HELDOUT, RUN)}
-        role = TRAINING if pressed is None else roles.get(pressed.id, TRAINING)
+        chosen role, effort, angle unit, zero and direction; OptionError when a current's value is typed
+        wrongly."""
+        role = self.pressed("open-role", TRAINING)
         window, order = self.derivatives
         degrees = self.query_one("#open-degrees", ClearCheckbox).value
         fields = self.conventions.request_fields(bag=joint is not None or wpilog)
-        effort = self.query_one("#open-effort", RadioSet).pressed_button
-        if effort is not None and effort.id == "effort-voltage":
-            fields["effort"] = EffortReading("voltage")
-        elif effort is not None and effort.id == "effort-torque":
+        fields["angle"] = AngleConvention(self.pressed("open-zero", "right"),
+                                          self.query_one("#open-clockwise", ClearCheckbox).value)
+        effort = self.effort()
+        if effort is None:
             fields.pop("effort", None)
+        else:
+            fields["effort"] = effort
         return LoadRequest(os.path.expanduser(path.strip()), role, degrees, window=window, order=order,
                            joint=joint, topic=topic, filtering=self.filtering, **fields,
                            wpilog=wpilog, entries=entries, units=units)
+
+    def on_radio_set_changed(self, event: RadioSet.Changed) -> None:
+        """A current's gear, kt and efficiency can be typed only while Current is chosen."""
+        if event.radio_set.id == "open-effort":
+            for field in self.query("#open-current Input"):
+                field.disabled = event.pressed.id != "effort-current"
 
     def submit(self, request: LoadRequest) -> None:
         """Hand a request to the owner, which closes this dialog once the log is shown."""
@@ -222,6 +302,11 @@ class OpenLogScreen(ModalScreen[None]):
 
         path = self.within_data_folder(path)
         if path is None:
+            return
+        try:
+            self.request(path)  # the options' typed values are checked before any picker opens
+        except OptionError as error:
+            self.notify(str(error), title="No file chosen", severity="warning")
             return
         if os.path.basename(path) == "metadata.yaml":  # chosen inside a ROS 2 bag folder: the folder is the bag
             path = os.path.dirname(path)
@@ -265,8 +350,9 @@ class OpenLogScreen(ModalScreen[None]):
         return typed
 
     def on_input_submitted(self, message: Input.Submitted) -> None:
-        """Enter in the path field: a folder opens in the tree, a file is loaded; nothing or a typo stays here."""
-        path = self.existing(os.path.expanduser(message.value.strip()))
+        """Enter in the path field (or a current's field): a folder opens in the tree, a file is loaded; nothing or
+        a typo stays here."""
+        path = self.existing(os.path.expanduser(self.query_one("#open-path", Input).value.strip()))
         if not path:
             self.notify("Type the path of a CSV log or ROS bag, or choose one in the folder tree.",
                         title="No file chosen", severity="warning")

@@ -38,6 +38,8 @@ MODAL_BURSTS = "modal-bursts"
 """Adapter: a modal screen ignores what its widgets report after it closed or was covered (see `BurstGuard`)."""
 NOTICE_KINDS = "notice-kinds"
 """Adapter: a new notification takes down the shown ones of its title (`forget_notifications`)."""
+NOTICE_PATHS = "notice-paths"
+"""Adapter: a notification draws a long path wrapped between its folders, its text unchanged (`ToastPaths`)."""
 
 
 @dataclass(frozen=True)
@@ -67,6 +69,8 @@ ADAPTERS = (
             "stock modal screens (Enter Enter can close one twice and end the app)"),
     Adapter(NOTICE_KINDS, ("textual",), "one notification per title",
             "stock notifications (those of one title stack)"),
+    Adapter(NOTICE_PATHS, ("textual",), "paths in notifications wrap between folders",
+            "stock notifications (a long path wraps mid-name)"),
 )
 """Every adapter, in status order."""
 
@@ -145,6 +149,8 @@ def activate() -> list[str]:
             _put_plotext_helpers(fast=True)
         if usable[MODAL_BURSTS]:
             BurstGuard.install()
+        if usable[NOTICE_PATHS]:
+            ToastPaths.install()
         _in_use, _status = usable, lines
     return list(_status)
 
@@ -156,6 +162,8 @@ def uninstall() -> None:
         _put_plotext_helpers(fast=False)
     if _in_use is not None and _in_use[MODAL_BURSTS]:
         BurstGuard.uninstall()
+    if _in_use is not None and _in_use[NOTICE_PATHS]:
+        ToastPaths.uninstall()
     _in_use, _status = None, []
 
 
@@ -355,6 +363,47 @@ class BurstGuard:
             screen.app.call_later(BurstGuard._dismiss, screen, result)
             return AwaitComplete.nothing()
         return BurstGuard._stock["dismiss"](screen, result)
+
+
+class ToastPaths:
+    """Textual's notification box, drawing a path too long for its line broken after the path's separators
+    (tui/notices.py's fold_paths) rather than folded mid-name; the notification's text stays one line.
+
+    Replaces `Toast.render` of the pinned Textual with the same assembly of title and message, the message's
+    long paths folded for the box's width; with another release the stock render stays.
+    """
+
+    _stock: ClassVar[Callable | None] = None
+    """Toast.render while replaced."""
+
+    @classmethod
+    def install(cls) -> None:
+        """Draw notifications through `_render`."""
+        from textual.widgets._toast import Toast
+
+        if cls._stock is None:
+            cls._stock, Toast.render = Toast.render, cls._render
+
+    @classmethod
+    def uninstall(cls) -> None:
+        """Give Toast its own render back."""
+        from textual.widgets._toast import Toast
+
+        if cls._stock is not None:
+            Toast.render, cls._stock = cls._stock, None
+
+    @staticmethod
+    def _render(toast):
+        from textual.content import Content
+
+        from ..notices import fold_paths, toast_text_width
+
+        notification = toast._notification
+        message = fold_paths(notification.message, toast_text_width(toast.app.size.width))
+        content = Content.from_markup(message) if notification.markup else Content(message)
+        if notification.title:
+            content = Content.assemble((notification.title, toast.get_visual_style("toast--title")), "\n", content)
+        return content
 
 
 def forget_notifications(app, title: str) -> None:
