@@ -10,7 +10,7 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from ..estimation.uncertainty import AT_BOUND, WEAK, WELL_DETERMINED
+from ..estimation.uncertainty import AT_BOUND
 from .status import CONDITION_CAVEAT, CONDITION_CAVEAT_SHORT, DEPENDENT_COLUMNS, condition_text, status_message
 from .text import UNAVAILABLE, format_number
 
@@ -95,8 +95,9 @@ class Precision:
     """The condition number and its caveat on one line, for small terminals."""
 
 
-def parameter_notes(result: FitResult, unsettled: tuple[str, ...] = ()) -> tuple[PrecisionNote, ...]:
-    """One note per parameter: standard error and verdict, or what a rank-deficient fit still determines."""
+def parameter_notes(result: FitResult) -> tuple[PrecisionNote, ...]:
+    """One note per parameter: standard error and the judged verdict, or what a rank-deficient fit still
+    determines."""
     uncertainty = result.uncertainty
     model = result.model
     if uncertainty is None:
@@ -121,16 +122,8 @@ def parameter_notes(result: FitResult, unsettled: tuple[str, ...] = ()) -> tuple
         return tuple(PrecisionNote(name, "no standard error: N - p = 0") for name in model.names)
     return tuple(
         PrecisionNote(name, AT_BOUND) if verdict == AT_BOUND else PrecisionNote(name, f"± {format_number(error)}", verdict)
-        for name, error, verdict in zip(model.names, errors, judged_verdicts(result, unsettled))
+        for name, error, verdict in zip(model.names, errors, result.judgement.verdicts)
     )
-
-
-def judged_verdicts(result: FitResult, unsettled: tuple[str, ...] = ()) -> tuple[str, ...]:
-    """The verdicts, with a parameter another check moved (`unsettled`, a log's sensitivity check) never called
-    well determined."""
-    names = result.model.names
-    return tuple(WEAK if name in unsettled and verdict == WELL_DETERMINED else verdict
-                 for name, verdict in zip(names, result.uncertainty.verdicts))
 
 
 def closing_lines(result: FitResult) -> tuple[tuple[str, str], ...]:
@@ -153,16 +146,15 @@ def compact_closing_line(result: FitResult) -> str:
     return f"Cond. number {condition:.2f}, modest ≠ accurate"
 
 
-def precision(result: FitResult, unsettled: tuple[str, ...] = ()) -> Precision:
-    """The precision notes and closing lines of a fit (`unsettled`: parameters a log's sensitivity check moved)."""
-    return Precision(parameter_notes(result, unsettled), closing_lines(result), compact_closing_line(result))
+def precision(result: FitResult) -> Precision:
+    """The precision notes and closing lines of a fit."""
+    return Precision(parameter_notes(result), closing_lines(result), compact_closing_line(result))
 
 
-def uncertainty_text(result: FitResult, unsettled: dict[str, str] | tuple[str, ...] = ()) -> str:
+def uncertainty_text(result: FitResult) -> str:
     """Lines of 'value ± standard error, verdict' per parameter, then the condition number.
 
-    `unsettled`: parameters another check moved (a log's sensitivity check, a term its model lacks), each with
-    why, which cannot be called well determined however small their standard error.
+    The verdict is the fit's judgement (a log's checks may weaken the noise's verdict), with why it is weaker.
     """
     uncertainty = result.uncertainty
     model = result.model
@@ -183,9 +175,8 @@ def uncertainty_text(result: FitResult, unsettled: dict[str, str] | tuple[str, .
                 lines.append(f"{label:<17}{format_number(uncertainty.estimate[i]):>11}   {AT_BOUND} (no standard error)")
                 continue
             relative = uncertainty.relative_std_pct[i]
-            verdict = judged_verdicts(result, unsettled)[i]
-            reason = unsettled.get(parameter.name, "") if isinstance(unsettled, dict) else "moved by another check"
-            why = f", {reason}" if verdict != uncertainty.verdicts[i] else ""
+            verdict, reason = result.judgement.verdicts[i], result.judgement.reasons[i]
+            why = f", {reason}" if reason else ""
             lines.append(
                 # At least one space before the verdict, however wide the error is.
                 f"{label:<17}{format_number(uncertainty.estimate[i]):>11} ± {format_number(errors[i]):<9} "

@@ -42,6 +42,7 @@ def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
                  *(format_number(pooled.params[name]) for name in shared), *(["own"] if bias else []), ""])
     rows.append(["± (Newey-West)", "", "", "", *(format_number(pooled.bse[name]) for name in shared),
                  *([""] if bias else []), ""])
+    rows.append(["verdict", "", "", "", *(pooled.verdicts[name] for name in shared), *([""] if bias else []), ""])
     against = " against an equally weighted pooled fit" if pooled.weighting == POOLED_FIT else ""
     sysid = _is_sysid(pooled)
     routine = _sysid_routine(pooled)
@@ -50,6 +51,10 @@ def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
              f"{model.name}; weights 1/σ² of each run's residuals{against}"
              + (f"; each run keeps its own {model.effort.name} bias" if bias else "") + "):",
              text_table(header, rows)]
+    weakened = pooled.judgement.weakened
+    if weakened:
+        lines.append("Pooled verdicts weaker than their errors alone say: "
+                     + "; ".join(f"{name} ({reason})" for name, reason in weakened.items()) + ".")
     if bias:
         lines.append(f"Pooled {model.effort.name} bias of each run: " + ", ".join(
             f"{name} {format_number(value)}" for name, value in zip(pooled.names, offsets)) + f" {unit}.")
@@ -100,7 +105,7 @@ def runs_document(pooled: PooledRuns) -> dict:
         "runs": [{**logs_document(run), "name": run.name, "predicted_by_others_rmse": other,
                   "weight": weight}
                  for run, other, weight in zip(pooled.runs, pooled.predicted_by_others, pooled.weights)],
-        "pooled": {"estimate": dict(pooled.params), "std_error": dict(pooled.bse),
+        "pooled": {"estimate": dict(pooled.params), "std_error": dict(pooled.bse), **pooled.judgement.to_dict(),
                    "torque_bias": dict(zip(pooled.names, map(float, pooled.estimate[len(pooled.shared):])))},
         "scatter_std_errors": pooled.scatter,
         "disagreements": [{"run": run, "parameter": name, "combined_std_errors": gap}

@@ -13,13 +13,14 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from ..checks import checked, flag, optional, pairs, real, text, whole
 from ..estimation.exclusion import ExclusionRequest, Exclusions, outside_torques, standstill
-from ..estimation.fit import FitResult, fit_joint
+from ..estimation.fit import FitResult, fit_joint, with_judgement
+from ..estimation.judgement import Finding, Judgement, judge, noise_judgement
 from ..estimation.low_pass import FilterRequest, FilterRequestError, ParallelFilter, choose_filter
 from ..estimation.omitted import OmittedTerms, omitted_terms_test
 from ..estimation.solver import NonFiniteError
@@ -31,6 +32,7 @@ from ..model.terms import CANDIDATE_TERMS, PLAIN, JointModel, in_effort, model_a
 from ..norms import rms
 from ..options import DEFAULT_ORDER, LOG_MODEL
 from ..samples import JointData
+from .refits import robust_findings, stretch_scatter
 from .sensitivity import FACTORS, SensitivityCheck, Variant, sensitivity_check
 
 
@@ -110,11 +112,22 @@ class LoadedLogs:
 
     @property
     def unsettled(self) -> dict[str, str]:
-        """Parameters another check moved, each with why: not well determined, whatever their error."""
-        reasons = {name: "moved by the derivative settings" for name in self.moved_by_settings}
-        for name in self.decided_by_omitted:
-            reasons.setdefault(name, "moved by a term the model lacks")
+        """Parameters another check moved, each with why (the first check's): not well determined, whatever their
+        error."""
+        reasons: dict[str, str] = {}
+        for finding in log_findings(self):
+            reasons.setdefault(finding.name, finding.reason)
         return reasons
+
+    @property
+    def verdicts(self) -> Mapping[str, str | None]:
+        """Each parameter's verdict from every check, by name, as the text and JSON give it (`FitResult.verdicts`)."""
+        return self.result.verdicts
+
+    @property
+    def judgement(self) -> Judgement:
+        """The verdicts, the noise-only verdicts and why they differ (`FitResult.judgement`)."""
+        return self.result.judgement
 
     @property
     def name(self) -> str:
@@ -184,7 +197,39 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
     check = _sensitivity(training, model, constrained, chosen, result, zip(others, filtered[1:]), exclusion,
                          exclusions) if sensitivity else None
     omitted = _omitted_terms(training, model, chosen, result, exclusions)
-    return LoadedLogs(training, heldout, result, chosen, filtering, check, exclusions, exclusion, omitted)
+    logs = LoadedLogs(training, heldout, result, chosen, filtering, check, exclusions, exclusion, omitted)
+    return replace(logs, result=with_judgement(result, judge_log(logs)))
+
+
+SETTINGS_MOVED = "moved by the derivative settings"
+"""Why the sensitivity check's flags weaken a verdict (its warning names the settings and the moves)."""
+TERM_MOVED = "moved by a term the model lacks"
+"""Why the omitted-terms test weakens a verdict (its sentence names the term)."""
+
+
+def log_findings(logs: LoadedLogs) -> tuple[Finding, ...]:
+    """What the log fit's checks found against its parameters: the sensitivity check's moves, the omitted-terms
+    test's, and the refit without the robust step's exclusions."""
+    findings = [Finding(name, SETTINGS_MOVED) for name in logs.moved_by_settings]
+    findings += [Finding(name, TERM_MOVED) for name in logs.decided_by_omitted]
+    left = logs.exclusions
+    if left is not None and left.regressor is not None:
+        by_hand = np.zeros(len(left.since), dtype=bool)
+        for start, end in logs.exclusion.by_hand:
+            by_hand |= (left.since >= start) & (left.since <= end)
+        findings += robust_findings(logs.result, left, by_hand)
+    return tuple(findings)
+
+
+def judge_log(logs: LoadedLogs) -> Judgement:
+    """Each parameter of a log fit judged once: its noise-based error, the checks' findings and the scatter of the
+    run's stretches."""
+    result = logs.result
+    uncertainty = result.uncertainty
+    if uncertainty is None:
+        return noise_judgement(result.model.names, None)
+    return judge(result.model.names, uncertainty.relative_std_pct, uncertainty.held, log_findings(logs),
+                 stretch_scatter(result))
 
 
 def _omitted_terms(training: JointLog, model: JointModel, chosen: ParallelFilter, result: FitResult,

@@ -22,12 +22,14 @@ from types import MappingProxyType
 import numpy as np
 
 from ..estimation.exclusion import ExclusionRequest
+from ..estimation.judgement import Finding, Judgement, judge, relative_error_pct
 from ..estimation.low_pass import FilterRequest
 from ..estimation.solver import block_rows_for, solve_least_squares, triangle_of
 from ..estimation.uncertainty import covariance_factor, newey_west_sum
 from ..logs.pipeline import JointLog
 from ..model.terms import JointModel
 from .log_fit import LoadedLogs, fit_logs
+from .refits import run_scatter
 
 BIAS = "tau0"
 """The model's torque bias term, which each run keeps for itself."""
@@ -96,6 +98,27 @@ class PooledRuns:
     def bse(self) -> MappingProxyType:
         """Their standard errors by name."""
         return MappingProxyType(dict(zip(self.shared, map(float, self._reported[1]))))
+
+    @cached_property
+    def judgement(self) -> Judgement:
+        """Each shared parameter judged once: its pooled error, the scatter of the runs about it beyond their own
+        errors, and what moved it in any run standing alone (a SysId test does not stand alone: see OWN_FIT)."""
+        values, errors = self._reported
+        relative = [relative_error_pct(float(value), float(error)) for value, error in zip(values, errors)]
+        findings, scatters = [], ()
+        if self.weighting == OWN_FIT:
+            for run in self.runs:
+                findings += [Finding(name, f"{reason} in {run.name}") for name, reason in run.unsettled.items()
+                             if name in self.shared]
+            own = np.array([[run.params[name] for name in self.shared] for run in self.runs])
+            own_errors = np.array([[run.bse[name] for name in self.shared] for run in self.runs])
+            scatters = run_scatter(self.shared, own, own_errors, values)
+        return judge(self.shared, relative, None, findings, scatters)
+
+    @property
+    def verdicts(self) -> MappingProxyType:
+        """The pooled parameters' verdicts by name, as the text, JSON and gains give them."""
+        return self.judgement.by_name()
 
     @cached_property
     def scatter(self) -> dict[str, float]:
