@@ -10,7 +10,7 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from ..estimation.uncertainty import AT_BOUND
+from ..estimation.uncertainty import AT_BOUND, WELL_DETERMINED_LIMIT
 from .status import CONDITION_CAVEAT, CONDITION_CAVEAT_SHORT, DEPENDENT_COLUMNS, condition_text, status_message
 from .text import UNAVAILABLE, format_number
 
@@ -151,6 +151,42 @@ def precision(result: FitResult) -> Precision:
     return Precision(parameter_notes(result), closing_lines(result), compact_closing_line(result))
 
 
+def ratio_determined(result: FitResult) -> bool:
+    """True when h/I is well determined (its relative error within WELL_DETERMINED_LIMIT) and better than h's and
+    I's own: only then is it 'determined better than the scale they share'."""
+    _, value, error = result.scale_ratio
+    relative = result.uncertainty.relative_std_pct
+    own = [relative[result.model.index_of(kind)] for kind in ("I", "h")]
+    ratio_relative = 100 * error / abs(value) if value else math.inf
+    return ratio_relative <= WELL_DETERMINED_LIMIT and all(ratio_relative < other for other in own)
+
+
+NEAR_NATURAL = 1.5
+"""'Near its natural frequency': the motion's dominant frequency within this factor of sqrt(h g / I)."""
+
+
+def swings_near_natural_frequency(result: FitResult) -> bool:
+    """True when the training motion's dominant frequency (the peak of its speed's spectrum, gaps allowed) is within
+    NEAR_NATURAL of the fitted pendulum's sqrt(h g / I); False without times or a positive h g / I (a prescribed
+    sine at another frequency is not a swing)."""
+    import numpy as np
+
+    from ..model.terms import G
+
+    data, estimate, model = result.training, result.estimate, result.model
+    inertia, mass_moment = estimate[model.index_of("I")], estimate[model.index_of("h")]
+    if data.t is None or not model.effort.is_torque or not inertia > 0 or not mass_moment > 0:
+        return False
+    natural = math.sqrt(mass_moment * G / inertia)
+    stride = max(1, data.count // 20_000)  # the spectrum's peak needs no more samples than that
+    t, speed = data.t[::stride], data.qd[::stride] - np.mean(data.qd[::stride])
+    # A spectrum evaluated at the samples' own times, so the gaps left by excluded samples need no grid.
+    frequencies = natural * np.geomspace(0.1, 10.0, 241)
+    power = np.abs(np.exp(-1j * np.outer(frequencies, t - t[0])) @ speed)
+    dominant = float(frequencies[int(np.argmax(power))])
+    return abs(math.log(dominant / natural)) <= math.log(NEAR_NATURAL)
+
+
 def uncertainty_text(result: FitResult) -> str:
     """Lines of 'value ± standard error, verdict' per parameter, then the condition number.
 
@@ -203,13 +239,14 @@ def uncertainty_text(result: FitResult) -> str:
             )
             lines.append(f"95 % intervals (Student t): {intervals}.")
     ratio = result.scale_ratio
-    if ratio is not None:
+    if ratio is not None and ratio_determined(result):
         corr, value, error = ratio
         inertia, gravity = (model.terms[model.index_of(kind)].name for kind in ("I", "h"))
         unit = "1/m" if model.effort.is_torque else "rad/s²"
-        lines.append(f"The acceleration and gravity columns correlate at {corr:.3f} (the joint swings near its "
-                     f"natural frequency): {gravity}/{inertia} = {format_number(value)} ± {format_number(error)} "
-                     f"{unit} is determined better than the scale they share.")
+        swings = " (the joint swings near its natural frequency)" if swings_near_natural_frequency(result) else ""
+        lines.append(f"The acceleration and gravity columns correlate at {corr:.3f}{swings}: {gravity}/{inertia} = "
+                     f"{format_number(value)} ± {format_number(error)} {unit} is determined better than the scale "
+                     "they share.")
     if result.constrained and result.unconstrained_estimate is not None:
         values = ", ".join(f"{name} {format_number(value)}"
                            for name, value in zip(model.names, result.unconstrained_estimate))

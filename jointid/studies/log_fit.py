@@ -63,6 +63,9 @@ class LoadedLogs:
     """The request the exclusions were made from, kept for refits (another model)."""
     omitted: OmittedTerms | None = None
     """The test of terms the model lacks (friction, bias, angle offset, drag) against the residuals, or None."""
+    heldout_pipeline: tuple[Exclusions | None, ParallelFilter] | None = None
+    """What the held-out log's check left out and the low-pass it went through, as the training log's fit did;
+    None without a held-out log, or when it was predicted as it is (too short for the filter, say)."""
 
     def __repr__(self) -> str:
         return f"<LoadedLogs {self.name!r} {self.result!r}>"
@@ -159,6 +162,8 @@ class LoadedLogs:
                                              ("what was left out", left_out)) if used]
             texts[0] += f" ({self.result.training.count} after {', '.join(steps[:-1])}" \
                         f"{' and ' if len(steps) > 1 else ''}{steps[-1]})"
+        if self.heldout_pipeline is not None:
+            texts[1] += f" ({self.result.heldout.count} predicted after the same pipeline)"
         return tuple(texts)
 
 
@@ -187,6 +192,10 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
     # cutoff refits' alike, so no full-rate regressor is held.
     filtered = filtered_regressors(training, model, (chosen, *(other for _, _, other in others)))
     result, exclusions = _fit(training, heldout, model, constrained, chosen, filtered[0], exclusion)
+    predicted = None if heldout is None else _heldout_as_fitted(
+        training, heldout, model, chosen, exclusion, None if exclusions is None else exclusions.estimate)
+    if predicted is not None:
+        result = replace(result, heldout=predicted[0], heldout_regressor=predicted[1])
     with np.errstate(over="ignore", invalid="ignore"):  # checked here, with the file named
         scores = ((training, result.training_rmse), (heldout, result.heldout_rmse))
     for log, rmse in scores:
@@ -197,7 +206,8 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
     check = _sensitivity(training, model, constrained, chosen, result, zip(others, filtered[1:]), exclusion,
                          exclusions) if sensitivity else None
     omitted = _omitted_terms(training, model, chosen, result, exclusions)
-    logs = LoadedLogs(training, heldout, result, chosen, filtering, check, exclusions, exclusion, omitted)
+    logs = LoadedLogs(training, heldout, result, chosen, filtering, check, exclusions, exclusion, omitted,
+                      None if predicted is None else predicted[2:])
     return replace(logs, result=with_judgement(result, judge_log(logs)))
 
 
@@ -320,25 +330,68 @@ def _fit(training: JointLog, heldout: JointLog | None, model: JointModel, constr
     `filtered_regressors`). `found`: outside-torque intervals (s from the log's
     start) already found on this log, to leave out again instead of running the robust step.
     """
-    data = training.data
-    filtered, tau = filtered_regressors(training, model, (chosen,))[0] if low_passed is None else low_passed
-    rows = chosen.rows(data.count)
-    t = None if data.t is None else data.t[rows]
-    exclusions = None if t is None else _exclusions(training, model, chosen, filtered, tau, t, exclusion, found,
-                                                    start)
-    kept = np.ones(len(rows), dtype=bool) if exclusions is None else exclusions.kept
-    fitted = JointData(t=None if t is None else t[kept], q=data.q[rows][kept], qd=data.qd[rows][kept],
-                       qdd=data.qdd[rows][kept], tau=tau[kept])
+    fitted, X, exclusions = _prepared(training, model, chosen, low_passed, exclusion, found, start)
     correlation = None
+    kept = np.ones(fitted.count, dtype=bool) if exclusions is None else exclusions.kept
     if chosen.active:
         correlation = (np.flatnonzero(kept), correlation_lag(int(kept.sum()), chosen))
     try:
         result = fit_joint(fitted, None if heldout is None else _without_polynomial_ends(heldout), model=model,
-                           constrained=constrained, heldout_is_noiseless=False, regressor=filtered[kept],
-                           correlation=correlation)
+                           constrained=constrained, heldout_is_noiseless=False, regressor=X, correlation=correlation)
     except NonFiniteError as error:
         raise LogError(training.path, f"cannot be fitted: {error}; rescale its columns (other units)") from None
     return result, exclusions
+
+
+def _prepared(log: JointLog, model: JointModel, chosen: ParallelFilter,
+              low_passed: tuple[np.ndarray, np.ndarray] | None, exclusion: ExclusionRequest,
+              found: tuple[tuple[float, float], ...] | None, start: np.ndarray | None
+              ) -> tuple[JointData, np.ndarray, Exclusions | None]:
+    """(the kept samples with their filtered torque, their filtered regressor, the exclusions) of a log through
+    `chosen`, leaving out what `exclusion` asks: the samples a fit uses, or a held-out check predicts."""
+    data = log.data
+    filtered, tau = filtered_regressors(log, model, (chosen,))[0] if low_passed is None else low_passed
+    rows = chosen.rows(data.count)
+    t = None if data.t is None else data.t[rows]
+    exclusions = None if t is None else _exclusions(log, model, chosen, filtered, tau, t, exclusion, found, start)
+    kept = np.ones(len(rows), dtype=bool) if exclusions is None else exclusions.kept
+    fitted = JointData(t=None if t is None else t[kept], q=data.q[rows][kept], qd=data.qd[rows][kept],
+                       qdd=data.qdd[rows][kept], tau=tau[kept])
+    return fitted, filtered[kept], exclusions
+
+
+def _heldout_as_fitted(training: JointLog, heldout: JointLog, model: JointModel, chosen: ParallelFilter,
+                       exclusion: ExclusionRequest, start: np.ndarray | None
+                       ) -> tuple[JointData, np.ndarray, Exclusions | None, ParallelFilter] | None:
+    """The held-out log through the training log's pipeline: its derivatives over the same span of time, the same
+    low-pass and rate, its own outside torques (from the training fit's robust estimate) and standstill left out;
+    (its kept samples, their filtered regressor). A log the pipeline cannot take (too short for the filter, a
+    cutoff above its Nyquist frequency) gives None: it is predicted as it is, less its polynomial ends."""
+    try:
+        log = _same_derivative_span(training, heldout)
+        same_rate = (training.timing is not None and heldout.timing is not None
+                     and math.isclose(training.timing.step, heldout.timing.step, rel_tol=0.01))
+        request = FilterRequest(chosen.cutoff if chosen.active else 0, chosen.decimation if same_rate else None)
+        # Outside torques are the held-out log's own, found as the training log's were; times given by hand
+        # (--exclude) are the training log's.
+        other = low_pass_for(log, request)
+        fitted, X, left = _prepared(log, model, other, None, ExclusionRequest(exclusion.robust, ()), None, start)
+    except LogError:
+        return None
+    return fitted, X, left, other
+
+
+def _same_derivative_span(training: JointLog, heldout: JointLog) -> JointLog:
+    """The held-out log with its missing derivatives estimated over the training log's window in seconds."""
+    mine, theirs = training.derivatives, heldout.derivatives
+    if mine is None or theirs is None:
+        return heldout
+    window = int(round((mine.window - 1) * mine.step / theirs.step)) + 1
+    window += 1 - window % 2
+    window = min(max(window, mine.order + 2 - mine.order % 2), MAX_WINDOW)
+    if window == theirs.window or window + 3 > heldout.data.count + theirs.window - 1:
+        return heldout
+    return heldout.with_window(window, mine.order)
 
 
 def _without_polynomial_ends(log: JointLog) -> JointData:
