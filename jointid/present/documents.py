@@ -276,6 +276,8 @@ def comparison_document(comparison, *, settings: Settings | None = None, source=
         "source": source,
         "samples": comparison.samples,
         "preferred": None if preferred is None else preferred.model.name,
+        **({"run_preferences": [{"run": run, "preferred": name} for run, name in comparison.run_preferences]}
+           if comparison.run_preferences else {}),
         "models": models,
         "message": " ".join(comparison_sentences(comparison)),
     }
