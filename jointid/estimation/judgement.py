@@ -41,11 +41,11 @@ class Scatter:
     ratio: float
     """The scatter in units of what the standard errors allow (a Birge ratio: about 1 when they are honest)."""
     pieces: str
-    """What scattered, e.g. 'thirds of the run' or 'runs'."""
+    """What scattered, e.g. 'halves of the run' or 'runs'."""
 
     @property
     def reason(self) -> str:
-        """'its thirds of the run scatter 2.4 times their standard errors'."""
+        """'its halves of the run scatter 2.4 times their errors'."""
         return f"its {self.pieces} scatter {self.ratio:.1f} times their errors"
 
 
