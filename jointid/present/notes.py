@@ -36,10 +36,9 @@ def heldout_note(logs: LoadedLogs) -> str:
     parts = []
     if left is not None and left.pushes.any():
         inside = left.within
-        parts.append(f"{len(inside)} stretch{'es' if len(inside) != 1 else ''} where an outside torque acts and the "
-                     f"ends ({left.excluded_share:.1%} together)" if len(inside) < len(left.excluded)
-                     else f"{len(inside)} stretch{'es' if len(inside) != 1 else ''} where an outside torque acts "
-                     f"({left.excluded_share:.1%})")
+        pushed = f"{len(inside)} stretch{'es' if len(inside) != 1 else ''} where an outside torque acts" if inside else ""
+        ends = "the ends" if len(inside) < len(left.excluded) else ""
+        parts.append(f"{' and '.join(part for part in (pushed, ends) if part)} ({left.excluded_share:.1%})")
     if left is not None and left.standstill.any():
         parts.append(f"standstill ({left.standstill_share:.1%})")
     left_out = f"; left out, found as the training log's were: {', '.join(parts)}" if parts else ""

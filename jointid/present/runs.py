@@ -11,6 +11,10 @@ if TYPE_CHECKING:
     from ..studies.runs import PooledRuns
 
 
+SHORT_VERDICTS = {"well determined": "well det.", "not determined": "not det."}
+"""The pooled verdicts as the runs table shows them, as narrow as its numbers (the JSON spells them out)."""
+
+
 def runs_text(pooled: PooledRuns) -> str:
     """The per-run table with the pooled row, then the scatter against the errors and any disagreement."""
     heading, table, *sentences = runs_parts(pooled)
@@ -42,7 +46,8 @@ def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
                  *(format_number(pooled.params[name]) for name in shared), *(["own"] if bias else []), ""])
     rows.append(["± (Newey-West)", "", "", "", *(format_number(pooled.bse[name]) for name in shared),
                  *([""] if bias else []), ""])
-    rows.append(["verdict", "", "", "", *(pooled.verdicts[name] for name in shared), *([""] if bias else []), ""])
+    rows.append(["verdict", "", "", "", *(SHORT_VERDICTS.get(pooled.verdicts[name], pooled.verdicts[name] or "-")
+                                          for name in shared), *([""] if bias else []), ""])
     against = " against an equally weighted pooled fit" if pooled.weighting == POOLED_FIT else ""
     sysid = _is_sysid(pooled)
     routine = _sysid_routine(pooled)

@@ -539,6 +539,36 @@ def _sensitivity(training: JointLog, model: JointModel, constrained: bool, chose
                              rmse=result.training_rmse, torque_rms=rms(result.training.tau))
 
 
+def refits_of(logs: LoadedLogs) -> dict[str, FitResult]:
+    """The log's fit redone as the judgement's checks vary it, by label: the derivative window halved and doubled
+    ('window halved', 'window doubled', when its derivatives were estimated) and without the robust step
+    ('--no-robust', when it ran); for judging a pooled fit from its runs' refits (studies.runs)."""
+    training, result, chosen = logs.training, logs.result, logs.filter
+    model, constrained = result.model, result.constrained
+    refits = {}
+    estimate = training.derivatives
+    if estimate is not None and chosen is not None:
+        same = FilterRequest(chosen.cutoff if chosen.active else 0, chosen.decimation)
+        for factor in FACTORS:
+            other = _scaled_window(estimate.window, factor, estimate.order, training.data.count + estimate.window - 1)
+            if other is None or other == estimate.window:
+                continue
+            try:
+                log = training.with_window(other)
+                start = None if logs.exclusions is None else logs.exclusions.estimate
+                refits[f"window {'halved' if factor < 1 else 'doubled'}"], _ = _fit(
+                    log, None, model, constrained, low_pass_for(log, same), None, logs.exclusion, None, start)
+            except LogError:  # too short for that window: no such refit
+                continue
+    if logs.exclusion.robust and chosen is not None:
+        try:
+            refits["--no-robust"], _ = _fit(training, None, model, constrained, chosen, None,
+                                            ExclusionRequest(False, logs.exclusion.by_hand))
+        except LogError:
+            pass
+    return refits
+
+
 def _scaled_window(window: int, factor: float, order: int, samples: int) -> int | None:
     """An odd window spanning `factor` times as long, longer than the order and at most MAX_WINDOW; None if none
     fits the log."""

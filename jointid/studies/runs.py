@@ -28,8 +28,8 @@ from ..estimation.solver import block_rows_for, solve_least_squares, triangle_of
 from ..estimation.uncertainty import covariance_factor, newey_west_sum
 from ..logs.pipeline import JointLog
 from ..model.terms import JointModel
-from .log_fit import LoadedLogs, fit_logs
-from .refits import run_scatter
+from .log_fit import LoadedLogs, fit_logs, refits_of
+from .refits import ROBUST_MOVE, run_scatter
 
 BIAS = "tau0"
 """The model's torque bias term, which each run keeps for itself."""
@@ -106,6 +106,8 @@ class PooledRuns:
         values, errors = self._reported
         relative = [relative_error_pct(float(value), float(error)) for value, error in zip(values, errors)]
         findings, scatters = [], ()
+        if self.weighting == POOLED_FIT:
+            findings = list(pooled_refit_findings(self))
         if self.weighting == OWN_FIT:
             for run in self.runs:
                 findings += [Finding(name, f"{reason} in {run.name}") for name, reason in run.unsettled.items()
@@ -144,6 +146,32 @@ class PooledRuns:
                 if gap > DISAGREEMENT:
                     found.append((run.name, name, gap))
         return tuple(found)
+
+
+POOLED_MOVES = {"window halved": (ROBUST_MOVE, "moved {move:.1f} standard errors by the derivative window halved"),
+                "window doubled": (ROBUST_MOVE, "moved {move:.1f} standard errors by the derivative window doubled"),
+                "--no-robust": (ROBUST_MOVE, "moved {move:.1f} standard errors by --no-robust")}
+"""Each pooled refit: how many pooled standard errors it may move a parameter (about three, as a controller's gain
+is judged: issue 32), and the reason when it moves more."""
+
+
+def pooled_refit_findings(pooled: PooledRuns) -> tuple[Finding, ...]:
+    """Shared parameters that the pooled fit redone from every run's refit (window halved or doubled, --no-robust)
+    moves beyond POOLED_MOVES: for runs that do not stand alone (a SysId routine's tests), whose own checks say
+    nothing of the pooled gains."""
+    refits = [refits_of(run) for run in pooled.runs]
+    findings = []
+    for label, (limit, reason) in POOLED_MOVES.items():
+        if not all(label in found for found in refits):
+            continue
+        again = pool_runs(tuple(LoadedLogs(run.training, None, found[label]) for run, found in zip(pooled.runs, refits)),
+                          pooled.weighting)
+        for name in pooled.shared:
+            error = pooled.bse[name]
+            move = abs(again.params[name] - pooled.params[name]) / error if error > 0 else 0.0
+            if move > limit:
+                findings.append(Finding(name, reason.format(move=move)))
+    return tuple(findings)
 
 
 def fit_runs(logs: list[JointLog], model: JointModel, filtering: FilterRequest = FilterRequest(),
