@@ -78,7 +78,7 @@ def compare(args: argparse.Namespace, fitted=None):
         from ..logs.table import LogError
         from ..model.terms import model_named
         from ..studies.ladder import ALL_COLUMNS
-        from ..studies.log_fit import fit_logs, smoothed_regressor
+        from ..studies.log_fit import fit_logs, heldout_as_fitted, smoothed_regressor
 
         training, heldout = load_logs(args)
         try:
@@ -90,8 +90,13 @@ def compare(args: argparse.Namespace, fitted=None):
         low_pass = logs.filter
         kept = None if logs.exclusions is None else ~logs.exclusions.pushes  # standstill decides no model either
         every = ALL_COLUMNS.in_effort(training.effort)
-        comparison = compare_models(training.data, None if heldout is None else heldout.data, low_pass=low_pass,
-                                    kept=kept, regressor=smoothed_regressor(training, every), effort=training.effort)
+        # The held-out log through the training log's pipeline, as the fit's own held-out check (None: as it is).
+        predicted = None if heldout is None else heldout_as_fitted(training, heldout, every, low_pass,
+                                                                   exclusion_options(args), None)
+        comparison = compare_models(training.data, None if heldout is None else
+                                    heldout.data if predicted is None else predicted[0], low_pass=low_pass,
+                                    kept=kept, regressor=smoothed_regressor(training, every), effort=training.effort,
+                                    heldout_regressor=None if predicted is None else predicted[1])
         heading = f"Training log {training.source_text()}; {low_pass_short_note(low_pass, training.effort.name)}"
         return comparison, heading, None, {"training": training.path,
                                            "heldout": None if heldout is None else heldout.path}

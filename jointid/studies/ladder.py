@@ -115,7 +115,7 @@ class Comparison:
 
 def compare_models(training: JointData, heldout: JointData | None = None, *, noise_bound: float | None = None,
                    models: tuple[str, ...] = LADDER, low_pass=None, kept=None, regressor=None,
-                   effort: Effort = TORQUE) -> Comparison:
+                   effort: Effort = TORQUE, heldout_regressor: np.ndarray | None = None) -> Comparison:
     """Fit each named model to the training data from one factorisation, and score it on the held-out data.
 
     `low_pass` (a low_pass.ParallelFilter) filters every column and the torque
@@ -124,7 +124,8 @@ def compare_models(training: JointData, heldout: JointData | None = None, *, noi
     so that pushes do not decide the model. `regressor` (N, columns + 1)
     replaces ALL_COLUMNS' regressor with the torque as its last column (a
     log's, smoothed like its derivatives). `effort`: what the torque column holds (a voltage log's models are
-    fitted in volts).
+    fitted in volts). `heldout_regressor` (M, columns) replaces ALL_COLUMNS' regressor of the held-out states (a
+    held-out log through the training log's pipeline, with `heldout.tau` filtered alike).
     """
     every = ALL_COLUMNS.in_effort(effort)
     if regressor is None:
@@ -140,7 +141,7 @@ def compare_models(training: JointData, heldout: JointData | None = None, *, noi
     if low_pass is not None and low_pass.active:
         independent = count * min(1.0, 2.0 * low_pass.cutoff * low_pass.decimation / low_pass.rate)
     factor = triangle_of(X, tau)
-    heldout_X = None if heldout is None else every.data_regressor(heldout)
+    heldout_X = heldout_regressor if heldout_regressor is not None or heldout is None else every.data_regressor(heldout)
     rows = []
     for name in models:
         model = model_named(name).in_effort(effort)

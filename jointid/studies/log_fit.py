@@ -192,7 +192,7 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
     # cutoff refits' alike, so no full-rate regressor is held.
     filtered = filtered_regressors(training, model, (chosen, *(other for _, _, other in others)))
     result, exclusions = _fit(training, heldout, model, constrained, chosen, filtered[0], exclusion)
-    predicted = None if heldout is None else _heldout_as_fitted(
+    predicted = None if heldout is None else heldout_as_fitted(
         training, heldout, model, chosen, exclusion, None if exclusions is None else exclusions.estimate)
     if predicted is not None:
         result = replace(result, heldout=predicted[0], heldout_regressor=predicted[1])
@@ -360,7 +360,7 @@ def _prepared(log: JointLog, model: JointModel, chosen: ParallelFilter,
     return fitted, filtered[kept], exclusions
 
 
-def _heldout_as_fitted(training: JointLog, heldout: JointLog, model: JointModel, chosen: ParallelFilter,
+def heldout_as_fitted(training: JointLog, heldout: JointLog, model: JointModel, chosen: ParallelFilter,
                        exclusion: ExclusionRequest, start: np.ndarray | None
                        ) -> tuple[JointData, np.ndarray, Exclusions | None, ParallelFilter] | None:
     """The held-out log through the training log's pipeline: its derivatives over the same span of time, the same
