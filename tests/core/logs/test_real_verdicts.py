@@ -8,13 +8,10 @@ zero-phase Butterworth at 3 Hz).
 
 from __future__ import annotations
 
-import importlib.util
-from pathlib import Path
-
 import numpy as np
 import pytest
 from support.cli_support import fit_json, run
-from support.real_logs import REAL_LOGS, needs_real_logs
+from support.real_logs import REAL_LOGS, needs_real_logs, reference_pipeline
 from support.tui_support import make_app, synchronous
 
 import jointid
@@ -32,15 +29,6 @@ SETTINGS_MOVED = "moved by the derivative settings"
 def energy():
     """The energy-shaping run fitted by the library, as `jointid fit --csv ... --zero down` fits it."""
     return jointid.fit_log(ENERGY, zero="down")
-
-
-def reference_pipeline():
-    """The numpy/scipy reference of the real-log pipeline (benchmarks/real_logs_reference/pipeline.py)."""
-    path = Path(__file__).resolve().parents[3] / "benchmarks" / "real_logs_reference" / "pipeline.py"
-    spec = importlib.util.spec_from_file_location("real_logs_reference", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 @synchronous
