@@ -17,6 +17,7 @@
 from __future__ import annotations
 
 import sys
+from collections import Counter
 from pathlib import Path
 
 import numpy as np
@@ -85,6 +86,7 @@ def real_runs() -> None:
 def synthetic(seeds: int) -> None:
     """Part 3: coverage of the truth, the errors against the seeds' scatter, clean data's weakened verdicts."""
     covered = total = weakened = well = 0
+    why = Counter()
     estimates, errors = [], []
     for seed in range(1, seeds + 1):
         result = fit_log(coulomb_joint(seed)).result
@@ -96,13 +98,17 @@ def synthetic(seeds: int) -> None:
             noise, judged = result.judgement.noise_verdicts[index], result.judgement.verdicts[index]
             well += noise == WELL
             weakened += noise == WELL and judged != WELL
+            if noise == WELL and judged != WELL:
+                for reason in result.judgement.reasons[index].split(", "):
+                    why[reason.split(" by ")[-1] if "standard errors by" in reason else reason.split(" scatter")[0]] += 1
         estimates.append(result.estimate), errors.append(result.uncertainty.residual_std_error)
     scatter = np.std(estimates, axis=0, ddof=1)
     inflation = np.mean(errors, axis=0) / scatter
     print(f"{seeds} synthetic Coulomb joints: 95 % intervals hold the truth {covered} of {total} times "
           f"({100 * covered / total:.0f} %); mean standard error / the estimates' scatter over the seeds: "
           + ", ".join(f"{name} {value:.2f}" for name, value in zip(names, inflation))
-          + f"; 'well determined' noise verdicts weakened by the other checks: {weakened} of {well}")
+          + f"; 'well determined' noise verdicts weakened by the other checks: {weakened} of {well} ("
+          + ", ".join(f"{reason}: {count}" for reason, count in why.items()) + ")")
 
 
 if __name__ == "__main__":
