@@ -100,7 +100,8 @@ def synthetic(seeds: int) -> None:
             weakened += noise == WELL and judged != WELL
             if noise == WELL and judged != WELL:
                 for reason in result.judgement.reasons[index].split(", "):
-                    why[reason.split(" by ")[-1] if "standard errors by" in reason else reason.split(" scatter")[0]] += 1
+                    kind = reason.split(" by ")[-1] if "standard errors by" in reason else reason.split(" scatter")[0]
+                    why[kind] += 1
         estimates.append(result.estimate), errors.append(result.uncertainty.residual_std_error)
     scatter = np.std(estimates, axis=0, ddof=1)
     inflation = np.mean(errors, axis=0) / scatter

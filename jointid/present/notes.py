@@ -36,7 +36,8 @@ def heldout_note(logs: LoadedLogs) -> str:
     parts = []
     if left is not None and left.pushes.any():
         inside = left.within
-        pushed = f"{len(inside)} stretch{'es' if len(inside) != 1 else ''} where an outside torque acts" if inside else ""
+        plural = "es" if len(inside) != 1 else ""
+        pushed = f"{len(inside)} stretch{plural} where an outside torque acts" if inside else ""
         ends = "the ends" if len(inside) < len(left.excluded) else ""
         parts.append(f"{' and '.join(part for part in (pushed, ends) if part)} ({left.excluded_share:.1%})")
     if left is not None and left.standstill.any():

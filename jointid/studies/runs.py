@@ -164,8 +164,8 @@ def pooled_refit_findings(pooled: PooledRuns) -> tuple[Finding, ...]:
     for label, (limit, reason) in POOLED_MOVES.items():
         if not all(label in found for found in refits):
             continue
-        again = pool_runs(tuple(LoadedLogs(run.training, None, found[label]) for run, found in zip(pooled.runs, refits)),
-                          pooled.weighting)
+        redone = tuple(LoadedLogs(run.training, None, found[label]) for run, found in zip(pooled.runs, refits))
+        again = pool_runs(redone, pooled.weighting)
         for name in pooled.shared:
             error = pooled.bse[name]
             move = abs(again.params[name] - pooled.params[name]) / error if error > 0 else 0.0
@@ -181,8 +181,15 @@ def fit_runs(logs: list[JointLog], model: JointModel, filtering: FilterRequest =
     runs."""
     if len(logs) < 2:
         raise ValueError("pooling needs at least two runs")
-    return pool_runs(tuple(fit_logs(log, None, model, constrained, filtering, sensitivity, exclusion)
-                           for log in logs), weighting)
+    return judged(pool_runs(tuple(fit_logs(log, None, model, constrained, filtering, sensitivity, exclusion)
+                                  for log in logs), weighting))
+
+
+def judged(pooled: PooledRuns) -> PooledRuns:
+    """The pooled runs with their judgement computed now, in the caller's worker: a SysId routine's refits take
+    seconds, which the explorer must not spend when it first shows the verdicts."""
+    _ = pooled.judgement
+    return pooled
 
 
 def add_run(current: LoadedLogs | PooledRuns, log: JointLog, model: JointModel, constrained: bool = False,
@@ -193,7 +200,7 @@ def add_run(current: LoadedLogs | PooledRuns, log: JointLog, model: JointModel, 
     first = runs[0]
     added = fit_logs(log, None, model, constrained, first.filtering, sensitivity, first.exclusion)
     weighting = current.weighting if isinstance(current, PooledRuns) else OWN_FIT
-    return pool_runs((*runs, added), weighting)
+    return judged(pool_runs((*runs, added), weighting))
 
 
 def pool_runs(runs: tuple[LoadedLogs, ...], weighting: str = OWN_FIT) -> PooledRuns:

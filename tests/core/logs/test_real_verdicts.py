@@ -82,8 +82,9 @@ def test_runs_that_differ_beyond_their_errors_are_not_well_determined_pooled():
     from jointid.logs.request import TRAINING, LoadRequest, load_joint_log
     from jointid.model.terms import model_named
 
-    logs = [load_joint_log(LoadRequest(str(REAL_LOGS / f"pendulum_{run}.csv"), TRAINING,
-                                       angle=AngleConvention("down", False))) for run in ("pd", "ddp", "energy_shaping")]
+    down = AngleConvention("down", False)
+    logs = [load_joint_log(LoadRequest(str(REAL_LOGS / f"pendulum_{run}.csv"), TRAINING, angle=down))
+            for run in ("pd", "ddp", "energy_shaping")]
     pooled = fit_runs(logs, model_named("coulomb+bias"))
     for name in ("I", "h"):
         noise = dict(zip(pooled.shared, pooled.judgement.noise_verdicts))
