@@ -32,7 +32,7 @@ from ..model.terms import CANDIDATE_TERMS, PLAIN, JointModel, in_effort, model_a
 from ..norms import rms
 from ..options import DEFAULT_ORDER, LOG_MODEL
 from ..samples import JointData
-from .refits import robust_findings, stretch_scatter
+from .refits import is_exact, robust_findings, stretch_scatter
 from .sensitivity import FACTORS, SensitivityCheck, Variant, sensitivity_check
 
 
@@ -223,7 +223,7 @@ def log_findings(logs: LoadedLogs) -> tuple[Finding, ...]:
     findings = [Finding(name, SETTINGS_MOVED) for name in logs.moved_by_settings]
     findings += [Finding(name, TERM_MOVED) for name in logs.decided_by_omitted]
     left = logs.exclusions
-    if left is not None and left.regressor is not None:
+    if left is not None and left.regressor is not None and not is_exact(logs.result):
         by_hand = np.zeros(len(left.since), dtype=bool)
         for start, end in logs.exclusion.by_hand:
             by_hand |= (left.since >= start) & (left.since <= end)
@@ -239,7 +239,7 @@ def judge_log(logs: LoadedLogs) -> Judgement:
     if uncertainty is None:
         return noise_judgement(result.model.names, None)
     return judge(result.model.names, uncertainty.relative_std_pct, uncertainty.held, log_findings(logs),
-                 stretch_scatter(result))
+                 () if is_exact(result) else stretch_scatter(result))
 
 
 def _omitted_terms(training: JointLog, model: JointModel, chosen: ParallelFilter, result: FitResult,

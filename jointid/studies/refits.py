@@ -55,6 +55,15 @@ def chi_squared_quantile(dof: int) -> float:
     return dof * (1 - a + NORMAL_QUANTILE * math.sqrt(a)) ** 3
 
 
+def is_exact(result) -> bool:
+    """True when a fit reproduces its torques to rounding (noise-free data, the sensitivity check's EXACT_FIT): its
+    standard errors are rounding too, and a move or a scatter in them says nothing."""
+    from .sensitivity import EXACT_FIT
+
+    rmse = result.training_rmse
+    return rmse is not None and rmse <= EXACT_FIT * float(np.sqrt(np.mean(np.square(result.training.tau))))
+
+
 def scatter_ratios(values: np.ndarray, errors: np.ndarray, centre: np.ndarray | None = None
                    ) -> tuple[np.ndarray, np.ndarray]:
     """(Birge ratios, significant) per parameter of (k, p) `values` with standard errors `errors`, about `centre`

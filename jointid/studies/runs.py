@@ -29,7 +29,7 @@ from ..estimation.uncertainty import covariance_factor, newey_west_sum
 from ..logs.pipeline import JointLog
 from ..model.terms import JointModel
 from .log_fit import LoadedLogs, fit_logs, refits_of
-from .refits import ROBUST_MOVE, run_scatter
+from .refits import ROBUST_MOVE, is_exact, run_scatter
 
 BIAS = "tau0"
 """The model's torque bias term, which each run keeps for itself."""
@@ -106,7 +106,8 @@ class PooledRuns:
         values, errors = self._reported
         relative = [relative_error_pct(float(value), float(error)) for value, error in zip(values, errors)]
         findings, scatters = [], ()
-        if self.weighting == POOLED_FIT:
+        exact = any(is_exact(run.result) for run in self.runs)  # errors of rounding: no move or scatter counts
+        if self.weighting == POOLED_FIT and not exact:
             findings = list(pooled_refit_findings(self))
         if self.weighting == OWN_FIT:
             for run in self.runs:
@@ -114,7 +115,7 @@ class PooledRuns:
                              if name in self.shared]
             own = np.array([[run.params[name] for name in self.shared] for run in self.runs])
             own_errors = np.array([[run.bse[name] for name in self.shared] for run in self.runs])
-            scatters = run_scatter(self.shared, own, own_errors, values)
+            scatters = () if exact else run_scatter(self.shared, own, own_errors, values)
         return judge(self.shared, relative, None, findings, scatters)
 
     @property
