@@ -106,7 +106,9 @@ class PooledRuns:
         values, errors = self._reported
         relative = [relative_error_pct(float(value), float(error)) for value, error in zip(values, errors)]
         findings, scatters = [], ()
-        exact = any(is_exact(run.result) for run in self.runs)  # errors of rounding: no move or scatter counts
+        # Errors of rounding make no move or scatter count: a run's own (OWN_FIT), or every test's (a SysId dynamic
+        # test alone fits its constant voltage exactly, whatever the noise).
+        exact = (all if self.weighting == POOLED_FIT else any)(is_exact(run.result) for run in self.runs)
         if self.weighting == POOLED_FIT and not exact:
             findings = list(pooled_refit_findings(self))
         if self.weighting == OWN_FIT:
