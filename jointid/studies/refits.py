@@ -58,10 +58,11 @@ def chi_squared_quantile(dof: int) -> float:
 def is_exact(result) -> bool:
     """True when a fit reproduces its torques to rounding (noise-free data, the sensitivity check's EXACT_FIT): its
     standard errors are rounding too, and a move or a scatter in them says nothing."""
+    from ..norms import rms  # without overflow for torques of extreme magnitude
     from .sensitivity import EXACT_FIT
 
     rmse = result.training_rmse
-    return rmse is not None and rmse <= EXACT_FIT * float(np.sqrt(np.mean(np.square(result.training.tau))))
+    return rmse is not None and rmse <= EXACT_FIT * rms(result.training.tau)
 
 
 def scatter_ratios(values: np.ndarray, errors: np.ndarray, centre: np.ndarray | None = None
@@ -69,12 +70,13 @@ def scatter_ratios(values: np.ndarray, errors: np.ndarray, centre: np.ndarray | 
     """(Birge ratios, significant) per parameter of (k, p) `values` with standard errors `errors`, about `centre`
     (default their inverse-variance weighted mean); either centre is fitted to the pieces, costing a degree of
     freedom."""
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(all="ignore"):  # errors of extreme magnitude: a non-finite statistic counts as no scatter
         weights = 1.0 / np.square(errors)
         mean = np.sum(weights * values, axis=0) / np.sum(weights, axis=0) if centre is None else centre
         statistic = np.sum(weights * np.square(values - mean), axis=0)
     dof = len(values) - 1  # a pooled centre is fitted from the same pieces too
-    ratio = np.sqrt(statistic / dof)
+    with np.errstate(all="ignore"):
+        ratio = np.sqrt(statistic / dof)
     return ratio, np.isfinite(statistic) & (statistic > chi_squared_quantile(dof))
 
 
