@@ -12,9 +12,11 @@ from .log_arguments import (
     add_log_arguments,
     exclusion_options,
     filter_options,
+    fit_any_logs,
     has_log,
     load_logs,
     log_model,
+    several_runs,
     with_default_settings,
 )
 from .output import print_json
@@ -50,9 +52,10 @@ def run(args: argparse.Namespace) -> int:
     return ExitStatus.SUCCESS
 
 
-def compare(args: argparse.Namespace):
+def compare(args: argparse.Namespace, fitted=None):
     """The ladder on the experiment or the --csv/--bag log: (ladder.Comparison, its heading, the Settings or None,
-    the source object or None); UserError (one line) on any problem. `jointid report --compare` uses it too."""
+    the source object or None); UserError (one line) on any problem. `jointid report --compare` uses it too,
+    passing the logs it `fitted` already (several runs are compared pooled, from their own fits)."""
     from ..present.notes import low_pass_short_note
     from ..present.text import settings_header
     from ..studies.ladder import (  # numpy and the numeric modules load only to run
@@ -60,11 +63,22 @@ def compare(args: argparse.Namespace):
         compare_models,
     )
 
+    if has_log(args) and (fitted is not None and hasattr(fitted, "runs") or several_runs(args)
+                          or getattr(args, "wpilog", None) is not None):
+        from ..studies.ladder import compare_pooled
+
+        pooled = fitted if fitted is not None else fit_any_logs(args)
+        if hasattr(pooled, "runs"):
+            names = ", ".join(run.name for run in pooled.runs)
+            heading = (f"{len(pooled.runs)} runs pooled ({names}): each run's filtered samples, less what its own "
+                       "fit left out, stacked with its own bias; BIC counts every run's samples")
+            return compare_pooled(pooled.runs), heading, None, {"training": [run.training.path for run in
+                                                                             pooled.runs], "heldout": None}
     if has_log(args):
         from ..logs.table import LogError
         from ..model.terms import model_named
         from ..studies.ladder import ALL_COLUMNS
-        from ..studies.log_fit import fit_logs, smoothed_regressor
+        from ..studies.log_fit import fit_logs, heldout_as_fitted, smoothed_regressor
 
         training, heldout = load_logs(args)
         try:
@@ -76,8 +90,13 @@ def compare(args: argparse.Namespace):
         low_pass = logs.filter
         kept = None if logs.exclusions is None else ~logs.exclusions.pushes  # standstill decides no model either
         every = ALL_COLUMNS.in_effort(training.effort)
-        comparison = compare_models(training.data, None if heldout is None else heldout.data, low_pass=low_pass,
-                                    kept=kept, regressor=smoothed_regressor(training, every), effort=training.effort)
+        # The held-out log through the training log's pipeline, as the fit's own held-out check (None: as it is).
+        predicted = None if heldout is None else heldout_as_fitted(training, heldout, every, low_pass,
+                                                                   exclusion_options(args), None)
+        comparison = compare_models(training.data, None if heldout is None else
+                                    heldout.data if predicted is None else predicted[0], low_pass=low_pass,
+                                    kept=kept, regressor=smoothed_regressor(training, every), effort=training.effort,
+                                    heldout_regressor=None if predicted is None else predicted[1])
         heading = f"Training log {training.source_text()}; {low_pass_short_note(low_pass, training.effort.name)}"
         return comparison, heading, None, {"training": training.path,
                                            "heldout": None if heldout is None else heldout.path}

@@ -99,21 +99,16 @@ def _from_result(result, described: str, details: str = "", *, zero: str = "righ
     if result.estimate is None:
         raise UserError(f"{described} has no unique estimate (rank {result.rank} of {result.parameter_count}): "
                         "nothing to export; fit a motion that reveals every parameter")
-    verdicts = result.uncertainty.verdicts if result.uncertainty is not None else None
-    names = result.model.names
     return Identified(dict(result.params), result.model.name, f"{described} ({details}model {result.model.name})",
-                      dict(zip(names, verdicts or (None,) * len(names))), zero, clockwise)
+                      dict(result.verdicts), zero, clockwise)
 
 
 def _from_pooled(pooled, zero: str, clockwise: bool) -> Identified:
-    """The pooled fit of several runs: its shared parameters, judged by their pooled standard errors."""
-    from ..estimation.uncertainty import verdict
-
+    """The pooled fit of several runs: its shared parameters with their judged verdicts."""
     model = pooled.runs[0].result.model.name
-    verdicts = {name: _verdict_of(value, pooled.bse[name], verdict) for name, value in pooled.params.items()}
     return Identified(dict(pooled.params), model,
                       f"the pooled fit of {len(pooled.runs)} runs ({', '.join(pooled.names)}; model {model})",
-                      verdicts, zero, clockwise)
+                      dict(pooled.verdicts), zero, clockwise)
 
 
 def _verdict_of(value: float, error: float, verdict) -> str | None:
@@ -180,7 +175,10 @@ def _from_runs_document(document: dict, shown: str, name: str) -> Identified:
         raise UserError(f"{shown}: has no model; give what `jointid fit --json` prints")
     parameters = _numbers(pooled.get("estimate"), shown, "pooled.estimate")
     errors = pooled.get("std_error") if isinstance(pooled.get("std_error"), dict) else {}
-    verdicts = {key: _verdict_of(value, float(errors[key]), verdict) if _is_number(errors.get(key)) else None
+    given = pooled.get("verdicts") if isinstance(pooled.get("verdicts"), dict) else {}
+    # The document's judged verdicts; an older document without them is judged by its errors alone.
+    verdicts = {key: given[key] if isinstance(given.get(key), str) else
+                _verdict_of(value, float(errors[key]), verdict) if _is_number(errors.get(key)) else None
                 for key, value in parameters.items()}
     if "I" not in parameters and "kA" in parameters:  # runs in volts: the physical parameters their --motor gave
         parameters, verdicts, model = _through_motor_document(document, shown, model)

@@ -184,20 +184,24 @@ def build_report(args: argparse.Namespace):
     from ..present import report
 
     comparison = heading = None
-    if args.compare:
-        from .compare_command import compare
-
-        comparison, heading, _, _ = compare(args)
     if has_log(args):
         from .effort_arguments import effort_extras
 
         fitted = fit_any_logs(args)  # several runs (repeated --csv, a SysId log's tests) or one log
+        if args.compare:
+            from .compare_command import compare
+
+            comparison, heading, _, _ = compare(args, fitted)
         extras = tuple(effort_extras(args, fitted)[0])
         if hasattr(fitted, "runs"):
             return report.runs_report(fitted, comparison=comparison, comparison_heading=heading, extras=extras)
         return report.logs_report(fitted, comparison=comparison, comparison_heading=heading, extras=extras)
     from ..studies.experiment import run_experiment
 
+    if args.compare:
+        from .compare_command import compare
+
+        comparison, heading, _, _ = compare(args)
     settings = settings_from(with_default_settings(args))
     result = run_experiment(settings)
     simulate = args.simulate or args.horizon is not None

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, fields, replace
 from functools import cached_property
 from types import MappingProxyType
 from typing import TYPE_CHECKING
@@ -16,6 +16,7 @@ from ..model.terms import PLAIN, JointModel, model_argument
 from ..norms import rms
 from ..samples import JointData
 from .solver import LeastSquaresSolution, solve_least_squares
+from .judgement import Judgement, noise_judgement
 from .student_t import student_t_quantile
 from .uncertainty import ParameterUncertainty, covariance_factor, newey_west, parameter_uncertainty
 
@@ -54,6 +55,12 @@ class FitResult:
     correlation: tuple[np.ndarray, int] | None = None
     """(positions, lag) when the training residuals are correlated (a filtered log): each sample's index on its
     evenly spaced grid (gaps where samples were left out) and the Newey-West lag in grid steps; None: independent."""
+    judged: Judgement | None = None
+    """The verdicts of every check a log fit ran (sensitivity, robust step, omitted terms, stretches), or None:
+    then `judgement` is the noise verdicts alone (jointid.estimation.judgement)."""
+    heldout_regressor: np.ndarray | None = None
+    """(M, p) The model's regressor at the held-out states as the training log's went through the low-pass and
+    exclusions (a log's held-out check), or None: the held-out states' own regressor."""
 
     def __repr__(self) -> str:
         shown = ", ".join(f"{name}={value:.6g}" for name, value in self.params.items())
@@ -106,9 +113,23 @@ class FitResult:
         u = self.uncertainty
         if u is None or u.residual_std_error is None:
             return MappingProxyType({name: (math.nan, math.nan) for name in self.model.names})
-        half = student_t_quantile(1 - alpha / 2, u.degrees_of_freedom) * u.residual_std_error
+        # The degrees of freedom of `interval95` (the effective count's after a low-pass), so the two agree exactly.
+        half = student_t_quantile(1 - alpha / 2, u.interval_degrees_of_freedom) * u.residual_std_error
         return MappingProxyType({name: (float(value - step), float(value + step))
                                  for name, value, step in zip(self.model.names, u.estimate, half)})
+
+    @cached_property
+    def judgement(self) -> Judgement:
+        """Each parameter's verdict from every check that bears on it, the noise-only verdict, and the reasons."""
+        if self.judged is not None:
+            return self.judged
+        return noise_judgement(self.model.names, self.uncertainty)
+
+    @property
+    def verdicts(self) -> Mapping[str, str | None]:
+        """The verdict of each parameter by name, as every face shows it (`jointid fit`'s text and JSON's
+        `verdicts`): 'well determined', 'weak', 'not determined', 'at bound', or None without a standard error."""
+        return self.judgement.by_name()
 
     def summary(self) -> str:
         """The text `jointid fit` prints for this fit: the readouts, then how well each parameter is determined."""
@@ -170,7 +191,8 @@ class FitResult:
         """(M,) Fitted torque at the held-out states, or None."""
         if self.estimate is None or self.heldout is None:
             return None
-        return fitted_torque(self.model.data_regressor(self.heldout), self.column_estimate)
+        X = self.model.data_regressor(self.heldout) if self.heldout_regressor is None else self.heldout_regressor
+        return fitted_torque(X, self.column_estimate)
 
     @cached_property
     def training_rmse(self) -> float | None:
@@ -251,6 +273,15 @@ class FitResult:
         """Condition number of the column-scaled training regressor (inf when rank-deficient)."""
         return self.solution.condition_number
 
+
+
+def with_judgement(result: FitResult, judgement: Judgement) -> FitResult:
+    """The same fit carrying `judgement`; its statistics already computed carry over (they do not depend on it)."""
+    judged = replace(result, judged=judgement)
+    carried = {key: value for key, value in vars(result).items() if key not in {f.name for f in fields(result)}}
+    carried.pop("judgement", None)
+    vars(judged).update(carried)
+    return judged
 
 
 def fitted_torque(X: np.ndarray, theta: np.ndarray) -> np.ndarray:

@@ -40,7 +40,7 @@ def comparison_rows(comparison: Comparison) -> list[list[str]]:
         rows.append([
             row.model.name + (f" {PREFERRED_MARK}" if row is preferred else ""),
             ", ".join(row.model.names),
-            f"{row.rank}/{row.model.size}",
+            f"{row.rank}/{row.model.size + row.offsets}",
             UNAVAILABLE if row.training_rmse is None else format_number(row.training_rmse),
             "-" if row.heldout_rmse is None else format_number(row.heldout_rmse),
             bic_text(row.bic),
@@ -62,7 +62,11 @@ def comparison_sentences(comparison: Comparison) -> tuple[str, ...]:
     preferred = comparison.preferred
     if preferred is None:
         return ("No model of the ladder gives a unique fit: the motion cannot separate their columns.",)
-    sentences = [f"BIC prefers {preferred.model.name} ({', '.join(preferred.model.names)})."]
+    sentences = [f"BIC prefers {preferred.model.name} ({', '.join(preferred.model.names)})"
+                 + (" for the runs pooled" if comparison.run_preferences else "") + "."]
+    if comparison.run_preferences:
+        sentences.append("Each run alone prefers: " + ", ".join(
+            f"{run} {name or 'none (no unique fit)'}" for run, name in comparison.run_preferences) + ".")
     for row in comparison.rows:
         if row is preferred or row.estimate is None:
             continue

@@ -65,8 +65,8 @@ def per_parameter(names: tuple[str, ...], values) -> dict:
 
 
 def _json_value(value):
-    """A verdict string, a finite float, a [low, high] list, or None for inf/NaN."""
-    if isinstance(value, str):
+    """A verdict string, a finite float, a [low, high] list, or None for inf/NaN (or no value)."""
+    if value is None or isinstance(value, str):
         return value
     if getattr(value, "shape", ()) != ():
         return [finite_or_none(v) for v in value]
@@ -148,7 +148,10 @@ def uncertainty_to_dict(result: FitResult) -> dict:
         ),
         "relative_std_pct": per_parameter(names, uncertainty and uncertainty.relative_std_pct),
         "interval95": per_parameter(names, uncertainty and uncertainty.interval95),
-        "verdicts": per_parameter(names, uncertainty and uncertainty.verdicts),
+        # The judged verdicts every face shows; the noise's alone under a name that says so.
+        "verdicts": per_parameter(names, uncertainty and result.judgement.verdicts),
+        "noise_verdicts": per_parameter(names, uncertainty and uncertainty.verdicts),
+        "verdict_reasons": {name: reason for name, reason in zip(names, result.judgement.reasons) if reason},
         "verdict_basis": uncertainty and uncertainty.verdict_basis,
         "condition_number": finite_or_none(result.condition_number),
         "identifiable": result.identifiable.values,
@@ -274,6 +277,8 @@ def comparison_document(comparison, *, settings: Settings | None = None, source=
         "source": source,
         "samples": comparison.samples,
         "preferred": None if preferred is None else preferred.model.name,
+        **({"run_preferences": [{"run": run, "preferred": name} for run, name in comparison.run_preferences]}
+           if comparison.run_preferences else {}),
         "models": models,
         "message": " ".join(comparison_sentences(comparison)),
     }
@@ -281,10 +286,15 @@ def comparison_document(comparison, *, settings: Settings | None = None, source=
 
 def logs_document(logs) -> dict:
     """The JSON document of `jointid fit --csv ... --json` for a studies.log_fit.LoadedLogs."""
-    from .notes import exclusion_object, log_notes, omitted_object
+    from .notes import exclusion_object, log_notes, omitted_object, omitted_sentence
+    from .sensitivity import sensitivity_warning
 
-    return {**log_fit_document(logs.result, logs.training, logs.heldout, logs.filter, logs.sensitivity,
-                               log_notes(logs)), **exclusion_object(logs),
+    document = log_fit_document(logs.result, logs.training, logs.heldout, logs.filter, logs.sensitivity,
+                                log_notes(logs))
+    # The checks' sentences the text prints beside the verdicts they weaken, so a program is told what a person is.
+    checks = (None if logs.sensitivity is None else sensitivity_warning(logs.sensitivity), omitted_sentence(logs))
+    document["warnings"] = [*document["warnings"], *(sentence for sentence in checks if sentence)]
+    return {**document, **exclusion_object(logs),
             "moved_by_derivative_settings": list(logs.moved_by_settings),
             "omitted_terms": omitted_object(logs),
             "moved_by_omitted_terms": list(logs.decided_by_omitted), **effort_object(logs.result.model),

@@ -21,9 +21,34 @@ def log_notes(logs: LoadedLogs) -> tuple[str, ...]:
         notes.append(f"{shown_name(logs.training.path)}: {low_pass_note(logs.filter, logs.result.model.effort.name)}")
     if logs.heldout is not None:
         notes.extend(logs.heldout.notes)
+        notes.append(f"{shown_name(logs.heldout.path)}: {heldout_note(logs)}")
     if getattr(logs, "mechanism", None) is not None:
         notes.append(logs.mechanism.note())
     return tuple(notes)
+
+
+def heldout_note(logs: LoadedLogs) -> str:
+    """How the held-out log was predicted: through the training log's pipeline (what it left out, said), or as
+    it is when that pipeline cannot take it."""
+    effort = logs.result.model.effort.name
+    if logs.heldout_pipeline is None:
+        return (f"predicted as it is (the training log's low-pass cannot take it), less the ends where its derivatives "
+                f"come from the smoothing's end polynomials; the held-out RMSE is of its measured {effort}.")
+    left, low_pass = logs.heldout_pipeline
+    filtered = low_pass_short_note(low_pass, effort)
+    parts = []
+    if left is not None and left.pushes.any():
+        inside = left.within
+        plural = "es" if len(inside) != 1 else ""
+        pushed = f"{len(inside)} stretch{plural} where an outside torque acts" if inside else ""
+        ends = "the ends" if len(inside) < len(left.excluded) else ""
+        parts.append(f"{' and '.join(part for part in (pushed, ends) if part)} ({left.excluded_share:.1%})")
+    if left is not None and left.standstill.any():
+        parts.append(f"standstill ({left.standstill_share:.1%})")
+    left_out = f"; left out, found as the training log's were: {', '.join(parts)}" if parts else ""
+    return (f"predicted as the training log was fitted (derivatives over the same span of time, {filtered}"
+            f"{left_out}); the held-out RMSE is of the filtered {effort} at its {logs.result.heldout.count} "
+            "samples kept, comparable with the training RMSE.")
 
 
 

@@ -10,7 +10,7 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from ..estimation.uncertainty import AT_BOUND, WEAK, WELL_DETERMINED
+from ..estimation.uncertainty import AT_BOUND, WELL_DETERMINED_LIMIT
 from .status import CONDITION_CAVEAT, CONDITION_CAVEAT_SHORT, DEPENDENT_COLUMNS, condition_text, status_message
 from .text import UNAVAILABLE, format_number
 
@@ -95,8 +95,9 @@ class Precision:
     """The condition number and its caveat on one line, for small terminals."""
 
 
-def parameter_notes(result: FitResult, unsettled: tuple[str, ...] = ()) -> tuple[PrecisionNote, ...]:
-    """One note per parameter: standard error and verdict, or what a rank-deficient fit still determines."""
+def parameter_notes(result: FitResult) -> tuple[PrecisionNote, ...]:
+    """One note per parameter: standard error and the judged verdict, or what a rank-deficient fit still
+    determines."""
     uncertainty = result.uncertainty
     model = result.model
     if uncertainty is None:
@@ -121,16 +122,8 @@ def parameter_notes(result: FitResult, unsettled: tuple[str, ...] = ()) -> tuple
         return tuple(PrecisionNote(name, "no standard error: N - p = 0") for name in model.names)
     return tuple(
         PrecisionNote(name, AT_BOUND) if verdict == AT_BOUND else PrecisionNote(name, f"± {format_number(error)}", verdict)
-        for name, error, verdict in zip(model.names, errors, judged_verdicts(result, unsettled))
+        for name, error, verdict in zip(model.names, errors, result.judgement.verdicts)
     )
-
-
-def judged_verdicts(result: FitResult, unsettled: tuple[str, ...] = ()) -> tuple[str, ...]:
-    """The verdicts, with a parameter another check moved (`unsettled`, a log's sensitivity check) never called
-    well determined."""
-    names = result.model.names
-    return tuple(WEAK if name in unsettled and verdict == WELL_DETERMINED else verdict
-                 for name, verdict in zip(names, result.uncertainty.verdicts))
 
 
 def closing_lines(result: FitResult) -> tuple[tuple[str, str], ...]:
@@ -153,16 +146,51 @@ def compact_closing_line(result: FitResult) -> str:
     return f"Cond. number {condition:.2f}, modest ≠ accurate"
 
 
-def precision(result: FitResult, unsettled: tuple[str, ...] = ()) -> Precision:
-    """The precision notes and closing lines of a fit (`unsettled`: parameters a log's sensitivity check moved)."""
-    return Precision(parameter_notes(result, unsettled), closing_lines(result), compact_closing_line(result))
+def precision(result: FitResult) -> Precision:
+    """The precision notes and closing lines of a fit."""
+    return Precision(parameter_notes(result), closing_lines(result), compact_closing_line(result))
 
 
-def uncertainty_text(result: FitResult, unsettled: dict[str, str] | tuple[str, ...] = ()) -> str:
+def ratio_determined(result: FitResult) -> bool:
+    """True when h/I is well determined (its relative error within WELL_DETERMINED_LIMIT) and better than h's and
+    I's own: only then is it 'determined better than the scale they share'."""
+    _, value, error = result.scale_ratio
+    relative = result.uncertainty.relative_std_pct
+    own = [relative[result.model.index_of(kind)] for kind in ("I", "h")]
+    ratio_relative = 100 * error / abs(value) if value else math.inf
+    return ratio_relative <= WELL_DETERMINED_LIMIT and all(ratio_relative < other for other in own)
+
+
+NEAR_NATURAL = 1.5
+"""'Near its natural frequency': the motion's dominant frequency within this factor of sqrt(h g / I)."""
+
+
+def swings_near_natural_frequency(result: FitResult) -> bool:
+    """True when the training motion's dominant frequency (the peak of its speed's spectrum, gaps allowed) is within
+    NEAR_NATURAL of the fitted pendulum's sqrt(h g / I); False without times or a positive h g / I (a prescribed
+    sine at another frequency is not a swing)."""
+    import numpy as np
+
+    from ..model.terms import G
+
+    data, estimate, model = result.training, result.estimate, result.model
+    inertia, mass_moment = estimate[model.index_of("I")], estimate[model.index_of("h")]
+    if data.t is None or not model.effort.is_torque or not inertia > 0 or not mass_moment > 0:
+        return False
+    natural = math.sqrt(mass_moment * G / inertia)
+    stride = max(1, data.count // 20_000)  # the spectrum's peak needs no more samples than that
+    t, speed = data.t[::stride], data.qd[::stride] - np.mean(data.qd[::stride])
+    # A spectrum evaluated at the samples' own times, so the gaps left by excluded samples need no grid.
+    frequencies = natural * np.geomspace(0.1, 10.0, 241)
+    power = np.abs(np.exp(-1j * np.outer(frequencies, t - t[0])) @ speed)
+    dominant = float(frequencies[int(np.argmax(power))])
+    return abs(math.log(dominant / natural)) <= math.log(NEAR_NATURAL)
+
+
+def uncertainty_text(result: FitResult) -> str:
     """Lines of 'value ± standard error, verdict' per parameter, then the condition number.
 
-    `unsettled`: parameters another check moved (a log's sensitivity check, a term its model lacks), each with
-    why, which cannot be called well determined however small their standard error.
+    The verdict is the fit's judgement (a log's checks may weaken the noise's verdict), with why it is weaker.
     """
     uncertainty = result.uncertainty
     model = result.model
@@ -183,9 +211,8 @@ def uncertainty_text(result: FitResult, unsettled: dict[str, str] | tuple[str, .
                 lines.append(f"{label:<17}{format_number(uncertainty.estimate[i]):>11}   {AT_BOUND} (no standard error)")
                 continue
             relative = uncertainty.relative_std_pct[i]
-            verdict = judged_verdicts(result, unsettled)[i]
-            reason = unsettled.get(parameter.name, "") if isinstance(unsettled, dict) else "moved by another check"
-            why = f", {reason}" if verdict != uncertainty.verdicts[i] else ""
+            verdict, reason = result.judgement.verdicts[i], result.judgement.reasons[i]
+            why = f", {reason}" if reason else ""
             lines.append(
                 # At least one space before the verdict, however wide the error is.
                 f"{label:<17}{format_number(uncertainty.estimate[i]):>11} ± {format_number(errors[i]):<9} "
@@ -212,13 +239,14 @@ def uncertainty_text(result: FitResult, unsettled: dict[str, str] | tuple[str, .
             )
             lines.append(f"95 % intervals (Student t): {intervals}.")
     ratio = result.scale_ratio
-    if ratio is not None:
+    if ratio is not None and ratio_determined(result):
         corr, value, error = ratio
         inertia, gravity = (model.terms[model.index_of(kind)].name for kind in ("I", "h"))
         unit = "1/m" if model.effort.is_torque else "rad/s²"
-        lines.append(f"The acceleration and gravity columns correlate at {corr:.3f} (the joint swings near its "
-                     f"natural frequency): {gravity}/{inertia} = {format_number(value)} ± {format_number(error)} "
-                     f"{unit} is determined better than the scale they share.")
+        swings = " (the joint swings near its natural frequency)" if swings_near_natural_frequency(result) else ""
+        lines.append(f"The acceleration and gravity columns correlate at {corr:.3f}{swings}: {gravity}/{inertia} = "
+                     f"{format_number(value)} ± {format_number(error)} {unit} is determined better than the scale "
+                     "they share.")
     if result.constrained and result.unconstrained_estimate is not None:
         values = ", ".join(f"{name} {format_number(value)}"
                            for name, value in zip(model.names, result.unconstrained_estimate))

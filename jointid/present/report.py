@@ -83,14 +83,15 @@ class Report:
 # One fit's sections -------------------------------------------------------------------------------------------
 
 
-def parameter_table(result: FitResult, unsettled: dict[str, str] | tuple[str, ...] = ()) -> Table:
+def parameter_table(result: FitResult) -> Table:
     """Each parameter's value, standard error, relative error, 95 % interval and verdict, as the uncertainty text
-    gives them (the verdict after any other check, e.g. a log's sensitivity check)."""
+    gives them (the fit's judgement: after every check, with why it is weaker than the noise's)."""
     from ..estimation.uncertainty import AT_BOUND
-    from .readouts import closing_lines, judged_verdicts, parameter_notes
+    from .readouts import closing_lines, parameter_notes
 
     model, uncertainty, estimate = result.model, result.uncertainty, result.estimate
-    notes = parameter_notes(result, tuple(unsettled))
+    notes = parameter_notes(result)
+    judgement = result.judgement
     header = ("Parameter", "Value", "Standard error", "Relative", "95 % interval (Student t)", "Verdict",
               "Sign rule")
     rows = []
@@ -106,10 +107,15 @@ def parameter_table(result: FitResult, unsettled: dict[str, str] | tuple[str, ..
         interval = "" if uncertainty.interval95 is None else \
             f"[{format_number(uncertainty.interval95[index][0])}, {format_number(uncertainty.interval95[index][1])}]"
         rows.append((parameter.symbol_with_unit, value, note.text, f"{uncertainty.relative_std_pct[index]:.1f} %",
-                     interval, judged_verdicts(result, tuple(unsettled))[index], fails))
+                     interval, _with_reason(judgement.verdicts[index], judgement.reasons[index]), fails))
     # Where the ± comes from, as the explorer says it under its readouts.
     caption = " ".join(text for label, text in closing_lines(result) if text.startswith("±"))
     return Table(header, tuple(rows), caption)
+
+
+def _with_reason(verdict: str, reason: str) -> str:
+    """'weak (moved by the derivative settings)', or the verdict alone when no check weakened it."""
+    return f"{verdict} ({reason})" if reason else verdict
 
 
 def readout_table(result: FitResult) -> Table:
@@ -121,8 +127,7 @@ def readout_table(result: FitResult) -> Table:
         for item in readouts(result)))
 
 
-def fit_blocks(result: FitResult, prefix: str, unsettled: dict[str, str] | tuple[str, ...] = (),
-               training_chart=None, training_count: int | None = None,
+def fit_blocks(result: FitResult, prefix: str, training_chart=None, training_count: int | None = None,
                heldout_title: str | None = None) -> list[Block]:
     """The parameter table, the readouts, the uncertainty in words, the torque charts and the residual views of
     one fit. `prefix` makes the charts' names unique; `training_chart` is a log's chart (left-out samples faint)
@@ -134,10 +139,10 @@ def fit_blocks(result: FitResult, prefix: str, unsettled: dict[str, str] | tuple
 
     blocks: list[Block] = [
         Heading("Parameters", 3, f"{prefix}parameters"),
-        parameter_table(result, unsettled),
+        parameter_table(result),
         Heading("Readouts", 3, f"{prefix}readouts"),
         readout_table(result),
-        Preformatted(uncertainty_text(result, unsettled)),
+        Preformatted(uncertainty_text(result)),
         Heading(f"Training and held-out {result.model.effort.name}s", 3, f"{prefix}torques"),  # or voltages
     ]
     training = training_chart or synthetic_training_chart(result, columns=MAX_POINTS)
@@ -244,7 +249,7 @@ def log_blocks(logs: LoadedLogs, prefix: str = "") -> list[Block]:
     if intervals is not None:
         blocks.append(intervals)
     blocks += [Heading("Fit", 2, f"{prefix}fit"),
-               *fit_blocks(logs.result, prefix, logs.unsettled, log_training_chart(logs, columns=MAX_POINTS),
+               *fit_blocks(logs.result, prefix, log_training_chart(logs, columns=MAX_POINTS),
                            _filtered_count(logs), logs.heldout_name)]
     notes = log_notes(logs)
     if notes:

@@ -13,6 +13,10 @@ if TYPE_CHECKING:
     from ..studies.runs import PooledRuns
 
 
+SHORT_VERDICTS = {"well determined": "well det.", "not determined": "not det."}
+"""The pooled verdicts as the runs table shows them, as narrow as its numbers (the JSON spells them out)."""
+
+
 def runs_text(pooled: PooledRuns) -> str:
     """The per-run table with the pooled row, then the scatter against the errors and any disagreement."""
     heading, table, *sentences = runs_parts(pooled)
@@ -45,6 +49,8 @@ def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
                  *(format_number(pooled.params[name]) for name in shared), *(["own"] if bias else []), ""])
     rows.append(["± (Newey-West)", "", "", "", *(format_number(pooled.bse[name]) for name in shared),
                  *([""] if bias else []), ""])
+    rows.append(["verdict", "", "", "", *(SHORT_VERDICTS.get(pooled.verdicts[name], pooled.verdicts[name] or "-")
+                                          for name in shared), *([""] if bias else []), ""])
     against = " against an equally weighted pooled fit" if pooled.weighting == POOLED_FIT else ""
     sysid = _is_sysid(pooled)
     routine = _sysid_routine(pooled)
@@ -53,6 +59,10 @@ def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
              f"{model.name}; weights 1/σ² of each run's residuals{against}"
              + (f"; each run keeps its own {model.effort.name} bias" if bias else "") + "):",
              text_table(header, rows)]
+    weakened = pooled.judgement.weakened
+    if weakened:
+        lines.append("Pooled verdicts weaker than their errors alone say: "
+                     + "; ".join(f"{name} ({reason})" for name, reason in weakened.items()) + ".")
     if bias:
         lines.append(f"Pooled {model.effort.name} bias of each run: " + ", ".join(
             f"{name} {format_number(value)}" for name, value in zip(pooled.names, offsets)) + f" {unit}.")
@@ -157,7 +167,7 @@ def runs_document(pooled: PooledRuns) -> dict:
                                    for name in pooled.shared},
                   "not_determined": not_determined(run, pooled.shared)}
                  for run, other, weight in zip(pooled.runs, pooled.predicted_by_others, pooled.weights)],
-        "pooled": {"estimate": dict(pooled.params), "std_error": dict(pooled.bse),
+        "pooled": {"estimate": dict(pooled.params), "std_error": dict(pooled.bse), **pooled.judgement.to_dict(),
                    "torque_bias": dict(zip(pooled.names, map(float, pooled.estimate[len(pooled.shared):])))},
         "scatter_std_errors": pooled.scatter,
         "disagreements": [{"run": run, "parameter": name, "combined_std_errors": gap}

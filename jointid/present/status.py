@@ -44,7 +44,9 @@ def accuracy_sentences(result: FitResult) -> tuple[str, ...]:
     if uncertainty.verdicts is None:
         return tuple(sentences)
     model = result.model
-    judged = dict(zip(model.names, uncertainty.verdicts))
+    judgement = result.judgement
+    judged = dict(zip(model.names, judgement.verdicts))
+    reasons = dict(zip(model.names, judgement.reasons))
     errors = dict(zip(model.names, uncertainty.verdict_std_error))
     basis = uncertainty.verdict_basis
 
@@ -65,6 +67,10 @@ def accuracy_sentences(result: FitResult) -> tuple[str, ...]:
     if weak := listing(WEAK):
         subject, detail = weak
         sentences.append(f"{capitalise(subject)} only weakly determined {detail}.")
+    # A parameter a check weakened says why, so the sentence never contradicts the small error beside it.
+    weakened = "; ".join(f"{name} ({reason})" for name, reason in reasons.items() if reason)
+    if weakened:
+        sentences.append(f"Weaker than their errors alone say: {weakened}.")
     return tuple(sentences)
 
 
@@ -103,7 +109,7 @@ def fit_warnings(result: FitResult) -> tuple[str, ...]:
     """Every caution about a fit, one sentence each (the accuracy ones and the conditioning)."""
     sentences = list(accuracy_sentences(result))
     condition = result.condition_number
-    verdicts = result.uncertainty.verdicts if result.uncertainty is not None else None
+    verdicts = result.judgement.verdicts if result.uncertainty is not None else None
     if result.estimate is None:
         sentences.insert(0, f"Rank {result.rank} of {result.parameter_count}: no unique least-squares fit.")
     elif condition > LARGE_CONDITION:
@@ -222,7 +228,7 @@ def compact_status(result: FitResult, untested: str = "untested (no held-out dat
         held = ", ".join(result.at_bound)
         parts.append(f"Sign rules: {held} held at the bound." if held else "Sign rules: no bound active.")
     parts.extend(f"Fitted {name} fails its sign rule." for name in result.sign_failures)
-    verdicts = result.uncertainty.verdicts
+    verdicts = result.judgement.verdicts if result.uncertainty.verdicts is not None else None
     if verdicts is not None:
         found = [f"{', '.join(name for name, judged in zip(names, verdicts) if judged == verdict)} {words}"
                  for verdict, words in ((NOT_DETERMINED, "not determined"), (WEAK, "weak"))

@@ -22,7 +22,6 @@ import numpy as np
 
 from ..estimation.uncertainty import WEAK, WELL_DETERMINED, verdict
 from ..model.motors import MotorDrive, error_scale, gains_from_physical
-from .runs import OWN_FIT
 
 WPILIB_ORDER = ("kS", "kG", "kV", "kA")
 """ArmFeedforward's and ElevatorFeedforward's constructor order (SimpleMotorFeedforward's without kG)."""
@@ -169,10 +168,8 @@ def fitted_parameters(fit) -> FittedParameters:
     model = result.model
     if result.estimate is None or result.uncertainty is None:
         raise GainsError(f"no gains: rank {result.rank} of {result.parameter_count}, the fit is not unique")
-    # The verdicts the fit's text gives: a parameter another check moved is never called well determined.
-    unsettled = fit.unsettled
-    verdicts = {name: WEAK if name in unsettled and judged == WELL_DETERMINED else judged
-                for name, judged in zip(model.names, result.uncertainty.verdicts)}
+    # The verdicts the fit's text gives (jointid.estimation.judgement): every check's, not the noise's alone.
+    verdicts = dict(fit.verdicts)
     sysid = _sysid_direction(model, [(result.training_regressor, result.training.tau)])
     return FittedParameters(model, dict(result.params), dict(result.bse), verdicts, sysid)
 
@@ -184,15 +181,7 @@ def _pooled_parameters(pooled) -> FittedParameters:
     if pooled.covariance is None or not np.all(np.isfinite(pooled.estimate)):
         raise GainsError("no gains: the runs pooled have no unique fit")
     values, errors = dict(pooled.params), dict(pooled.bse)
-    verdicts = {name: verdict(100 * errors[name] / abs(values[name]) if values[name] else math.inf)
-                for name in values}
-    # A parameter another check moved in any run is never called well determined, when runs stand alone: a SysId
-    # test alone cannot separate the gains (POOLED_FIT weighting), so what moves in its own fit says nothing.
-    standing_alone = pooled.runs if pooled.weighting == OWN_FIT else ()
-    for run in standing_alone:
-        for name in run.unsettled:
-            if verdicts.get(name) == WELL_DETERMINED:
-                verdicts[name] = WEAK
+    verdicts = dict(pooled.verdicts)  # the pooled judgement: its errors, the runs' scatter, their checks
     blocks = [(run.result.training_regressor, run.result.training.tau) for run in pooled.runs]
     sysid = _sysid_direction(model, blocks)
     return FittedParameters(model, values, errors, verdicts,

@@ -50,6 +50,8 @@ class LadderRow:
     independent: float | None = None
     """How many independent samples the N are worth (low-passed samples closer than 1 / (2 cutoff) are not), or
     None: all N."""
+    offsets: int = 0
+    """Parameters beyond the model's own columns: each pooled run's own bias after the first (counted in BIC)."""
 
     @property
     def rank(self) -> int:
@@ -59,7 +61,9 @@ class LadderRow:
     @property
     def estimate(self) -> np.ndarray | None:
         """(p,) Reported parameters, or None below full rank."""
-        return None if self.solution.estimate is None else self.model.report(self.solution.estimate)
+        if self.solution.estimate is None:
+            return None
+        return self.model.report(self.solution.estimate[: self.model.size])
 
     @property
     def condition_number(self) -> float:
@@ -76,14 +80,14 @@ class LadderRow:
         independent = count if self.independent is None else self.independent
         # ln(RSS/N) from the norm: its square overflows for torques beyond 1e154 that a fit handles.
         fit_term = -math.inf if norm == 0 else independent * (2 * math.log(norm) - math.log(count))
-        return fit_term + self.model.size * math.log(independent)
+        return fit_term + (self.model.size + self.offsets) * math.log(independent)
 
     @cached_property
     def worst_determined(self) -> tuple[str, float] | None:
         """(name, relative standard error %) of the least well determined parameter, or None."""
         if self.uncertainty is None or self.uncertainty.relative_std_pct is None:
             return None
-        relative = self.uncertainty.relative_std_pct
+        relative = self.uncertainty.relative_std_pct[: self.model.size]  # not the pooled runs' other offsets
         index = int(np.argmax(relative))
         return self.model.names[index], float(relative[index])
 
@@ -95,6 +99,8 @@ class Comparison:
     rows: tuple[LadderRow, ...]
     samples: int
     """N, the training samples every model saw."""
+    run_preferences: tuple[tuple[str, str | None], ...] = ()
+    """(run, the model BIC prefers for it alone) of each pooled run; () for one log or an experiment."""
 
     def row(self, name: str) -> LadderRow:
         """The row of the model named `name`."""
@@ -109,7 +115,7 @@ class Comparison:
 
 def compare_models(training: JointData, heldout: JointData | None = None, *, noise_bound: float | None = None,
                    models: tuple[str, ...] = LADDER, low_pass=None, kept=None, regressor=None,
-                   effort: Effort = TORQUE) -> Comparison:
+                   effort: Effort = TORQUE, heldout_regressor: np.ndarray | None = None) -> Comparison:
     """Fit each named model to the training data from one factorisation, and score it on the held-out data.
 
     `low_pass` (a low_pass.ParallelFilter) filters every column and the torque
@@ -118,7 +124,8 @@ def compare_models(training: JointData, heldout: JointData | None = None, *, noi
     so that pushes do not decide the model. `regressor` (N, columns + 1)
     replaces ALL_COLUMNS' regressor with the torque as its last column (a
     log's, smoothed like its derivatives). `effort`: what the torque column holds (a voltage log's models are
-    fitted in volts).
+    fitted in volts). `heldout_regressor` (M, columns) replaces ALL_COLUMNS' regressor of the held-out states (a
+    held-out log through the training log's pipeline, with `heldout.tau` filtered alike).
     """
     every = ALL_COLUMNS.in_effort(effort)
     if regressor is None:
@@ -134,7 +141,7 @@ def compare_models(training: JointData, heldout: JointData | None = None, *, noi
     if low_pass is not None and low_pass.active:
         independent = count * min(1.0, 2.0 * low_pass.cutoff * low_pass.decimation / low_pass.rate)
     factor = triangle_of(X, tau)
-    heldout_X = None if heldout is None else every.data_regressor(heldout)
+    heldout_X = heldout_regressor if heldout_regressor is not None or heldout is None else every.data_regressor(heldout)
     rows = []
     for name in models:
         model = model_named(name).in_effort(effort)
@@ -150,6 +157,68 @@ def compare_models(training: JointData, heldout: JointData | None = None, *, noi
         rows.append(LadderRow(model, solution, training_rmse, heldout_rmse,
                               parameter_uncertainty(solution, noise_bound, model), independent))
     return Comparison(tuple(rows), count)
+
+
+def compare_runs(blocks, *, models: tuple[str, ...] = LADDER, effort: Effort = TORQUE) -> Comparison:
+    """The ladder on several runs' samples stacked: `blocks` holds each run's (ALL_COLUMNS regressor, torque,
+    independent samples or None) already filtered and kept as its own fit did. A model with a bias gives each run
+    its own (as the pooled fit does), counted in BIC; BIC's n is every run's independent samples together."""
+    every = ALL_COLUMNS.in_effort(effort)
+    bias = [term.kind for term in every.terms].index("tau0")
+    sizes = [len(tau) for _, tau, _ in blocks]
+    edges = np.cumsum([0, *sizes])
+    X = np.concatenate([regressor for regressor, _, _ in blocks])
+    tau = np.concatenate([values for _, values, _ in blocks])
+    # The bias column becomes the first run's own; each other run's is a column of its own after ALL_COLUMNS'.
+    indicators = np.zeros((len(tau), len(blocks)))
+    for k, (first, last) in enumerate(zip(edges[:-1], edges[1:])):
+        indicators[first:last, k] = 1.0
+    X[:, bias] = indicators[:, 0]
+    stacked = np.column_stack([X, indicators[:, 1:]])
+    counts = [independent for _, _, independent in blocks]
+    independent = None if all(c is None for c in counts) else float(
+        sum(size if c is None else c for size, c in zip(sizes, counts)))
+    factor = triangle_of(stacked, tau)
+    extra = list(range(X.shape[1], stacked.shape[1]))
+    count = len(tau)
+    rows = []
+    for name in models:
+        model = model_named(name).in_effort(effort)
+        offsets = extra if model.index_of("tau0") is not None else []
+        solution = replace(solve_least_squares(factor[:, column_indices(model) + offsets], factor[:, -1]),
+                           row_count=count)
+        training_rmse = None if solution.estimate is None else float(solution.residual_norm) / math.sqrt(count)
+        # Offsets of other runs have no reported form: the uncertainty is of the columns (no angle offset with a
+        # bias in the ladder).
+        uncertainty = parameter_uncertainty(solution, None, None if offsets else model)
+        rows.append(LadderRow(model, solution, training_rmse, None, uncertainty, independent, len(offsets)))
+    return Comparison(tuple(rows), count)
+
+
+def compare_pooled(runs) -> Comparison:
+    """The ladder on pooled runs (studies.runs.PooledRuns' LoadedLogs, each filtered and left out as its own fit
+    was), with each run's own preferred model beside it."""
+    from .log_fit import filtered_regressors  # the log pipeline, loaded only for logs
+
+    effort = runs[0].result.model.effort
+    every = ALL_COLUMNS.in_effort(effort)
+    blocks = []
+    for run in runs:
+        (X, tau), = filtered_regressors(run.training, every, (run.filter,))
+        kept = np.ones(len(tau), dtype=bool) if run.exclusions is None else ~run.exclusions.pushes
+        chosen = run.filter
+        independent = None
+        if chosen.active:  # as compare_models counts a low-passed log's samples
+            independent = int(kept.sum()) * min(1.0, 2.0 * chosen.cutoff * chosen.decimation / chosen.rate)
+        blocks.append((X[kept], tau[kept], independent))
+    alone = tuple((run.name, _preferred_name(compare_runs([block], effort=effort)))
+                  for run, block in zip(runs, blocks))
+    return replace(compare_runs(blocks, effort=effort), run_preferences=alone)
+
+
+def _preferred_name(comparison: Comparison) -> str | None:
+    """The name of the model BIC prefers, or None."""
+    return None if comparison.preferred is None else comparison.preferred.model.name
 
 
 def compare_experiment(settings: Settings) -> Comparison:

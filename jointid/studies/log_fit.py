@@ -13,14 +13,15 @@ from __future__ import annotations
 import math
 import os
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from ..checks import checked, flag, optional, pairs, real, text, whole
 from ..estimation.exclusion import (ExclusionRequest, Exclusions, commanded_changes, explained_transients,
                                     outside_torques, standstill)
-from ..estimation.fit import FitResult, fit_joint
+from ..estimation.fit import FitResult, fit_joint, with_judgement
+from ..estimation.judgement import Finding, Judgement, judge, noise_judgement
 from ..estimation.low_pass import FilterRequest, FilterRequestError, ParallelFilter, choose_filter
 from ..estimation.omitted import OmittedTerms, omitted_terms_test
 from ..estimation.solver import NonFiniteError
@@ -35,6 +36,7 @@ from ..options import DEFAULT_ORDER
 from ..samples import JointData
 from ..text_safety import shown_name
 from .angle_models import check_angle_model
+from .refits import is_exact, robust_findings, stretch_scatter
 from .sensitivity import FACTORS, SensitivityCheck, Variant, sensitivity_check
 
 
@@ -77,6 +79,9 @@ class LoadedLogs:
     """The test of terms the model lacks (friction, bias, angle offset, drag) against the residuals, or None."""
     mechanism: object | None = None
     """The studies.mechanism.MechanismChoice a SysId test was fitted as, or None for other logs."""
+    heldout_pipeline: tuple[Exclusions | None, ParallelFilter] | None = None
+    """What the held-out log's check left out and the low-pass it went through, as the training log's fit did;
+    None without a held-out log, or when it was predicted as it is (too short for the filter, say)."""
 
     def __repr__(self) -> str:
         return f"<LoadedLogs {self.name!r} {self.result!r}>"
@@ -126,11 +131,22 @@ class LoadedLogs:
 
     @property
     def unsettled(self) -> dict[str, str]:
-        """Parameters another check moved, each with why: not well determined, whatever their error."""
-        reasons = {name: "moved by the derivative settings" for name in self.moved_by_settings}
-        for name in self.decided_by_omitted:
-            reasons.setdefault(name, "moved by a term the model lacks")
+        """Parameters another check moved, each with why (the first check's): not well determined, whatever their
+        error."""
+        reasons: dict[str, str] = {}
+        for finding in log_findings(self):
+            reasons.setdefault(finding.name, finding.reason)
         return reasons
+
+    @property
+    def verdicts(self) -> Mapping[str, str | None]:
+        """Each parameter's verdict from every check, by name, as the text and JSON give it (`FitResult.verdicts`)."""
+        return self.result.verdicts
+
+    @property
+    def judgement(self) -> Judgement:
+        """The verdicts, the noise-only verdicts and why they differ (`FitResult.judgement`)."""
+        return self.result.judgement
 
     @property
     def name(self) -> str:
@@ -163,6 +179,8 @@ class LoadedLogs:
             steps = [step for step, used in (("the low-pass", chosen.active), ("decimation", chosen.decimation > 1),
                                              ("what was left out", left_out)) if used]
             texts[0] += f" after {', '.join(steps[:-1])}{' and ' if len(steps) > 1 else ''}{steps[-1]}"
+        if self.heldout_pipeline is not None:
+            texts[1] += f", {self.result.heldout.count} predicted after the same pipeline"
         return tuple(texts)
 
 
@@ -192,6 +210,10 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
     # cutoff refits' alike, so no full-rate regressor is held.
     filtered = filtered_regressors(training, model, (chosen, *(other for _, _, other in others)))
     result, exclusions = _fit(training, heldout, model, constrained, chosen, filtered[0], exclusion)
+    predicted = None if heldout is None else heldout_as_fitted(
+        training, heldout, model, chosen, exclusion, None if exclusions is None else exclusions.estimate)
+    if predicted is not None:
+        result = replace(result, heldout=predicted[0], heldout_regressor=predicted[1])
     with np.errstate(over="ignore", invalid="ignore"):  # checked here, with the file named
         scores = ((training, result.training_rmse), (heldout, result.heldout_rmse))
     for log, rmse in scores:
@@ -202,7 +224,40 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
     check = _sensitivity(training, model, constrained, chosen, result, zip(others, filtered[1:]), exclusion,
                          exclusions) if sensitivity else None
     omitted = _omitted_terms(training, model, chosen, result, exclusions)
-    return LoadedLogs(training, heldout, result, chosen, filtering, check, exclusions, exclusion, omitted)
+    logs = LoadedLogs(training, heldout, result, chosen, filtering, check, exclusions, exclusion, omitted,
+                      None if predicted is None else predicted[2:])
+    return replace(logs, result=with_judgement(result, judge_log(logs)))
+
+
+SETTINGS_MOVED = "moved by the derivative settings"
+"""Why the sensitivity check's flags weaken a verdict (its warning names the settings and the moves)."""
+TERM_MOVED = "moved by a term the model lacks"
+"""Why the omitted-terms test weakens a verdict (its sentence names the term)."""
+
+
+def log_findings(logs: LoadedLogs) -> tuple[Finding, ...]:
+    """What the log fit's checks found against its parameters: the sensitivity check's moves, the omitted-terms
+    test's, and the refit without the robust step's exclusions."""
+    findings = [Finding(name, SETTINGS_MOVED) for name in logs.moved_by_settings]
+    findings += [Finding(name, TERM_MOVED) for name in logs.decided_by_omitted]
+    left = logs.exclusions
+    if left is not None and left.regressor is not None and not is_exact(logs.result):
+        by_hand = np.zeros(len(left.since), dtype=bool)
+        for start, end in logs.exclusion.by_hand:
+            by_hand |= (left.since >= start) & (left.since <= end)
+        findings += robust_findings(logs.result, left, by_hand)
+    return tuple(findings)
+
+
+def judge_log(logs: LoadedLogs) -> Judgement:
+    """Each parameter of a log fit judged once: its noise-based error, the checks' findings and the scatter of the
+    run's stretches."""
+    result = logs.result
+    uncertainty = result.uncertainty
+    if uncertainty is None:
+        return noise_judgement(result.model.names, None)
+    return judge(result.model.names, uncertainty.relative_std_pct, uncertainty.held, log_findings(logs),
+                 () if is_exact(result) else stretch_scatter(result))
 
 
 def _omitted_terms(training: JointLog, model: JointModel, chosen: ParallelFilter, result: FitResult,
@@ -306,27 +361,69 @@ def _fit(training: JointLog, heldout: JointLog | None, model: JointModel, constr
     `filtered_regressors`). `found`: outside-torque intervals (s from the log's
     start) already found on this log, to leave out again instead of running the robust step.
     """
-    data = training.data
-    filtered, tau = filtered_regressors(training, model, (chosen,))[0] if low_passed is None else low_passed
-    rows = slice(None, None, chosen.decimation)  # the rows `chosen` keeps, as views: indexing would copy them
-    t = None if data.t is None else data.t[rows]
-    exclusions = None if t is None else _exclusions(training, model, chosen, filtered, tau, t, exclusion, found,
-                                                    start)
-    kept = np.ones(len(tau), dtype=bool) if exclusions is None else exclusions.kept
-    every = bool(kept.all())
-    pick = (lambda values: values) if every else (lambda values: values[kept])  # noqa: E731
-    fitted = JointData(t=None if t is None else pick(t), q=pick(data.q[rows]), qd=pick(data.qd[rows]),
-                       qdd=pick(data.qdd[rows]), tau=pick(tau))
+    fitted, X, exclusions = _prepared(training, model, chosen, low_passed, exclusion, found, start)
     correlation = None
+    kept = np.ones(fitted.count, dtype=bool) if exclusions is None else exclusions.kept
     if chosen.active:
         correlation = (np.flatnonzero(kept), correlation_lag(int(kept.sum()), chosen))
     try:
         result = fit_joint(fitted, None if heldout is None else _without_polynomial_ends(heldout), model=model,
-                           constrained=constrained, heldout_is_noiseless=False, regressor=pick(filtered),
-                           correlation=correlation)
+                           constrained=constrained, heldout_is_noiseless=False, regressor=X, correlation=correlation)
     except NonFiniteError as error:
         raise LogError(training.path, f"cannot be fitted: {error}; rescale its columns (other units)") from None
     return result, exclusions
+
+
+def _prepared(log: JointLog, model: JointModel, chosen: ParallelFilter,
+              low_passed: tuple[np.ndarray, np.ndarray] | None, exclusion: ExclusionRequest,
+              found: tuple[tuple[float, float], ...] | None, start: np.ndarray | None
+              ) -> tuple[JointData, np.ndarray, Exclusions | None]:
+    """(the kept samples with their filtered torque, their filtered regressor, the exclusions) of a log through
+    `chosen`, leaving out what `exclusion` asks: the samples a fit uses, or a held-out check predicts."""
+    data = log.data
+    filtered, tau = filtered_regressors(log, model, (chosen,))[0] if low_passed is None else low_passed
+    rows = slice(None, None, chosen.decimation)  # the rows `chosen` keeps, as views: indexing would copy them
+    t = None if data.t is None else data.t[rows]
+    exclusions = None if t is None else _exclusions(log, model, chosen, filtered, tau, t, exclusion, found, start)
+    kept = None if exclusions is None or exclusions.kept.all() else exclusions.kept
+    pick = (lambda values: values) if kept is None else (lambda values: values[kept])  # noqa: E731
+    fitted = JointData(t=None if t is None else pick(t), q=pick(data.q[rows]), qd=pick(data.qd[rows]),
+                       qdd=pick(data.qdd[rows]), tau=pick(tau))
+    return fitted, pick(filtered), exclusions
+
+
+def heldout_as_fitted(training: JointLog, heldout: JointLog, model: JointModel, chosen: ParallelFilter,
+                       exclusion: ExclusionRequest, start: np.ndarray | None
+                       ) -> tuple[JointData, np.ndarray, Exclusions | None, ParallelFilter] | None:
+    """The held-out log through the training log's pipeline: its derivatives over the same span of time, the same
+    low-pass and rate, its own outside torques (from the training fit's robust estimate) and standstill left out;
+    (its kept samples, their filtered regressor). A log the pipeline cannot take (too short for the filter, a
+    cutoff above its Nyquist frequency) gives None: it is predicted as it is, less its polynomial ends."""
+    try:
+        log = _same_derivative_span(training, heldout)
+        same_rate = (training.timing is not None and heldout.timing is not None
+                     and math.isclose(training.timing.step, heldout.timing.step, rel_tol=0.01))
+        request = FilterRequest(chosen.cutoff if chosen.active else 0, chosen.decimation if same_rate else None)
+        # Outside torques are the held-out log's own, found as the training log's were; times given by hand
+        # (--exclude) are the training log's.
+        other = low_pass_for(log, request)
+        fitted, X, left = _prepared(log, model, other, None, ExclusionRequest(exclusion.robust, ()), None, start)
+    except LogError:
+        return None
+    return fitted, X, left, other
+
+
+def _same_derivative_span(training: JointLog, heldout: JointLog) -> JointLog:
+    """The held-out log with its missing derivatives estimated over the training log's window in seconds."""
+    mine, theirs = training.derivatives, heldout.derivatives
+    if mine is None or theirs is None:
+        return heldout
+    window = int(round((mine.window - 1) * mine.step / theirs.step)) + 1
+    window += 1 - window % 2
+    window = min(max(window, mine.order + 2 - mine.order % 2), MAX_WINDOW)
+    if window == theirs.window or window + 3 > heldout.data.count + theirs.window - 1:
+        return heldout
+    return heldout.with_window(window, mine.order)
 
 
 def _without_polynomial_ends(log: JointLog) -> JointData:
@@ -487,6 +584,36 @@ def _sensitivity(training: JointLog, model: JointModel, constrained: bool, chose
         variants.append(Variant("cutoff", factor, window, cutoff, fit.estimate))
     return sensitivity_check(model.names, base, result.uncertainty.residual_std_error, variants,
                              rmse=result.training_rmse, torque_rms=rms(result.training.tau))
+
+
+def refits_of(logs: LoadedLogs) -> dict[str, FitResult]:
+    """The log's fit redone as the judgement's checks vary it, by label: the derivative window halved and doubled
+    ('window halved', 'window doubled', when its derivatives were estimated) and without the robust step
+    ('--no-robust', when it ran); for judging a pooled fit from its runs' refits (studies.runs)."""
+    training, result, chosen = logs.training, logs.result, logs.filter
+    model, constrained = result.model, result.constrained
+    refits = {}
+    estimate = training.derivatives
+    if estimate is not None and chosen is not None:
+        same = FilterRequest(chosen.cutoff if chosen.active else 0, chosen.decimation)
+        for factor in FACTORS:
+            other = _scaled_window(estimate.window, factor, estimate.order, training.data.count + estimate.window - 1)
+            if other is None or other == estimate.window:
+                continue
+            try:
+                log = training.with_window(other)
+                start = None if logs.exclusions is None else logs.exclusions.estimate
+                refits[f"window {'halved' if factor < 1 else 'doubled'}"], _ = _fit(
+                    log, None, model, constrained, low_pass_for(log, same), None, logs.exclusion, None, start)
+            except LogError:  # too short for that window: no such refit
+                continue
+    if logs.exclusion.robust and chosen is not None:
+        try:
+            refits["--no-robust"], _ = _fit(training, None, model, constrained, chosen, None,
+                                            ExclusionRequest(False, logs.exclusion.by_hand))
+        except LogError:
+            pass
+    return refits
 
 
 def _scaled_window(window: int, factor: float, order: int, samples: int) -> int | None:

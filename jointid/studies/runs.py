@@ -22,12 +22,14 @@ from types import MappingProxyType
 import numpy as np
 
 from ..estimation.exclusion import ExclusionRequest
+from ..estimation.judgement import Finding, Judgement, judge, relative_error_pct
 from ..estimation.low_pass import FilterRequest
 from ..estimation.solver import block_rows_for, solve_least_squares, triangle_of
 from ..estimation.uncertainty import covariance_factor, newey_west_sum
 from ..logs.pipeline import JointLog
 from ..model.terms import JointModel
-from .log_fit import LoadedLogs, fit_logs
+from .log_fit import LoadedLogs, fit_logs, refits_of
+from .refits import ROBUST_MOVE, is_exact, run_scatter
 
 BIAS = "tau0"
 """The model's torque bias term, which each run keeps for itself."""
@@ -100,6 +102,32 @@ class PooledRuns:
         return MappingProxyType(dict(zip(self.shared, map(float, self._reported[1]))))
 
     @cached_property
+    def judgement(self) -> Judgement:
+        """Each shared parameter judged once: its pooled error, the scatter of the runs about it beyond their own
+        errors, and what moved it in any run standing alone (a SysId test does not stand alone: see OWN_FIT)."""
+        values, errors = self._reported
+        relative = [relative_error_pct(float(value), float(error)) for value, error in zip(values, errors)]
+        findings, scatters = [], ()
+        # Errors of rounding make no move or scatter count: a run's own (OWN_FIT), or every test's (a SysId dynamic
+        # test alone fits its constant voltage exactly, whatever the noise).
+        exact = (all if self.weighting == POOLED_FIT else any)(is_exact(run.result) for run in self.runs)
+        if self.weighting == POOLED_FIT and not exact:
+            findings = list(pooled_refit_findings(self))
+        if self.weighting == OWN_FIT:
+            for run in self.runs:
+                findings += [Finding(name, f"{reason} in {run.name}") for name, reason in run.unsettled.items()
+                             if name in self.shared]
+            own = np.array([[run.params[name] for name in self.shared] for run in self.runs])
+            own_errors = np.array([[run.bse[name] for name in self.shared] for run in self.runs])
+            scatters = () if exact else run_scatter(self.shared, own, own_errors, values)
+        return judge(self.shared, relative, None, findings, scatters)
+
+    @property
+    def verdicts(self) -> MappingProxyType:
+        """The pooled parameters' verdicts by name, as the text, JSON and gains give them."""
+        return self.judgement.by_name()
+
+    @cached_property
     def scatter(self) -> dict[str, float]:
         """Each shared parameter's spread over the runs (standard deviation) in units of the runs' mean standard
         error: about 1 when the errors are honest, far above when the runs disagree beyond them."""
@@ -125,6 +153,32 @@ class PooledRuns:
         return tuple(found)
 
 
+POOLED_MOVES = {"window halved": (ROBUST_MOVE, "moved {move:.1f} standard errors by the derivative window halved"),
+                "window doubled": (ROBUST_MOVE, "moved {move:.1f} standard errors by the derivative window doubled"),
+                "--no-robust": (ROBUST_MOVE, "moved {move:.1f} standard errors by --no-robust")}
+"""Each pooled refit: how many pooled standard errors it may move a parameter (about three, as a controller's gain
+is judged: issue 32), and the reason when it moves more."""
+
+
+def pooled_refit_findings(pooled: PooledRuns) -> tuple[Finding, ...]:
+    """Shared parameters that the pooled fit redone from every run's refit (window halved or doubled, --no-robust)
+    moves beyond POOLED_MOVES: for runs that do not stand alone (a SysId routine's tests), whose own checks say
+    nothing of the pooled gains."""
+    refits = [refits_of(run) for run in pooled.runs]
+    findings = []
+    for label, (limit, reason) in POOLED_MOVES.items():
+        if not all(label in found for found in refits):
+            continue
+        redone = tuple(LoadedLogs(run.training, None, found[label]) for run, found in zip(pooled.runs, refits))
+        again = pool_runs(redone, pooled.weighting)
+        for name in pooled.shared:
+            error = pooled.bse[name]
+            move = abs(again.params[name] - pooled.params[name]) / error if error > 0 else 0.0
+            if move > limit:
+                findings.append(Finding(name, reason.format(move=move)))
+    return tuple(findings)
+
+
 def fit_runs(logs: list[JointLog], model: JointModel, filtering: FilterRequest = FilterRequest(),
              exclusion: ExclusionRequest = ExclusionRequest(), constrained: bool = False,
              sensitivity: bool = True, weighting: str = OWN_FIT) -> PooledRuns:
@@ -132,8 +186,15 @@ def fit_runs(logs: list[JointLog], model: JointModel, filtering: FilterRequest =
     runs."""
     if len(logs) < 2:
         raise ValueError("pooling needs at least two runs")
-    return pool_runs(tuple(fit_logs(log, None, model, constrained, filtering, sensitivity, exclusion)
-                           for log in logs), weighting)
+    return judged(pool_runs(tuple(fit_logs(log, None, model, constrained, filtering, sensitivity, exclusion)
+                                  for log in logs), weighting))
+
+
+def judged(pooled: PooledRuns) -> PooledRuns:
+    """The pooled runs with their judgement computed now, in the caller's worker: a SysId routine's refits take
+    seconds, which the explorer must not spend when it first shows the verdicts."""
+    _ = pooled.judgement
+    return pooled
 
 
 def add_run(current: LoadedLogs | PooledRuns, log: JointLog, model: JointModel, constrained: bool = False,
@@ -144,7 +205,7 @@ def add_run(current: LoadedLogs | PooledRuns, log: JointLog, model: JointModel, 
     first = runs[0]
     added = fit_logs(log, None, model, constrained, first.filtering, sensitivity, first.exclusion)
     weighting = current.weighting if isinstance(current, PooledRuns) else OWN_FIT
-    return pool_runs((*runs, added), weighting)
+    return judged(pool_runs((*runs, added), weighting))
 
 
 def pool_runs(runs: tuple[LoadedLogs, ...], weighting: str = OWN_FIT) -> PooledRuns:

@@ -410,7 +410,7 @@ class MainScreen(Screen):
         self.query_one("#training-chart", TorqueChart).show(training)
         if heldout is not None:  # without a held-out log its chart is hidden (-no-heldout)
             self.query_one("#heldout-chart", TorqueChart).show(heldout)
-        self.query_one(ReadoutPanel).show(readouts(result), precision(result, () if logs is None else tuple(logs.unsettled)))
+        self.query_one(ReadoutPanel).show(readouts(result), precision(result))
         self.show_status()
 
     def show_status(self) -> None:

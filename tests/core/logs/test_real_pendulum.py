@@ -10,13 +10,12 @@ reports as left out.
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import numpy as np
 import pytest
 
 from support.coulomb_joint import coulomb_joint_log
-from support.real_logs import REAL_LOGS, needs_real_logs
+from support.real_logs import REAL_LOGS, needs_real_logs, reference_pipeline
 
 from jointid.cli import main
 
@@ -78,17 +77,6 @@ def test_the_energy_shaping_runs_pushes_are_left_out_and_the_pd_run_keeps_its_mo
         later = np.searchsorted(t, end + 1.5)
         assert abs(position[later] - position[at]) > 2.0, (start, end)
     assert documents["pd"]["excluded"] == [] or all(b - a < 0.2 for a, b in documents["pd"]["excluded"])
-
-
-def reference_pipeline():
-    """benchmarks/real_logs_reference/pipeline.py: the numpy/scipy reference of the real-log pipeline."""
-    import importlib.util
-
-    path = Path(__file__).resolve().parents[3] / "benchmarks" / "real_logs_reference" / "pipeline.py"
-    spec = importlib.util.spec_from_file_location("real_logs_reference", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
 
 
 def prediction_rmse(reference, run: str, excluded, theta, friction: str = "sign") -> float:

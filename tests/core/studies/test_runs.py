@@ -61,3 +61,40 @@ def test_a_log_whose_angle_column_names_degrees_but_is_read_in_radians_is_refuse
     pooled = fit_runs(logs, model_named("plain"), sensitivity=False)
     for name, true in TRUTH.items():
         assert abs(pooled.params[name] - true) <= max(0.02 * true, 3 * pooled.bse[name]), name
+
+
+def test_a_sysid_routines_pooled_gains_are_judged_by_their_pooled_refits(capsys):
+    """A SysId routine's tests do not stand alone, so their pooled gains are judged by the pooled fit redone from
+    every test's derivative window halved and doubled and without the robust step: a gain moved beyond three pooled
+    standard errors is weak in the runs' JSON and in the gains, and says what moved it."""
+    import json
+    from pathlib import Path
+
+    import jointid
+    from jointid.cli import main
+    from jointid.studies.log_fit import LoadedLogs, refits_of
+    from jointid.studies.runs import pool_runs
+
+    path = Path(__file__).resolve().parents[3] / "docs" / "examples" / "sysid_arm.wpilog"
+    pooled = jointid.fit_wpilog(str(path))
+    refits = [refits_of(run) for run in pooled.runs]
+    moves = {name: 0.0 for name in pooled.shared}
+    for label in ("window halved", "window doubled", "--no-robust"):
+        redone = tuple(LoadedLogs(run.training, None, found[label]) for run, found in zip(pooled.runs, refits))
+        again = pool_runs(redone, pooled.weighting)
+        for name in pooled.shared:
+            moves[name] = max(moves[name], abs(again.params[name] - pooled.params[name]) / pooled.bse[name])
+    assert main(["fit", "--wpilog", str(path), "--gains", "wpilib", "--json"]) == 0
+    document = json.loads(capsys.readouterr().out)
+    gains = document["gains"]["gains"]
+    for name, move in moves.items():
+        relative = 100 * pooled.bse[name] / abs(pooled.params[name])
+        expected = "well determined" if relative <= 10 and move <= 3 else None
+        if expected is not None:
+            assert document["pooled"]["verdicts"][name] == expected
+        elif relative <= 10:  # well determined by its error alone, moved beyond three errors by a refit
+            assert document["pooled"]["verdicts"][name] == "weak"
+            assert "standard errors by" in document["pooled"]["verdict_reasons"][name]
+            if name in gains:
+                assert gains[name]["verdict"] == "weak"
+    assert max(moves[name] for name in ("kA", "kG", "kV", "kS")) > 3  # the case the rule is for occurs here

@@ -1,0 +1,118 @@
+"""Do the verdicts hold from run to run? Real runs judged against the others, synthetic joints against the truth
+(not a timing).
+
+1. The three shared pendulum runs (../shared/real-logs, --zero down): each run fitted alone as `jointid fit --csv`
+   does, judged against the pooled fit of the other two; prints every parameter's value, 95 % interval, noise
+   verdict, judged verdict and whether the interval holds the others' value, then the count of "well determined"
+   values whose interval misses it (the goal: none), by the noise verdicts and by the judged ones.
+2. The same three runs pooled: the pooled verdicts with the run-to-run scatter.
+3. SEEDS synthetic Coulomb joints (the generator below: each seed its own motion, 12-bit angles, torque noise):
+   how often the 95 % intervals hold the truth (goal 85-99 %), the standard errors against the estimates' own
+   scatter over the seeds (about 1: not inflated), and how many "well determined" noise verdicts the other
+   checks weakened on this clean data.
+
+    PYTHONPATH=. .venv/bin/python benchmarks/verdict_study.py [SEEDS]
+"""
+
+from __future__ import annotations
+
+import sys
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+
+from jointid import fit_log
+from jointid.logs.request import TRAINING, LoadRequest, load_joint_log
+from jointid.logs.conventions import AngleConvention
+from jointid.model.terms import model_named
+from jointid.options import LOG_MODEL
+from jointid.studies.runs import fit_runs
+
+LOGS = Path(__file__).resolve().parent.parent.parent / "shared" / "real-logs"
+RUNS = ("pd", "ddp", "energy_shaping")
+WELL = "well determined"
+G = 9.81
+TRUTH = {"I": 0.8, "h": 0.4, "B": 0.15, "Fc": 0.2, "tau0": 0.0}
+
+
+def coulomb_joint(seed: int) -> dict:
+    """A joint with Coulomb friction 0.2 N m on a motion of two sines whose amplitudes and frequencies vary with
+    the seed, 20 s at 500 Hz, 12-bit angles, torque noise 5 % of its RMS."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(0, 20, 1 / 500)
+    (a1, a2), (w1, w2) = rng.uniform([0.5, 0.15], [0.9, 0.35]), rng.uniform([1.0, 2.3], [1.6, 3.1])
+    q = a1 * np.sin(w1 * t) + a2 * np.sin(w2 * t)
+    qd = a1 * w1 * np.cos(w1 * t) + a2 * w2 * np.cos(w2 * t)
+    qdd = -a1 * w1**2 * np.sin(w1 * t) - a2 * w2**2 * np.sin(w2 * t)
+    tau = TRUTH["I"] * qdd + TRUTH["h"] * G * np.cos(q) + TRUTH["B"] * qd + TRUTH["Fc"] * np.sign(qd)
+    tau = tau + 0.05 * np.sqrt(np.mean(tau**2)) * rng.standard_normal(len(t))
+    step = 2 * np.pi / 4096
+    return {"t": t, "q": np.round(q / step) * step, "tau": tau}
+
+
+def real_runs() -> None:
+    """Part 1 and 2: each shared run against the other two's pooled fit, then all three pooled."""
+    fits = {run: fit_log(LOGS / f"pendulum_{run}.csv", zero="down") for run in RUNS}
+    loaded = {run: load_joint_log(LoadRequest(str(LOGS / f"pendulum_{run}.csv"), TRAINING,
+                                              angle=AngleConvention("down", False))) for run in RUNS}
+    model = model_named(LOG_MODEL)
+    misses = {"noise": 0, "judged": 0}
+    for run in RUNS:
+        others = fit_runs([loaded[other] for other in RUNS if other != run], model)
+        result = fits[run].result
+        interval = dict(zip(result.model.names, result.uncertainty.interval95))
+        print(f"{run} against the others pooled:")
+        for name in others.shared:
+            low, high = interval[name]
+            reference = others.params[name]
+            noise, judged = result.judgement.noise_verdicts, result.judgement.verdicts
+            index = result.model.names.index(name)
+            holds = low <= reference <= high
+            misses["noise"] += (not holds) and noise[index] == WELL
+            misses["judged"] += (not holds) and judged[index] == WELL
+            print(f"  {name:5s} {result.params[name]:10.6f} [{low:.6f}, {high:.6f}] others {reference:10.6f} "
+                  f"{'holds' if holds else 'MISSES'}; noise: {noise[index]}; judged: {judged[index]}"
+                  + (f" ({result.judgement.reasons[index]})" if result.judgement.reasons[index] else ""))
+    print(f"'well determined' values whose 95 % interval misses the others' pooled value: {misses['noise']} by the "
+          f"noise verdicts, {misses['judged']} by the judged verdicts")
+    pooled = fit_runs([loaded[run] for run in RUNS], model)
+    print("three runs pooled: " + ", ".join(
+        f"{name} {pooled.params[name]:.6f} ± {pooled.bse[name]:.6f} {pooled.verdicts[name]}"
+        + (f" ({pooled.judgement.reason_of(name)})" if pooled.judgement.reason_of(name) else "")
+        for name in pooled.shared))
+
+
+def synthetic(seeds: int) -> None:
+    """Part 3: coverage of the truth, the errors against the seeds' scatter, clean data's weakened verdicts."""
+    covered = total = weakened = well = 0
+    why = Counter()
+    estimates, errors = [], []
+    for seed in range(1, seeds + 1):
+        result = fit_log(coulomb_joint(seed)).result
+        names = result.model.names
+        for index, name in enumerate(names):
+            low, high = result.uncertainty.interval95[index]
+            covered += low <= TRUTH[name] <= high
+            total += 1
+            noise, judged = result.judgement.noise_verdicts[index], result.judgement.verdicts[index]
+            well += noise == WELL
+            weakened += noise == WELL and judged != WELL
+            if noise == WELL and judged != WELL:
+                for reason in result.judgement.reasons[index].split(", "):
+                    kind = reason.split(" by ")[-1] if "standard errors by" in reason else reason.split(" scatter")[0]
+                    why[kind] += 1
+        estimates.append(result.estimate), errors.append(result.uncertainty.residual_std_error)
+    scatter = np.std(estimates, axis=0, ddof=1)
+    inflation = np.mean(errors, axis=0) / scatter
+    print(f"{seeds} synthetic Coulomb joints: 95 % intervals hold the truth {covered} of {total} times "
+          f"({100 * covered / total:.0f} %); mean standard error / the estimates' scatter over the seeds: "
+          + ", ".join(f"{name} {value:.2f}" for name, value in zip(names, inflation))
+          + f"; 'well determined' noise verdicts weakened by the other checks: {weakened} of {well} ("
+          + ", ".join(f"{reason}: {count}" for reason, count in why.items()) + ")")
+
+
+if __name__ == "__main__":
+    if LOGS.is_dir():
+        real_runs()
+    synthetic(int(sys.argv[1]) if len(sys.argv) > 1 else 20)
