@@ -225,7 +225,7 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
                          exclusions) if sensitivity else None
     omitted = _omitted_terms(training, model, chosen, result, exclusions)
     logs = LoadedLogs(training, heldout, result, chosen, filtering, check, exclusions, exclusion, omitted,
-                      None if predicted is None else predicted[2:])
+                      heldout_pipeline=None if predicted is None else predicted[2:])
     return replace(logs, result=with_judgement(result, judge_log(logs)))
 
 
