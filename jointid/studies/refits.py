@@ -106,6 +106,13 @@ def robust_findings(result, exclusions, by_hand: np.ndarray) -> tuple[Finding, .
                  for name, move in zip(result.model.names, moves) if move > ROBUST_MOVE)
 
 
+def move_text(move: float, moved_to: float, value: float) -> str:
+    """'4.4 standard errors (1.2 %)': how far another analysis moved a value, in its errors and as a share of it,
+    so that a reader of a controller's gains sees whether a move beyond a small error matters for its use."""
+    share = f" ({100 * abs(moved_to - value) / abs(value):.1f} %)" if value != 0 and math.isfinite(value) else ""
+    return f"{move:.1f} standard errors{share}"
+
+
 def stretch_scatter(result, pieces: int = STRETCHES) -> tuple[Scatter, ...]:
     """Scatters of the fit's parameters over `pieces` contiguous stretches of its kept, filtered samples, each
     fitted alone; () when fewer than two stretches give a unique fit or the fit has no correlation grid."""

@@ -29,7 +29,7 @@ from ..estimation.uncertainty import covariance_factor, newey_west_sum
 from ..logs.pipeline import JointLog
 from ..model.terms import JointModel
 from .log_fit import LoadedLogs, fit_logs, refits_of
-from .refits import ROBUST_MOVE, is_exact, run_scatter
+from .refits import ROBUST_MOVE, is_exact, move_text, run_scatter
 
 BIAS = "tau0"
 """The model's torque bias term, which each run keeps for itself."""
@@ -153,9 +153,9 @@ class PooledRuns:
         return tuple(found)
 
 
-POOLED_MOVES = {"window halved": (ROBUST_MOVE, "moved {move:.1f} standard errors by the derivative window halved"),
-                "window doubled": (ROBUST_MOVE, "moved {move:.1f} standard errors by the derivative window doubled"),
-                "--no-robust": (ROBUST_MOVE, "moved {move:.1f} standard errors by --no-robust")}
+POOLED_MOVES = {"window halved": (ROBUST_MOVE, "moved {move} by the derivative window halved"),
+                "window doubled": (ROBUST_MOVE, "moved {move} by the derivative window doubled"),
+                "--no-robust": (ROBUST_MOVE, "moved {move} by --no-robust")}
 """Each pooled refit: how many pooled standard errors it may move a parameter (about three, as a controller's gain
 is judged: issue 32), and the reason when it moves more."""
 
@@ -175,7 +175,8 @@ def pooled_refit_findings(pooled: PooledRuns) -> tuple[Finding, ...]:
             error = pooled.bse[name]
             move = abs(again.params[name] - pooled.params[name]) / error if error > 0 else 0.0
             if move > limit:
-                findings.append(Finding(name, reason.format(move=move)))
+                findings.append(Finding(name, reason.format(move=move_text(move, again.params[name],
+                                                                           pooled.params[name]))))
     return tuple(findings)
 
 
