@@ -199,6 +199,7 @@ def test_every_explorer_ends_when_its_server_is_killed_outright():
         served.stop()
 
 
+@pytest.mark.slow  # a storm of 400 connections: with the rest of the suite beside it, its browser's session once ended
 def test_a_flood_of_idle_and_half_sent_connections_is_shed_and_a_browser_gets_in_at_once():
     """Under 256 open files, 400 connections (half idle, half with a request cut short) used to fill the server's
     files, so a browser waited 75 s for aiohttp's keep-alive timeout; the bound sheds them instead."""
