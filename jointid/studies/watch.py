@@ -487,6 +487,25 @@ class Watcher:
             ended=self.ended,
         )
 
+    def gains(self, refresh: WatchRefresh, drive=None):
+        """The mechanism's WPILib feedforward gains from a refresh's fit, as for a recorded SysId log
+        (studies.gains.arm_gains: a voltage fit's own, a torque fit's through the motor `drive`), or None without a
+        unique fit (or, for torque, without a drive)."""
+        from types import SimpleNamespace
+
+        from .gains import GainsError, arm_gains
+
+        if refresh.result is None:
+            return None
+        unit = "meters" if self.linear else "radians"
+        # What arm_gains reads of a log fit: its result, verdicts and the position's unit.
+        log = SimpleNamespace(source=SimpleNamespace(table=SimpleNamespace(units=(("q", unit),))))
+        fit = SimpleNamespace(result=refresh.result, verdicts=refresh.result.verdicts, training=log)
+        try:
+            return arm_gains(fit, drive)
+        except GainsError:
+            return None
+
     def _fit(self) -> FitResult | None:
         """The current fit as a FitResult carrying the whole run's statistics and the judged verdicts."""
         statistics = self.statistics

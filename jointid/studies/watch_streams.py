@@ -222,9 +222,7 @@ class BatchStatistics:
                 return None
             triangle, count = self.triangle, self.count
         else:
-            triangle = None
-            for batch in subset:
-                triangle = triangle_update(triangle, batch.triangle)
+            triangle = triangle_update(None, np.vstack([batch.triangle for batch in subset]))
             count = sum(batch.count for batch in subset)
         p = self.columns
         # ||y - X theta|| = ||T_y - T_X theta|| for every theta: the same problem in p + 1 rows.
@@ -239,13 +237,13 @@ class BatchStatistics:
         if theta is None or len(batches) < 2:
             return None
         p, count = self.columns, solution.row_count
-        meat = np.zeros((p, p))
-        shared = 0.0
-        for batch in batches:
-            gram = batch.triangle.T @ batch.triangle
-            score = gram[:p, p] - gram[:p, :p] @ theta
-            meat += np.outer(score, score)
-            shared += float(batch.sums[p] - batch.sums[:p] @ theta) ** 2
+        # Each batch's score X_b^T (y_b - X_b theta) = R_b^T (R_b [-theta; 1])[:p], all batches at once.
+        triangles = np.stack([batch.triangle for batch in batches])
+        residual_rows = triangles @ np.append(-theta, 1.0)
+        scores = np.einsum("bij,bi->bj", triangles[:, :, :p], residual_rows)
+        meat = scores.T @ scores
+        sums = np.stack([batch.sums for batch in batches])
+        shared = float(np.sum((sums[:, p] - sums[:, :p] @ theta) ** 2))
         factor = covariance_factor(solution)
         size = len(batches)
         correction = size / (size - 1) * count / max(count - p, 1)

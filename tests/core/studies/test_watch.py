@@ -123,3 +123,44 @@ def test_state_stays_bounded_over_ten_times_the_samples():
     middle = (minute + len(sizes)) // 2
     first, second = max(sizes[minute:middle]), max(sizes[middle:])
     assert second <= 1.25 * first, (first, second)
+
+
+def test_a_sysid_routine_watched_lists_its_tests_and_gives_its_gains():
+    # A flywheel's routine as a state column: 10 s of one test, 1 s idle ('none': received, not fitted), then
+    # another; the watcher counts each test's seconds and gives the feedforward's gains from its fit.
+    samples = flywheel(50.0, 40.0)
+    count = len(samples.t)
+    state = np.array(["quasistatic-forward"] * 500 + ["none"] * 50 + ["dynamic-forward"] * (count - 550))
+    watcher = Watcher(effort="voltage", mechanism="simple")
+    for first in range(0, count, 5):
+        block = {"t": samples.t[first:first + 5], "q": samples.q[first:first + 5],
+                 "tau": samples.tau[first:first + 5], "state": state[first:first + 5]}
+        watcher.add(Received(block))
+    refresh = watcher.refresh()
+    assert [name for name, _ in refresh.tests] == ["quasistatic-forward", "dynamic-forward"]
+    seconds = dict(refresh.tests)
+    assert seconds["quasistatic-forward"] == pytest.approx(500 * 0.02, rel=1e-9)
+    assert seconds["dynamic-forward"] == pytest.approx((count - 550) * 0.02, rel=1e-9)
+    assert refresh.received == count
+    assert refresh.fitted < count - 50  # the idle second and each test's ends are not fitted
+    gains = watcher.gains(refresh)
+    assert gains.feedforward == "SimpleMotorFeedforward"
+    for gain in ("kS", "kV", "kA"):
+        assert gains[gain].value == pytest.approx(samples.truth[gain], rel=0.05)
+        assert gains[gain].value == pytest.approx(dict(zip(refresh.result.model.names, refresh.result.estimate))[gain])
+
+
+def test_advice_names_what_the_motion_lacks():
+    # An arm that only swings one way slowly about a small angle: its inertia is not determined, and the advice
+    # says which motion would determine it.
+    t = np.arange(0, 30, 0.001)
+    q = 0.05 * np.sin(2 * np.pi * 0.1 * t)
+    qd = 0.05 * 2 * np.pi * 0.1 * np.cos(2 * np.pi * 0.1 * t)
+    tau = 0.3 * 9.81 * np.cos(q) + 0.1 * qd + np.random.default_rng(4).normal(0, 0.2, len(t))
+    watcher = Watcher(model="plain")
+    for first in range(0, len(t), 100):
+        watcher.add(Received({"t": t[first:first + 100], "q": q[first:first + 100], "tau": tau[first:first + 100]}))
+    refresh = watcher.refresh()
+    inertia = next(trace for trace in refresh.parameters if trace.name == "I")
+    assert inertia.verdict != "well determined"
+    assert any(line.startswith("I (inertia)") and "accelerate" in line for line in refresh.advice), refresh.advice
