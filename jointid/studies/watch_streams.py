@@ -12,7 +12,9 @@ grow with the time watched:
 - `BatchStatistics`: the upper triangle of [X | y] of every row so far (its QR update), and the same for contiguous
   batches of rows, merged pairwise so their number stays bounded: the estimate and its covariance factor come from
   the whole triangle; each batch's score s_b - S_b theta is linear in theta, so the batch-means (cluster) covariance
-  of the estimate, which holds for residuals correlated over less than a batch, needs only the batches' triangles.
+  of a part of the run (a half, for the halves' scatter) needs only its batches' triangles;
+- `NeweyWestSums`: the lagged fourth-order sums from which a log fit's Newey-West covariance of every row so far
+  follows for any estimate, in memory bounded by the longest lag.
 """
 
 from __future__ import annotations
@@ -258,3 +260,75 @@ class BatchStatistics:
         """Numbers held (the state's size, for memory checks)."""
         return sum(batch.triangle.size + batch.sums.size for batch in self.batches) + (
             0 if self.triangle is None else self.triangle.size)
+
+
+class NeweyWestSums:
+    """The sums from which the Newey-West covariance of a log fit (estimation.uncertainty.newey_west) follows for
+    any estimate theta and any lag up to `lags`, kept as rows arrive on their evenly spaced grid.
+
+    With z_i = [x_i, y_i] and V_i = x_i z_i^T, the score is u_i = x_i e_i = V_i a for a = [-theta, 1], so
+    sum_i u_i u_{i+k}^T = sum_cd A_k[:, c, :, d] a_c a_d with A_k = sum_i V_i (x) V_{i+k}: a fourth-order sum per
+    lag, linear in the rows; and the residuals' autocorrelation sum_i e_i e_{i+k} = a^T C_k a, C_k = sum z_i z_{i+k}^T.
+    """
+
+    def __init__(self, columns: int, lags: int):
+        """`columns`: p; `lags`: the longest lag a refresh may ask for."""
+        self.columns, self.lags = columns, lags
+        width = columns * (columns + 1)
+        self.fourth = np.zeros((lags + 1, width, width))
+        self.second = np.zeros((lags + 1, columns + 1, columns + 1))
+        self._tail_v = np.zeros((lags, width))
+        self._tail_z = np.zeros((lags, columns + 1))
+
+    def add(self, X: np.ndarray, y: np.ndarray) -> None:
+        """Rows on the grid, next to the last ones; a row left out is given as zeros (a gap in the grid)."""
+        n = len(y)
+        if not n:
+            return
+        Z = np.column_stack([X, y])
+        V = (X[:, :, None] * Z[:, None, :]).reshape(n, -1)
+        every_v = np.vstack([self._tail_v, V])
+        every_z = np.vstack([self._tail_z, Z])
+        lags = self.lags
+        for k in range(lags + 1):
+            # Pairs (i, i + k) whose later row is new: each pair counted once over all blocks.
+            self.fourth[k] += every_v[lags - k: lags - k + n].T @ V
+            self.second[k] += every_z[lags - k: lags - k + n].T @ Z
+        self._tail_v, self._tail_z = every_v[-lags:] if lags else every_v[:0], every_z[-lags:] if lags else every_z[:0]
+
+    def gap(self) -> None:
+        """A break in the grid (another stretch of samples): no pair spans it."""
+        self._tail_v[:] = 0.0
+        self._tail_z[:] = 0.0
+
+    def covariance(self, solution: LeastSquaresSolution, lag: int) -> tuple[np.ndarray, float] | None:
+        """(The Newey-West covariance of the column estimate, the effective count), as estimation.uncertainty's
+        newey_west of the same rows with Bartlett weights over `lag` (at most `lags`) steps; None without a unique
+        fit."""
+        theta = solution.estimate
+        if theta is None:
+            return None
+        p, count = self.columns, solution.row_count
+        lag = min(lag, self.lags)
+        a = np.append(-theta, 1.0)
+        meat = np.zeros((p, p))
+        shared = 0.0
+        for k in range(lag + 1):
+            weight = 1.0 - k / (lag + 1)
+            moment = np.einsum("acbd,c,d->ab", self.fourth[k].reshape(p, p + 1, p, p + 1), a, a)
+            products = float(a @ self.second[k] @ a)
+            if k == 0:
+                meat += moment
+                c0 = products
+            else:
+                meat += weight * (moment + moment.T)
+                shared += 2 * weight * products
+        meat = (meat + meat.T) / 2
+        factor = covariance_factor(solution)
+        autocorrelation = max((c0 + shared) / c0, 1.0) if c0 > 0 else 1.0
+        return factor @ meat @ factor * count / max(count - p, 1), count / autocorrelation
+
+    @property
+    def size(self) -> int:
+        """Numbers held."""
+        return self.fourth.size + self.second.size + self._tail_v.size + self._tail_z.size
