@@ -32,11 +32,11 @@ from ..estimation.exclusion import commanded_changes, explained_transients, outs
 from ..estimation.fit import FitResult, with_judgement
 from ..estimation.judgement import Finding, judge, noise_judgement
 from ..estimation.low_pass import FilterRequest, FilterRequestError, ParallelFilter, automatic_cutoff, choose_filter
-from .watch_streams import BatchStatistics, DerivativeStream, LowPassStream, NeweyWestSums
+from .watch_streams import BatchStatistics, DerivativeStream, LowPassStream, NeweyWestSums, SplineResampler
 from ..estimation.uncertainty import WELL_DETERMINED, parameter_uncertainty
 from ..logs.conventions import AngleConvention
 from ..logs.derivatives import WindowChoice, check_filter, smoothing_window
-from ..logs.timing import GAP_FACTOR
+from ..logs.timing import GAP_FACTOR, UNIFORM_TOLERANCE
 from ..model.effort import effort_named
 from ..model.terms import SIMPLE_MOTOR, JointModel, model_named
 from ..options import DEFAULT_ORDER, default_log_model
@@ -95,9 +95,23 @@ class _Segment:
             self.filters[pipeline] = LowPassStream(pipeline.chosen)
         self.outputs = {pipeline: [] for pipeline in watcher.pipelines}
         self.watcher = watcher
+        self.resampler = SplineResampler(watcher.step) if watcher.resampled else None
+
+    @property
+    def size(self) -> int:
+        """Numbers its buffers hold."""
+        total = sum(values.size for stream in self.derivatives.values() for values in stream._raw.values())
+        total += sum(0 if stream._columns is None else stream._columns.size for stream in self.filters.values())
+        if self.resampler is not None:
+            total += sum(values.size for values in self.resampler._raw.values())
+        return total
 
     def add(self, columns: dict[str, np.ndarray]) -> dict | None:
         """Feed raw samples; return the rows every pipeline has produced since (aligned), or None."""
+        if self.resampler is not None:
+            columns = self.resampler.add(columns)
+            if columns is None:
+                return None
         produced = {window: stream.add(columns) for window, stream in self.derivatives.items()}
         for pipeline, stream in self.filters.items():
             out = produced[pipeline.window]
@@ -171,6 +185,8 @@ class Watcher:
             self.model = self._model_for(sysid=False)
         # What the warm-up fixes.
         self.step: float | None = None
+        self.resampled = False
+        """True when the source's jitter is resampled onto a uniform grid (as a log's, logs.timing)."""
         self.window: int | None = None
         self.window_choice: WindowChoice | None = None
         self.filter: ParallelFilter | None = None
@@ -238,13 +254,17 @@ class Watcher:
         t, q = warm["t"], warm["q"]
         steps = np.diff(t)
         self.step = float(np.median(steps[steps > 0]))
+        missing = not {"qd", "qdd"} <= set(warm)
+        jitter = float(np.max(np.abs(steps[steps <= GAP_FACTOR * self.step] / self.step - 1)))
+        uniform = jitter <= UNIFORM_TOLERANCE
+        # As a log: jitter is resampled when derivatives are estimated; given ones keep their times, unfiltered.
+        self.resampled = missing and not uniform
         self._sysid = "state" in warm
         if self.model is None or (self._sysid and self._asked_model is None and self._asked_mechanism is None):
             self.model = self._model_for(self._sysid)
         request = self.request
         if self._sysid and request.cutoff is None:
             request = FilterRequest(0.0, request.decimate)  # as studies.sysid.sysid_filtering
-        missing = not {"qd", "qdd"} <= set(warm)
         automatic = None
         if missing:
             window = self.window_asked
@@ -259,7 +279,7 @@ class Watcher:
         # Decimation as for a long log (a warm-up's count would cap it); the cutoff from the warm-up's motion.
         long = max(len(q), int(3600 / self.step))
         try:
-            self.filter = choose_filter(request, self.step, True, q, long, automatic)
+            self.filter = choose_filter(request, self.step, uniform or self.resampled, q, long, automatic)
         except FilterRequestError as error:
             raise ValueError(f"the low-pass cannot apply: {error}") from None
         pipelines = [Pipeline("", 1.0, self.window, self.filter)]
@@ -703,10 +723,6 @@ class Watcher:
             total += 0 if statistics is None else statistics.size
         total += sum(values.size for rows in self._recent for values in rows.values())
         total += sum(len(history) * 3 for history in self._history.values())
-        if self._segment is not None:
-            for stream in self._segment.derivatives.values():
-                total += sum(values.size for values in stream._raw.values())
-            for stream in self._segment.filters.values():
-                total += 0 if stream._columns is None else stream._columns.size
+        total += 0 if self._segment is None else self._segment.size
         total += sum(rows["X"].size for rows in self._pending)
         return total

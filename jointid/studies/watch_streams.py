@@ -332,3 +332,57 @@ class NeweyWestSums:
     def size(self) -> int:
         """Numbers held."""
         return self.fourth.size + self.second.size + self._tail_v.size + self._tail_z.size
+
+
+class SplineResampler:
+    """Jittered samples onto a uniform grid as they arrive, as jointid.logs.timing.resample does a whole log: a
+    not-a-knot cubic spline, here through the samples around each grid time (MARGIN either side), whose value
+    there differs from the whole log's spline by far less than the spline's own error (a spline's dependence on
+    a far sample decays about 3.7 times per sample)."""
+
+    MARGIN = 12
+    """Samples either side of a grid time the spline is fitted through."""
+
+    def __init__(self, step: float):
+        """`step`: the grid's step (s), the median step of the warm-up."""
+        self.step = step
+        self._raw: dict[str, np.ndarray] = {}
+        self._origin: float | None = None
+        self._next = 0
+        """The next grid time's index: origin + index x step."""
+
+    def add(self, columns: dict[str, np.ndarray]) -> dict[str, np.ndarray] | None:
+        """Append samples (t and other columns); return the grid times now surrounded by MARGIN samples and every
+        column there, or None."""
+        from scipy.interpolate import CubicSpline  # lazily, as the offline resampling: only jittered sources
+
+        for name, values in columns.items():
+            old = self._raw.get(name)
+            self._raw[name] = values if old is None else np.concatenate([old, values])
+        t = self._raw["t"]
+        increasing = np.concatenate([[True], np.diff(t) > 0])
+        if not increasing.all():  # a repeated stamp cannot be placed: dropped, as a log's exact repeats
+            self._raw = {name: values[increasing] for name, values in self._raw.items()}
+            t = self._raw["t"]
+        if self._origin is None:
+            self._origin = float(t[0])
+        margin = self.MARGIN
+        if len(t) < 2 * margin + 2:
+            return None
+        low, high = t[margin], t[len(t) - 1 - margin]
+        first = max(self._next, int(np.ceil((low - self._origin) / self.step - 1e-9)))
+        last = int(np.floor((high - self._origin) / self.step + 1e-9))
+        if last < first:
+            return None
+        grid = self._origin + self.step * np.arange(first, last + 1)
+        names = [name for name in self._raw if name != "t"]
+        spline = CubicSpline(t, np.column_stack([self._raw[name] for name in names]), axis=0)
+        values = spline(grid)
+        self._next = last + 1
+        # Keep the samples the next grid time's spline reads.
+        upcoming = self._origin + self._next * self.step
+        keep = max(0, int(np.searchsorted(t, upcoming)) - 1 - margin)
+        self._raw = {name: values_[keep:] for name, values_ in self._raw.items()}
+        out = {"t": grid}
+        out.update({name: np.ascontiguousarray(values[:, j]) for j, name in enumerate(names)})
+        return out

@@ -49,7 +49,7 @@ def test_an_arm_converges_to_its_truth(rate, size):
         assert len(trace.history) >= 2
 
 
-@pytest.mark.parametrize("rate, size", [(50.0, 1), (1000.0, 50)])
+@pytest.mark.parametrize("rate, size", [(50.0, 5), (1000.0, 50)])
 def test_a_flywheel_converges_to_its_gains(rate, size):
     samples = flywheel(rate, 60.0)
     _, refreshes = watched(samples, size, effort="voltage", mechanism="simple")
@@ -62,8 +62,8 @@ def test_a_flywheel_converges_to_its_gains(rate, size):
 
 CASES = [
     pytest.param(lambda: arm(1000.0, 60.0, noise=6.0), 50, {}, {}, id="arm-1kHz"),
-    pytest.param(lambda: arm(50.0, 60.0, noise=3.0), 1, {}, {}, id="arm-50Hz"),
-    pytest.param(lambda: flywheel(50.0, 60.0, noise=0.6), 1, {"effort": "voltage", "mechanism": "simple"},
+    pytest.param(lambda: arm(50.0, 60.0, noise=3.0), 5, {}, {}, id="arm-50Hz"),
+    pytest.param(lambda: flywheel(50.0, 60.0, noise=0.6), 5, {"effort": "voltage", "mechanism": "simple"},
                  {"effort": "voltage", "model": "simple"}, id="flywheel-50Hz"),
 ]
 
@@ -89,8 +89,9 @@ def test_determination_is_no_earlier_than_an_offline_fit_allows(make, size, sett
 
 @pytest.mark.parametrize("make, size, settings, fitted_as", [
     pytest.param(lambda: arm(1000.0, 60.0), 50, {}, {}, id="arm-1kHz"),
-    pytest.param(lambda: arm(50.0, 60.0), 1, {}, {}, id="arm-50Hz"),
-    pytest.param(lambda: flywheel(50.0, 60.0), 1, {"effort": "voltage", "mechanism": "simple"},
+    pytest.param(lambda: arm(50.0, 60.0), 5, {}, {}, id="arm-50Hz"),
+    pytest.param(lambda: arm(50.0, 60.0, jitter=0.05), 5, {}, {}, id="arm-50Hz-jittered"),
+    pytest.param(lambda: flywheel(50.0, 60.0), 5, {"effort": "voltage", "mechanism": "simple"},
                  {"effort": "voltage", "model": "simple"}, id="flywheel-50Hz"),
 ])
 def test_the_last_refresh_matches_an_offline_fit_of_the_same_samples(make, size, settings, fitted_as):
@@ -105,18 +106,19 @@ def test_the_last_refresh_matches_an_offline_fit_of_the_same_samples(make, size,
     for trace in final.parameters:
         error = fit.bse[trace.name]
         assert abs(trace.value - fit.params[trace.name]) <= 1.5 * error, (trace, fit.params[trace.name], error)
-        assert 0.9 <= trace.error / error <= 1.25, (trace.name, trace.error, error)
+        assert 0.8 <= trace.error / error <= 1.25, (trace.name, trace.error, error)
     assert final.result.params.keys() == fit.params.keys()
     assert dict(final.result.bse) == {trace.name: trace.error for trace in final.parameters}
 
 
 def test_state_stays_bounded_over_ten_times_the_samples():
-    # Ten minutes at 50 Hz, a refresh a second: the state's size cycles (batches merge, histories thin, rows wait
-    # for the robust step) but does not grow; a state that kept its rows would double from one half to the next.
+    # Ten minutes at 50 Hz, a refresh every two seconds: the state's size cycles (batches merge, histories thin,
+    # rows wait for the robust step) but does not grow; a state that kept its rows would double from one half of
+    # the run to the next.
     samples = arm(50.0, 600.0)
     watcher = Watcher()
     sizes = []
-    for block in samples.blocks(50):
+    for block in samples.blocks(100):
         watcher.add(Received(block))
         watcher.refresh()
         sizes.append(watcher.state_size)
