@@ -81,6 +81,18 @@ class Pipeline:
     chosen: ParallelFilter
 
 
+def _candidates(effort, linear: bool) -> JointModel:
+    """One model with every column of the mechanisms a SysId routine may be (simple, elevator, and arm unless q is a
+    length), so each candidate's fit is a choice of its columns."""
+    from .mechanism import ARM, ELEVATOR, SIMPLE, mechanism_model
+
+    terms = {}
+    for name in (SIMPLE, ELEVATOR) + (() if linear else (ARM,)):
+        for term in mechanism_model(name).in_effort(effort).terms:
+            terms.setdefault(term.name, term)
+    return JointModel("mechanisms", tuple(terms.values()), None, effort)
+
+
 class _Segment:
     """The streaming stages of one contiguous stretch of samples (no gap, one SysId test)."""
 
@@ -90,7 +102,7 @@ class _Segment:
         self.filters = {}
         for pipeline in watcher.pipelines:
             if pipeline.window not in self.derivatives:
-                self.derivatives[pipeline.window] = DerivativeStream(watcher.model.terms, watcher.step,
+                self.derivatives[pipeline.window] = DerivativeStream(watcher.union.terms, watcher.step,
                                                                      pipeline.window, watcher.order)
             self.filters[pipeline] = LowPassStream(pipeline.chosen)
         self.outputs = {pipeline: [] for pipeline in watcher.pipelines}
@@ -137,7 +149,7 @@ class _Segment:
         last = min(span[1] for span in spans.values())
         if last < first:
             return None
-        p = self.watcher.model.size
+        p = self.watcher.union.size
         aligned = {}
         for pipeline, pieces in self.outputs.items():
             rows = np.concatenate([piece[0] for piece in pieces])
@@ -148,7 +160,7 @@ class _Segment:
             self.outputs[pipeline] = [(rows[later], values[later])] if later.any() else []
         main = aligned[self.watcher.pipelines[0]]
         return {"X": main[:, :p], "tau": main[:, p], "q": main[:, p + 1], "qd": main[:, p + 2],
-                "qdd": main[:, p + 3], "t": main[:, p + 4],
+                "qdd": main[:, p + 3], "t": main[:, p + 4], "state": self.state,
                 "variants": {pipeline: (aligned[pipeline][:, :p], aligned[pipeline][:, p])
                              for pipeline in self.watcher.pipelines[1:]}}
 
@@ -209,6 +221,14 @@ class Watcher:
         self.variant_statistics: dict[Pipeline, BatchStatistics] = {}
         self.newey_west: NeweyWestSums | None = None
         """The filtered fit's Newey-West sums (None unfiltered: a log fit's errors are then independent's)."""
+        self.union: JointModel | None = None
+        """The model whose columns are streamed: the fitted model's, or every candidate mechanism's while the
+        mechanism is chosen from the data."""
+        self.columns: list[int] = []
+        """The fitted model's columns among the union's."""
+        self.mechanism_choice = None
+        """The studies.mechanism.MechanismChoice of a SysId routine, or None."""
+        self.test_statistics: dict[str, BatchStatistics] = {}
         self.all_moving: BatchStatistics | None = None
         """Every moving row, outside torques kept in: the --no-robust refit's statistics."""
         self._pending: list[dict] = []
@@ -262,6 +282,20 @@ class Watcher:
         self._sysid = "state" in warm
         if self.model is None or (self._sysid and self._asked_model is None and self._asked_mechanism is None):
             self.model = self._model_for(self._sysid)
+        self.union, self.columns = self.model, list(range(self.model.size))
+        if self._sysid and self.effort.name == "voltage" and self._asked_model is None \
+                and self._asked_mechanism is None:
+            # As a recorded SysId log: the mechanism is chosen from the data at each refresh, so every candidate's
+            # columns are streamed.
+            self.union = _candidates(self.effort, self.linear)
+            self._choose_mechanism()
+        elif self._sysid:
+            from .mechanism import MechanismChoice, mechanism_of
+
+            given = "--model" if self._asked_model is not None else "--mechanism"
+            self.mechanism_choice = MechanismChoice(mechanism_of(self.model), given if self._asked_model or
+                                                    self._asked_mechanism else "the default",
+                                                    "meters" if self.linear else "radians")
         request = self.request
         if self._sysid and request.cutoff is None:
             request = FilterRequest(0.0, request.decimate)  # as studies.sysid.sysid_filtering
@@ -300,7 +334,7 @@ class Watcher:
                         continue
                     pipelines.append(Pipeline("cutoff", factor, self.window, other))
         self.pipelines = tuple(pipelines)
-        p = self.model.size
+        p = self.union.size
         self.statistics = BatchStatistics(p, self._batch_rows())
         self.variant_statistics = {pipeline: BatchStatistics(p, 10 ** 12) for pipeline in self.pipelines[1:]}
         self.all_moving = BatchStatistics(p, 10 ** 12)
@@ -316,13 +350,63 @@ class Watcher:
         self._warm = []
         self._feed(warm)
 
+    def _choose_mechanism(self) -> None:
+        """The mechanism a SysId routine's samples so far support, as studies.mechanism.choose_mechanism decides it:
+        gravity gains SUPPORT standard errors clear of zero, BIC (each test with its own residual variance) lower by
+        DECISIVE; the fitted model and its columns follow."""
+        from .mechanism import (ARM, DECISIVE, ELEVATOR, MANY_TURNS, SIMPLE, SUPPORT, MechanismChoice,
+                                mechanism_model)
+
+        unit = "meters" if self.linear else "radians"
+        candidates = {name: mechanism_model(name).in_effort(self.effort)
+                      for name in (SIMPLE, ELEVATOR, ARM) if not (name == ARM and self.linear)}
+        ruled_out = [(ARM, f"the source's position is in {unit}, a length")] if self.linear else []
+        span = self._range[1] - self._range[0]
+        revolutions = span / (2 * math.pi) if math.isfinite(span) and not self.linear else None
+        statistics = self.statistics
+        fits, gravity = {}, []
+        for name, model in candidates.items():
+            columns = [self.union.column_names.index(column) for column in model.column_names]
+            solution = None if statistics is None or not statistics.count else statistics.solution(columns=columns)
+            if solution is None or solution.estimate is None:
+                continue
+            fits[name] = (model, columns, solution)
+            if "kG" in model.names:
+                uncertainty = parameter_uncertainty(solution, None, model, None, None)
+                k = model.names.index("kG")
+                if uncertainty.residual_std_error is not None:
+                    gravity.append((name, float(uncertainty.estimate[k]), float(uncertainty.residual_std_error[k])))
+        supported = {name: abs(value) > SUPPORT * error for name, value, error in gravity}
+        if ARM in fits and revolutions is not None and revolutions > MANY_TURNS and not supported.get(ARM, False):
+            ruled_out.append((ARM, f"the wheel turned {revolutions:.3g} revolutions with no voltage following the "
+                              "cosine of its angle"))
+            del fits[ARM]
+        total = sum(test.count for test in self.test_statistics.values())
+        bic = {}
+        for name, (model, columns, solution) in fits.items():
+            value = 0.0
+            a = np.append(-solution.estimate, 1.0)
+            for test in self.test_statistics.values():
+                if test.count:
+                    residuals = test.triangle[:, [*columns, self.union.size]] @ a
+                    value += test.count * math.log(max(float(residuals @ residuals) / test.count, 1e-300))
+            bic[name] = value + model.size * math.log(max(total, 1))
+        chosen = SIMPLE
+        for name in (ELEVATOR, ARM):
+            if name in bic and SIMPLE in bic and bic[name] < bic[chosen] - DECISIVE and supported.get(name, False):
+                chosen = name
+        self.model = candidates[chosen]
+        self.columns = [self.union.column_names.index(column) for column in self.model.column_names]
+        self.mechanism_choice = MechanismChoice(chosen, None, unit, tuple(bic.items()), total, tuple(ruled_out),
+                                                tuple(gravity), revolutions)
+
     def _batch_rows(self) -> int:
         """The shortest batch: several times the rows over which a filtered fit's residuals correlate."""
         chosen = self.filter
         if not chosen.active:
-            return max(4 * self.model.size, 16)
+            return max(4 * self.union.size, 16)
         support = max(1, math.ceil(chosen.support * chosen.rate / chosen.decimation))
-        return max(4 * support, 4 * self.model.size, 16)
+        return max(4 * support, 4 * self.union.size, 16)
 
     @property
     def support(self) -> int:
@@ -425,7 +509,7 @@ class Watcher:
         """Judge the rows waiting for standstill and outside torques once a block's worth has arrived (any at the
         end of a stretch), and add the kept rows to the statistics."""
         count = sum(len(rows["tau"]) for rows in self._pending)
-        enough = max(int(ROBUST_SECONDS * self.fitted_rate) if self.step else 0, 8 * (self.model.size + 1))
+        enough = max(int(ROBUST_SECONDS * self.fitted_rate) if self.step else 0, 8 * (self.union.size + 1))
         if not count or (count < enough and not final):
             return
         pending = self._pending
@@ -440,6 +524,9 @@ class Watcher:
         when = self.elapsed
         self.statistics.add(block["X"][kept], block["tau"][kept], when)
         self.all_moving.add(block["X"][~still], block["tau"][~still], when)
+        if self.union is not self.model:  # each test's own residual variance, for the mechanism's BIC
+            test = self.test_statistics.setdefault(pending[0]["state"], BatchStatistics(self.union.size, 10 ** 12))
+            test.add(block["X"][kept], block["tau"][kept], when)
         if self.newey_west is not None:  # the rows left out are gaps in the grid, as a log fit's positions
             self.newey_west.add(block["X"] * kept[:, None], np.where(kept, block["tau"], 0.0))
         for pipeline, (X, tau) in variants.items():
@@ -452,7 +539,7 @@ class Watcher:
         size = len(tau)
         still = np.zeros(size, dtype=bool)
         rest = still
-        model = self.model
+        model = self.union
         support = self.support
         coulomb, speed_index = model.index_of("Fc"), model.index_of("B")
         if coulomb is not None and speed_index is not None:
@@ -477,7 +564,7 @@ class Watcher:
         start = None
         solution = self.statistics.solution()
         if solution is not None and solution.estimate is not None:
-            start = solution.estimate
+            start = solution.estimate  # the streamed columns' least squares (every candidate's, while choosing)
         lag = max(4, 2 * support)
         with np.errstate(all="ignore"):
             flagged, level, _ = outside_torques(X, tau, usable, rest, coulomb, support, lag, start)
@@ -542,18 +629,21 @@ class Watcher:
     def _fit(self) -> FitResult | None:
         """The current fit as a FitResult carrying the whole run's statistics and the judged verdicts."""
         statistics = self.statistics
-        if statistics is None or statistics.count <= self.model.size or not self._recent:
+        if statistics is None or statistics.count <= self.union.size or not self._recent:
             return None
-        solution = statistics.solution()
+        if self.union is not self.model:
+            self._choose_mechanism()
+        solution = statistics.solution(columns=self.columns)
         recent = self._recent_rows()
         training = JointData(t=recent["t"], q=recent["q"], qd=recent["qd"], qdd=recent["qdd"], tau=recent["tau"])
         result = FitResult(training=training, heldout=None, heldout_is_noiseless=False, solution=solution,
-                           training_regressor=recent["X"], model=self.model)
+                           training_regressor=recent["X"][:, self.columns], model=self.model)
         correlated = None
         if self.newey_west is not None and solution.estimate is not None:
             from .log_fit import correlation_lag
 
-            correlated = self.newey_west.covariance(solution, correlation_lag(solution.row_count, self.filter))
+            correlated = self.newey_west.covariance(solution, correlation_lag(solution.row_count, self.filter),
+                                                    self.columns)
         uncertainty = parameter_uncertainty(solution, None, self.model, None, correlated)
         # The whole run's statistics, not the recent rows' the result carries for its charts.
         vars(result)["uncertainty"] = uncertainty
@@ -581,7 +671,7 @@ class Watcher:
         base = Variant("", 1.0, self.window, self.filter.cutoff, result.estimate)
         variants = []
         for pipeline, statistics in self.variant_statistics.items():
-            solution = statistics.solution()
+            solution = statistics.solution(columns=self.columns)
             if solution is None or solution.estimate is None:
                 continue
             variants.append(Variant(pipeline.label, pipeline.factor, pipeline.window, pipeline.chosen.cutoff,
@@ -596,7 +686,7 @@ class Watcher:
         moving = self.all_moving
         if not self.robust or moving.count == self.statistics.count:
             return []
-        solution = moving.solution()
+        solution = moving.solution(columns=self.columns)
         errors = result.uncertainty.residual_std_error
         if solution is None or solution.estimate is None or errors is None:
             return []
@@ -617,10 +707,10 @@ class Watcher:
         for half in (batches[:middle + 1], batches[middle + 1:]):
             if len(half) < 2:
                 return ()
-            solution = self.statistics.solution(half)
+            solution = self.statistics.solution(half, self.columns)
             if solution.estimate is None:
                 return ()
-            correlated = self.statistics.batch_covariance(solution, half)
+            correlated = self.statistics.batch_covariance(solution, half, self.columns)
             uncertainty = parameter_uncertainty(solution, None, self.model, None, correlated)
             error = uncertainty.residual_std_error
             if error is None or not np.all(np.isfinite(error)) or not np.all(error > 0):
@@ -711,7 +801,7 @@ class Watcher:
         rows = self._recent_rows()
         recent = {name: rows[name] for name in ("t", "q", "qd", "tau")}
         if result is not None and result.column_estimate is not None:
-            recent["predicted"] = rows["X"] @ result.column_estimate
+            recent["predicted"] = rows["X"][:, self.columns] @ result.column_estimate
         return recent
 
     @property

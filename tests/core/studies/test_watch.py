@@ -200,3 +200,26 @@ def test_newey_west_sums_give_the_direct_double_sum():
     expected = inverse @ meat @ inverse * count / (count - 3)
     np.testing.assert_allclose(covariance, expected, rtol=1e-9)
     assert effective == pytest.approx(count / max(products / np.sum(residuals ** 2), 1.0), rel=1e-9)
+
+
+@pytest.mark.parametrize("joint, chosen", [("flywheel", "simple"), ("arm", "arm")])
+def test_a_sysid_routine_chooses_its_mechanism_as_a_recorded_log(joint, chosen):
+    # Without --mechanism, a voltage routine's mechanism is chosen from the data: a flywheel turns many times with
+    # no voltage following cos q (simple motor); an arm's voltage follows the cosine of its angle (arm: kG = h g).
+    samples = flywheel(50.0, 40.0) if joint == "flywheel" else arm(50.0, 40.0, bias=0.0)
+    state = np.full(len(samples.t), "dynamic-forward")
+    watcher = Watcher(effort="voltage")
+    for first in range(0, len(samples.t), 5):
+        rows = slice(first, first + 5)
+        watcher.add(Received({"t": samples.t[rows], "q": samples.q[rows], "tau": samples.tau[rows],
+                              "state": state[rows]}))
+    refresh = watcher.refresh()
+    assert watcher.mechanism_choice.mechanism == chosen
+    assert watcher.mechanism_choice.given_by is None
+    values = {trace.name: trace.value for trace in refresh.parameters}
+    if chosen == "arm":
+        assert values["kG"] == pytest.approx(samples.truth["h"] * 9.81, rel=0.05)
+        assert values["kA"] == pytest.approx(samples.truth["I"], rel=0.05)
+    else:
+        assert set(values) == {"kA", "kV", "kS"}
+        assert values["kV"] == pytest.approx(samples.truth["kV"], rel=0.05)
