@@ -599,7 +599,7 @@ class Watcher:
             fitted=0 if self.statistics is None else self.statistics.count,
             dropped=self.dropped,
             parameters=parameters,
-            advice=self._advice(parameters),
+            advice=self._advice(parameters, result),
             tests=tuple(self.tests.items()),
             events=tuple(self.events),
             recent=self._recent_columns(result),
@@ -750,19 +750,33 @@ class Watcher:
                                          tuple(self._history.get(name, ()))))
         return tuple(traces)
 
-    def _advice(self, traces: tuple[ParameterTrace, ...]) -> tuple[str, ...]:
-        """What motion would determine what is not determined yet."""
+    def _advice(self, traces: tuple[ParameterTrace, ...], result: FitResult | None) -> tuple[str, ...]:
+        """What motion would determine what is not determined yet: each such parameter, why (its verdict and
+        reason, a column the motion leaves dependent on the others, a sign its rule forbids) and what motion would
+        excite it."""
         if self.model is None or self.step is None:
             return (f"Waiting for {self.warmup:g} s of samples to choose the filters.",)
         if self.statistics is None or not self.statistics.count:
             return ("Waiting for the first fitted samples.",)
         advice = []
-        for trace in traces:
-            if trace.verdict == WELL_DETERMINED:
+        undetermined = () if result is None or result.estimate is not None else result.identifiable.undetermined
+        failures = () if result is None else result.sign_failures
+        for trace, parameter in zip(traces, self.model.parameters):
+            if trace.verdict == WELL_DETERMINED and trace.name not in failures:
                 continue
             kind = self.model.term(self.model.columns_behind(trace.name)[0]).kind
             motion = self._motion_for(kind)
-            if trace.verdict is None:
+            if result is not None and result.estimate is None:
+                if trace.name not in undetermined and not set(self.model.columns_behind(trace.name)) & set(
+                        undetermined):
+                    continue
+                columns = [self.model.column_names.index(name) for name in self.model.columns_behind(trace.name)]
+                zero = bool(np.all(result.identifiable.zero_columns[columns]))
+                why = f"{parameter.invisible_when} so far" if zero else "its column has followed the others'"
+                state = f"not separable from the others yet ({why})"
+            elif trace.name in failures:
+                state = f"{trace.value:.3g} {trace.unit}, against its sign rule ({parameter.requirement})"
+            elif trace.verdict is None:
                 state = "not judged yet (too few stretches of data)"
             elif trace.reason:
                 state = f"{trace.verdict} ({trace.reason})"

@@ -77,6 +77,9 @@ class DerivativeStream:
             acceleration = (velocity[2:] - velocity[:-2]) / (2 * h)  # [first-half, last+half)
             velocity = velocity[1:-1]
             velocity[np.abs(velocity) <= floor / h] = 0.0  # rounding has no sign (Coulomb's column), as offline
+            # An acceleration at the level of rounding is none (offline: when the whole log's is): no column of
+            # rounding noise for the fit to scale up into a 'determined' inertia.
+            acceleration[np.abs(acceleration) <= floor / h / h] = 0.0
             wide = raw["q"][first - half: last + half]
             inner = slice(half, len(wide) - half)
             columns_out = []

@@ -223,3 +223,18 @@ def test_a_sysid_routine_chooses_its_mechanism_as_a_recorded_log(joint, chosen):
     else:
         assert set(values) == {"kA", "kV", "kS"}
         assert values["kV"] == pytest.approx(samples.truth["kV"], rel=0.05)
+
+
+def test_advice_names_a_parameter_the_motion_cannot_separate():
+    # A joint turning at one steady speed has no acceleration: its inertia cannot be told from the rest (the fit
+    # is rank-deficient), and the advice says so and what would separate it.
+    t = np.arange(0, 20, 0.001)
+    q, qd = 0.5 * t, np.full(len(t), 0.5)
+    tau = 0.3 * 9.81 * np.cos(q) + 0.1 * qd + np.random.default_rng(6).normal(0, 0.05, len(t))
+    watcher = Watcher(model="plain")
+    for first in range(0, len(t), 100):
+        watcher.add(Received({"t": t[first:first + 100], "q": q[first:first + 100], "tau": tau[first:first + 100]}))
+    refresh = watcher.refresh()
+    assert refresh.result is not None and refresh.result.rank < 3
+    assert any(line.startswith("I (inertia) is not separable") and "no acceleration" in line and "accelerate" in line
+               for line in refresh.advice), refresh.advice
