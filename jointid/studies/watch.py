@@ -213,6 +213,11 @@ class Watcher:
         self.tests: dict[str, float] = {}
         self._last_t: float | None = None
         self._segment: _Segment | None = None
+        self._last_angle: float | None = None
+        self._turns = 0.0
+        """Whole turns added to a wrapped source's angle so far."""
+        self._unwraps = 0
+        """Wraps undone so far."""
         self._fed: tuple[float, str | None] | None = None
         """The last sample streamed: its time and SysId state."""
         self._sysid = False
@@ -436,6 +441,8 @@ class Watcher:
                 columns[name] = np.asarray(columns[name], dtype=float)
         if "q" not in columns or "tau" not in columns:
             raise ValueError("a live source must give q and tau (and t) to be watched")
+        if not self.linear:
+            columns["q"] = self._unwrapped(columns["q"])
         sign, offset = self.convention.sign, self.convention.offset
         if not self.convention.is_default:  # as a log's convention: in radians, after the source's units
             columns["q"] = sign * columns["q"] + offset
@@ -452,6 +459,26 @@ class Watcher:
                 self._start()
             return
         self._feed(columns)
+
+    def _unwrapped(self, q: np.ndarray) -> np.ndarray:
+        """The angle with a wrapped source's jumps undone, as logs.angles does a log's: a step of more than half a
+        turn, within a quarter turn of a whole one, between angles inside (-pi, pi] or [0, 2 pi)."""
+        previous = self._last_angle
+        self._last_angle = float(q[-1])
+        joined = q if previous is None else np.concatenate([[previous], q])
+        steps = np.diff(joined)
+        turn = 2 * math.pi
+        jumps = (np.abs(steps) > turn / 2) & (np.abs(np.abs(steps) - turn) <= turn / 4)
+        inside = -math.pi - 1e-9 <= float(np.min(joined)) and float(np.max(joined)) <= turn + 1e-9
+        if jumps.any() and inside:
+            self._unwraps += int(jumps.sum())
+            added = -np.cumsum(np.where(jumps, np.sign(steps), 0.0)) * turn  # after each step
+            if previous is None:
+                added = np.concatenate([[0.0], added])
+            unwrapped = q + self._turns + added
+            self._turns += float(added[-1])
+            return unwrapped
+        return q + self._turns if self._turns else q
 
     def _count_time(self, t: np.ndarray) -> None:
         """Seconds of samples received, gaps not counted."""

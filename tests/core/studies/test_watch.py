@@ -238,3 +238,20 @@ def test_advice_names_a_parameter_the_motion_cannot_separate():
     assert refresh.result is not None and refresh.result.rank < 3
     assert any(line.startswith("I (inertia) is not separable") and "no acceleration" in line and "accelerate" in line
                for line in refresh.advice), refresh.advice
+
+
+def test_a_wrapped_angle_is_unwrapped_as_it_arrives():
+    # The same arm, its angle turned by 2.5 rad so that it crosses the seam at pi, reported wrapped to (-pi, pi]:
+    # the watcher undoes the wraps, so it fits what it fits from the continuous angle.
+    samples = arm(200.0, 30.0)
+    turned = samples.q + 2.5
+    wrapped = np.angle(np.exp(1j * turned))
+    assert np.any(np.abs(np.diff(wrapped)) > np.pi)
+    fits = []
+    for angle in (turned, wrapped):
+        watcher = Watcher(model="plain")
+        for first in range(0, len(samples.t), 20):
+            rows = slice(first, first + 20)
+            watcher.add(Received({"t": samples.t[rows], "q": angle[rows], "tau": samples.tau[rows]}))
+        fits.append([trace.value for trace in watcher.refresh().parameters])
+    np.testing.assert_allclose(fits[1], fits[0], rtol=1e-6)
