@@ -184,6 +184,10 @@ class Watcher:
             raise ValueError(f"cutoff must be at least 0 Hz; got {cutoff}")
         if decimate is not None and decimate < 1:
             raise ValueError(f"decimate must be at least 1; got {decimate}")
+        from ..options import MECHANISMS
+
+        if mechanism is not None and mechanism not in MECHANISMS:
+            raise ValueError(f"mechanism must be one of {', '.join(MECHANISMS)}; got {mechanism!r}")
         self.effort = effort_named(effort)
         self.convention = AngleConvention(zero, bool(clockwise))
         self.linear = bool(linear)
@@ -439,8 +443,27 @@ class Watcher:
         for name in columns:
             if name != "state":
                 columns[name] = np.asarray(columns[name], dtype=float)
-        if "q" not in columns or "tau" not in columns:
-            raise ValueError("a live source must give q and tau (and t) to be watched")
+        if "t" not in columns or "q" not in columns or "tau" not in columns:
+            raise ValueError("a live source must give t, q and tau to be watched")
+        finite = np.ones(received.count, dtype=bool)
+        for name, values in columns.items():
+            if name != "state":
+                finite &= np.isfinite(values)
+        if not finite.all():  # a sample that is no number is a gap: the stretches either side are not bridged
+            self.received += int((~finite).sum())
+            times = columns["t"][~finite]
+            times = times[np.isfinite(times)]
+            where = f" at {float(times[0]):.6g} s" if len(times) else ""
+            self.events.append(f"{int((~finite).sum())} samples holding values that are not numbers were left "
+                               f"out{where} (a gap, not bridged)")
+            for first, last in runs(finite):
+                self._fed = None
+                self._take({name: values[first:last + 1] for name, values in columns.items()})
+            return
+        self._take(columns)
+
+    def _take(self, columns: dict[str, np.ndarray]) -> None:
+        """Samples that are all numbers: unwrapped, in jointid's angle convention, counted, then streamed."""
         if not self.linear:
             columns["q"] = self._unwrapped(columns["q"])
         sign, offset = self.convention.sign, self.convention.offset
@@ -449,7 +472,7 @@ class Watcher:
             for name in ("qd", "qdd", "tau"):
                 if name in columns:
                     columns[name] = sign * columns[name]
-        self.received += received.count
+        self.received += len(columns["t"])
         self._count_time(columns["t"])
         if self.step is None:
             self._warm.append(columns)

@@ -255,3 +255,27 @@ def test_a_wrapped_angle_is_unwrapped_as_it_arrives():
             watcher.add(Received({"t": samples.t[rows], "q": angle[rows], "tau": samples.tau[rows]}))
         fits.append([trace.value for trace in watcher.refresh().parameters])
     np.testing.assert_allclose(fits[1], fits[0], rtol=1e-6)
+
+
+def test_samples_that_are_not_numbers_are_a_gap_said_and_not_bridged():
+    samples = arm(200.0, 30.0)
+    tau = samples.tau.copy()
+    tau[3000] = np.nan
+    watcher = Watcher()
+    for first in range(0, len(samples.t), 20):
+        rows = slice(first, first + 20)
+        watcher.add(Received({"t": samples.t[rows], "q": samples.q[rows], "tau": tau[rows]}))
+    refresh = watcher.refresh()
+    assert refresh.received == len(samples.t)
+    assert any("1 samples holding values that are not numbers were left out at 15 s" in event
+               for event in refresh.events), refresh.events
+    for trace in refresh.parameters:
+        assert np.isfinite(trace.value) and abs(trace.value - samples.truth[trace.name]) <= 0.05 * samples.truth[trace.name]
+
+
+def test_settings_a_log_fit_refuses_are_refused_naming_the_argument():
+    for settings, word in (({"effort": "current"}, "effort"), ({"mechanism": "flywheel"}, "mechanism"),
+                           ({"window": 4}, "window"), ({"cutoff": -1.0}, "cutoff"), ({"decimate": 0}, "decimate"),
+                           ({"zero": "sideways"}, "zero"), ({"mechanism": "arm", "linear": True}, "metres")):
+        with pytest.raises(ValueError, match=word):
+            Watcher(**settings)
