@@ -279,3 +279,37 @@ def test_settings_a_log_fit_refuses_are_refused_naming_the_argument():
                            ({"zero": "sideways"}, "zero"), ({"mechanism": "arm", "linear": True}, "metres")):
         with pytest.raises(ValueError, match=word):
             Watcher(**settings)
+
+
+def test_streamed_derivatives_and_low_pass_equal_the_offline_ones_away_from_the_ends():
+    # The claim of studies.watch_streams: blocks of any size give, wherever the whole window has arrived, what the
+    # log path's Savitzky-Golay derivatives (logs.derivatives) and parallel low-pass (estimation.low_pass) give.
+    from jointid.estimation.low_pass import FilterRequest, choose_filter
+    from jointid.logs.derivatives import differentiate, smooth
+    from jointid.model.terms import model_named
+    from jointid.studies.watch_streams import DerivativeStream, LowPassStream
+
+    samples = arm(500.0, 20.0, noise=0.5)
+    step, window, order = 0.002, 41, 3
+    model = model_named("coulomb+bias")
+    qd, qdd = differentiate(samples.q, step, window, order)
+    offline = np.column_stack([qdd, smooth(9.81 * np.cos(samples.q), window, order), qd,
+                               smooth(np.sign(qd), window, order), np.ones(len(qd)),
+                               smooth(samples.tau, window, order)])
+    chosen = choose_filter(FilterRequest(4.0, 5), step, True, samples.q, len(samples.q))
+    filtered = np.column_stack([chosen.apply_column(offline[:, j]) for j in range(offline.shape[1])])
+    derivatives, low_pass = DerivativeStream(model.terms, step, window, order), LowPassStream(chosen)
+    rows, values = [], []
+    first, sizes = 0, [3, 11, 7, 200, 1]
+    while first < len(samples.t):
+        part = slice(first, first + sizes[0])
+        first, sizes = first + sizes[0], sizes[1:] + sizes[:1]
+        out = derivatives.add({"t": samples.t[part], "q": samples.q[part], "tau": samples.tau[part]})
+        if out is None:
+            continue
+        kept, low = low_pass.add(np.column_stack([out["X"], out["tau"]]), int(out["index"][0]))
+        rows.append(kept), values.append(low)
+    rows, values = np.concatenate(rows), np.concatenate(values)
+    assert rows[0] * 5 >= window + chosen.extension and len(rows) > 0.8 * len(filtered)
+    scale = np.max(np.abs(filtered), axis=0)
+    np.testing.assert_allclose(values / scale, filtered[rows] / scale, atol=1e-10)
