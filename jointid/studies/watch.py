@@ -97,6 +97,7 @@ class _Segment:
     """The streaming stages of one contiguous stretch of samples (no gap, one SysId test)."""
 
     def __init__(self, watcher: Watcher, state: str):
+        """The stages of every pipeline of `watcher` for a stretch of SysId test `state` ('' without one)."""
         self.state = state
         self.derivatives = {}
         self.filters = {}
@@ -112,11 +113,8 @@ class _Segment:
     @property
     def size(self) -> int:
         """Numbers its buffers hold."""
-        total = sum(values.size for stream in self.derivatives.values() for values in stream._raw.values())
-        total += sum(0 if stream._columns is None else stream._columns.size for stream in self.filters.values())
-        if self.resampler is not None:
-            total += sum(values.size for values in self.resampler._raw.values())
-        return total
+        stages = [*self.derivatives.values(), *self.filters.values()]
+        return sum(stage.size for stage in stages) + (0 if self.resampler is None else self.resampler.size)
 
     def add(self, columns: dict[str, np.ndarray]) -> dict | None:
         """Feed raw samples; return the rows every pipeline has produced since (aligned), or None."""

@@ -50,6 +50,11 @@ class DerivativeStream:
         """Segment index of the next output (the first `reach` samples have no whole window)."""
         self._largest = 0.0
 
+    @property
+    def size(self) -> int:
+        """Numbers its buffer holds."""
+        return _held(self._raw)
+
     def add(self, columns: dict[str, np.ndarray]) -> dict[str, np.ndarray] | None:
         """Append raw columns (q, tau, qd and qdd when given, t); return the outputs now complete: 'X' (n, p),
         'tau', 'q', 'qd', 'qdd', 't' (n,), and 'index' (n,) their positions in the segment; None when none is."""
@@ -104,6 +109,11 @@ class DerivativeStream:
         return out
 
 
+def _held(buffers) -> int:
+    """Numbers held in a dict of arrays (a stage's buffer)."""
+    return sum(values.size for values in buffers.values())
+
+
 class LowPassStream:
     """The parallel low-pass and decimation of full-rate columns as they arrive, at the kept rows only."""
 
@@ -118,6 +128,11 @@ class LowPassStream:
         """Segment index of the buffer's first row."""
         self.next_row = None
         """The next kept row's index in decimated rows (row m is segment sample m x decimation)."""
+
+    @property
+    def size(self) -> int:
+        """Numbers its buffer holds."""
+        return 0 if self._columns is None else self._columns.size
 
     def add(self, columns: np.ndarray, first: int) -> tuple[np.ndarray, np.ndarray]:
         """Append (n, k) columns of segment samples first .. first + n - 1 (contiguous with the last call's); return
@@ -360,6 +375,11 @@ class SplineResampler:
         self._origin: float | None = None
         self._next = 0
         """The next grid time's index: origin + index x step."""
+
+    @property
+    def size(self) -> int:
+        """Numbers its buffer holds."""
+        return _held(self._raw)
 
     def add(self, columns: dict[str, np.ndarray]) -> dict[str, np.ndarray] | None:
         """Append samples (t and other columns); return the grid times now surrounded by MARGIN samples and every

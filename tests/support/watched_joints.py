@@ -63,10 +63,12 @@ def flywheel(rate: float, seconds: float, noise: float = 0.02, seed: int = 2) ->
     times = np.arange(count) * fine
 
     def volts(time):
+        """The voltage applied at `time`."""
         return 4.0 * np.sin(2 * np.pi * 0.25 * time) + 2.0 * np.sin(2 * np.pi * 1.7 * time) + \
             1.5 * np.sign(np.sin(2 * np.pi * 0.9 * time))
 
     def acceleration(time, v):
+        """The flywheel's acceleration at `time` and speed `v`."""
         return (volts(time) - k["kS"] * np.sign(v) - k["kV"] * v) / k["kA"]
 
     v = np.empty(count)
