@@ -239,6 +239,7 @@ class Watcher:
         self.all_moving: BatchStatistics | None = None
         """Every moving row, outside torques kept in: the --no-robust refit's statistics."""
         self._pending: list[dict] = []
+        self._pending_rows = 0
         self._speed_squares = 0.0
         self._speed_count = 0
         self._resolution = 0.0
@@ -534,6 +535,7 @@ class Watcher:
                 rows = self._segment.add(piece)
                 if rows is not None:
                     self._pending.append(rows)
+                    self._pending_rows += len(rows["tau"])
         self._fed = (float(t[-1]), None if state is None else str(state[-1]))
         self._judge_pending(final=False)
 
@@ -556,12 +558,12 @@ class Watcher:
     def _judge_pending(self, final: bool) -> None:
         """Judge the rows waiting for standstill and outside torques once a block's worth has arrived (any at the
         end of a stretch), and add the kept rows to the statistics."""
-        count = sum(len(rows["tau"]) for rows in self._pending)
+        count = self._pending_rows
         enough = max(int(ROBUST_SECONDS * self.fitted_rate) if self.step else 0, 8 * (self.union.size + 1))
         if not count or (count < enough and not final):
             return
         pending = self._pending
-        self._pending = []
+        self._pending, self._pending_rows = [], 0
         block = {name: np.concatenate([rows[name] for rows in pending]) for name in ("X", "tau", "q", "qd", "qdd",
                                                                                       "t")}
         variants = {pipeline: (np.concatenate([rows["variants"][pipeline][0] for rows in pending]),
