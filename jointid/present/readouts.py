@@ -34,9 +34,11 @@ class Readout:
         return bool(self.failed_requirement)
 
 
-def readouts(result: FitResult) -> tuple[Readout, ...]:
-    """The lab's readouts for a fit in display order: rank, one per parameter, both RMSEs, motion RMS."""
+def readouts(result: FitResult, linear: bool = False) -> tuple[Readout, ...]:
+    """The lab's readouts for a fit in display order: rank, one per parameter, both RMSEs, motion RMS (in m/s and
+    m/s² when `linear`: a log whose position is a length)."""
     estimate = result.estimate
+    speed = "m/s" if linear else "rad/s"
     unit = result.model.effort.unit
 
     def optional(key: str, label: str, value: float | None) -> Readout:
@@ -54,14 +56,14 @@ def readouts(result: FitResult) -> tuple[Readout, ...]:
         *parameters,
         optional("training_rmse", f"Training RMSE ({unit})", result.training_rmse),
         optional("heldout_rmse", f"Held-out RMSE ({unit})", result.heldout_rmse),
-        Readout("accel_rms", "Acceleration RMS (rad/s²)", format_number(result.accel_rms)),
-        Readout("speed_rms", "Speed RMS (rad/s)", format_number(result.speed_rms)),
+        Readout("accel_rms", f"Acceleration RMS ({speed}²)", format_number(result.accel_rms)),
+        Readout("speed_rms", f"Speed RMS ({speed})", format_number(result.speed_rms)),
     )
 
 
-def readouts_text(result: FitResult) -> str:
+def readouts_text(result: FitResult, linear: bool = False) -> str:
     """Every readout on its own line, label padded, then the status sentence."""
-    items = readouts(result)
+    items = readouts(result, linear)
     width = max(28, *(len(r.label) + 1 for r in items))  # other models' labels may be longer
     lines = [
         f"{r.label:<{width}}{r.text:>12}" + (f"  fails {r.failed_requirement}" if r.sign_failure else "")

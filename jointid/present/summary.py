@@ -57,7 +57,7 @@ def log_fit_summary(logs: LoadedLogs) -> str:
     """What was read, the readouts, the uncertainty, the sensitivity check, terms the residuals follow that the
     model lacks, and every note."""
     found, left = log_checks(logs)
-    parts = [*logs.source_lines(), readouts_text(logs.result), "", uncertainty_text(logs.result),
+    parts = [*logs.source_lines(), readouts_text(logs.result, logs.training.position_unit == "metres"), "", uncertainty_text(logs.result),
              *found]
     if left is not None:
         parts += ["", left]
