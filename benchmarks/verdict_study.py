@@ -29,7 +29,9 @@ from jointid.model.terms import model_named
 from jointid.options import LOG_MODEL
 from jointid.studies.runs import fit_runs
 
-LOGS = Path(__file__).resolve().parent.parent.parent / "shared" / "real-logs"
+CHECKOUT = Path(__file__).resolve().parent.parent
+LOGS = next((folder for folder in (CHECKOUT.parent / "shared" / "real-logs", CHECKOUT.parent.parent / "shared" /
+             "real-logs") if folder.is_dir()), CHECKOUT.parent / "shared" / "real-logs")  # a worktree's is one up
 RUNS = ("pd", "ddp", "energy_shaping")
 WELL = "well determined"
 G = 9.81
