@@ -161,9 +161,10 @@ class PooledRuns:
         return tuple(found)
 
 
-POOLED_CHOICES = {"window halved": "the derivative window halved", "window doubled": "the derivative window doubled",
+POOLED_CHOICES = {"window halved": "the derivative window's choice", "window doubled": "the derivative window's choice",
                   "--no-robust": "the robust step's exclusions (--no-robust)"}
-"""Each pooled refit, and what widened an error it moves beyond noise."""
+"""Each pooled refit, and what widened an error it moves beyond noise (the window halved and doubled are one choice,
+which widens by the larger of their moves, as a single log fit's)."""
 
 
 def pooled_refit_spreads(pooled: PooledRuns) -> tuple[Spread, ...]:
@@ -173,15 +174,18 @@ def pooled_refit_spreads(pooled: PooledRuns) -> tuple[Spread, ...]:
     refits = [refits_of(run) for run in pooled.runs]
     values = np.array([pooled.params[name] for name in pooled.shared])
     noise = np.array([pooled.noise_bse[name] for name in pooled.shared])
-    spreads = []
+    largest: dict[tuple[str, str], Spread] = {}
     for label, choice in POOLED_CHOICES.items():
         if not all(label in found for found in refits):
             continue
         redone = tuple(LoadedLogs(run.training, None, found[label]) for run, found in zip(pooled.runs, refits))
         again = pool_runs(redone, pooled.weighting)
-        spreads += beyond_noise(pooled.shared, values, noise, [[again.params[name] for name in pooled.shared]],
-                                choice, [[again.noise_bse[name] for name in pooled.shared]])
-    return tuple(spreads)
+        for spread in beyond_noise(pooled.shared, values, noise, [[again.params[name] for name in pooled.shared]],
+                                   choice, [[again.noise_bse[name] for name in pooled.shared]]):
+            key = (spread.name, spread.choice)
+            if key not in largest or spread.error > largest[key].error:
+                largest[key] = spread
+    return tuple(largest.values())
 
 
 def runs_spreads(shared, runs, noise_errors: np.ndarray) -> tuple[Spread, ...]:
