@@ -10,6 +10,8 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+import numpy as np
+
 from ..estimation.uncertainty import AT_BOUND, WELL_DETERMINED_LIMIT
 from .status import CONDITION_CAVEAT, CONDITION_CAVEAT_SHORT, DEPENDENT_COLUMNS, condition_text, status_message
 from .text import UNAVAILABLE, format_number
@@ -227,7 +229,7 @@ def uncertainty_text(result: FitResult) -> str:
             )
         if uncertainty.residual_std_error is not None:
             free = [i for i, v in enumerate(uncertainty.verdicts or ()) if v != AT_BOUND] or range(model.size)
-            from_residuals = ", ".join(f"{model.names[i]} {format_number(uncertainty.residual_std_error[i])}" for i in free)
+            from_residuals = ", ".join(f"{model.names[i]} {format_number(uncertainty.noise_std_error[i])}" for i in free)
             if uncertainty.effective_count is None:
                 lines.append(f"From the residuals (N - p = {uncertainty.degrees_of_freedom}): {from_residuals}.")
             else:
@@ -239,7 +241,9 @@ def uncertainty_text(result: FitResult) -> str:
                 f"{format_number(uncertainty.interval95[i][1])}]"
                 for i in free
             )
-            lines.append(f"95 % intervals (Student t): {intervals}.")
+            widened = uncertainty.spread is not None and bool(np.any(uncertainty.spread > 0))
+            lines.append(f"95 % intervals (Student t{', on the errors widened as above' if widened else ''}): "
+                         f"{intervals}.")
     ratio = result.scale_ratio
     if ratio is not None and ratio_determined(result):
         corr, value, error = ratio

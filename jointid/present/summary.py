@@ -40,9 +40,10 @@ def log_checks(logs: LoadedLogs) -> tuple[list[str], str | None]:
     return found, exclusion_text(logs)
 
 
-RUN_TO_RUN = ("Run to run: the ± and the verdicts speak of this run (its noise, the checks above, whether its halves "
-              "agree); another run of the joint can differ by more, as the shared pendulum's runs do by up to 10 "
-              "%: fit several runs together (--csv A --csv B) to judge by their scatter.")
+RUN_TO_RUN = ("Run to run: the ± and the verdicts speak of this run (its noise, widened by what the other analysis "
+              "choices above move and by whether its halves agree); another run of the joint can differ by more, as "
+              "the shared pendulum's runs do by up to 10 %: fit several runs together (--csv A --csv B) to judge by "
+              "their scatter.")
 """What no single run can show, said under every log fit's checks (benchmarks/verdict_study.py measured it)."""
 
 

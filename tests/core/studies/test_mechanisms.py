@@ -259,7 +259,7 @@ def test_a_real_drives_voltage_steps_are_kept():
     # 0.0145 when the robust step dropped each spin-up).
     gap = abs(robust.params["kA"] - everything.params["kA"])
     assert gap < 2 * math.hypot(robust.bse["kA"], everything.bse["kA"])
-    assert robust.params["kA"] > 3 * robust.bse["kA"]
+    assert robust.params["kA"] > 3 * robust.noise_bse["kA"]  # its noise; the window's choice widens it further
 
 
 def test_a_real_drive_is_a_simple_motor():
