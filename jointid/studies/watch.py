@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -41,8 +41,8 @@ from ..model.effort import effort_named
 from ..model.terms import SIMPLE_MOTOR, JointModel, model_named
 from ..options import DEFAULT_ORDER, default_log_model
 from ..samples import JointData
-from .refits import ROBUST_MOVE, scatter_findings, scatter_ratios
-from .sensitivity import FACTORS, Variant, sensitivity_check
+from .refits import ROBUST_CHOICE, beyond_noise, is_exact, scatter_findings, scatter_ratios
+from .sensitivity import FACTORS
 from .watch_refresh import ParameterTrace, WatchRefresh
 
 WARMUP_SECONDS = 5.0
@@ -66,8 +66,6 @@ STANDSTILL_SHARE = 0.1
 """Speeds below this share of the RMS filtered speed so far count as standstill (as estimation.exclusion)."""
 TOO_SHORT = "too few samples yet to compare the run's halves"
 """Why nothing is well determined before the halves' scatter can be judged."""
-SETTINGS_MOVED = "moved by the derivative settings"
-"""The log fit's reason for a sensitivity flag (studies.log_fit.SETTINGS_MOVED)."""
 
 
 @dataclass(frozen=True)
@@ -233,8 +231,12 @@ class Watcher:
         mechanism is chosen from the data."""
         self.columns: list[int] = []
         """The fitted model's columns among the union's."""
+        self.choosing = False
+        """True while a SysId routine's mechanism is chosen from its data at each refresh."""
         self.mechanism_choice = None
         """The studies.mechanism.MechanismChoice of a SysId routine, or None."""
+        self.alternative: tuple[JointModel, str] | None = None
+        """The model with the torque offset explained the other way and what that is (a log fit's refit)."""
         self.test_statistics: dict[str, BatchStatistics] = {}
         self.all_moving: BatchStatistics | None = None
         """Every moving row, outside torques kept in: the --no-robust refit's statistics."""
@@ -291,11 +293,22 @@ class Watcher:
         if self.model is None or (self._sysid and self._asked_model is None and self._asked_mechanism is None):
             self.model = self._model_for(self._sysid)
         self.union, self.columns = self.model, list(range(self.model.size))
+        self.alternative = None
+        if not self._sysid:
+            from .log_fit import offset_alternative
+
+            alternative = offset_alternative(self.model)
+            kinds = set() if alternative is None else {term.kind for term in alternative[0].terms}
+            if alternative is not None and not (self.linear and kinds & {"h", "h_c", "h_s"}):
+                # A log fit refits with its torque offset explained the other way: those columns are streamed too.
+                self.alternative = alternative
+                extra = tuple(term for term in alternative[0].terms if term.name not in self.model.column_names)
+                self.union = JointModel(self.model.name, self.model.terms + extra, None, self.effort)
         if self._sysid and self.effort.name == "voltage" and self._asked_model is None \
                 and self._asked_mechanism is None:
             # As a recorded SysId log: the mechanism is chosen from the data at each refresh, so every candidate's
             # columns are streamed.
-            self.union = _candidates(self.effort, self.linear)
+            self.union, self.choosing = _candidates(self.effort, self.linear), True
             self._choose_mechanism()
         elif self._sysid:
             from .mechanism import MechanismChoice, mechanism_of
@@ -574,7 +587,7 @@ class Watcher:
         when = self.elapsed
         self.statistics.add(block["X"][kept], block["tau"][kept], when)
         self.all_moving.add(block["X"][~still], block["tau"][~still], when)
-        if self.union is not self.model:  # each test's own residual variance, for the mechanism's BIC
+        if self.choosing:  # each test's own residual variance, for the mechanism's BIC
             test = self.test_statistics.setdefault(pending[0]["state"], BatchStatistics(self.union.size, 10 ** 12))
             test.add(block["X"][kept], block["tau"][kept], when)
         if self.newey_west is not None:  # the rows left out are gaps in the grid, as a log fit's positions
@@ -585,11 +598,11 @@ class Watcher:
 
     def _exclusions(self, block: dict) -> tuple[np.ndarray, np.ndarray]:
         """(standstill, outside torques) of a block of rows, as a log fit finds them (estimation.exclusion)."""
-        X, tau = block["X"], block["tau"]
+        X, tau = block["X"][:, self.columns], block["tau"]
         size = len(tau)
         still = np.zeros(size, dtype=bool)
         rest = still
-        model = self.union
+        model = self.model
         support = self.support
         coulomb, speed_index = model.index_of("Fc"), model.index_of("B")
         if coulomb is not None and speed_index is not None:
@@ -612,9 +625,9 @@ class Watcher:
         if not self.robust or usable.sum() <= 4 * X.shape[1]:
             return still, pushes
         start = None
-        solution = self.statistics.solution()
+        solution = self.statistics.solution(columns=self.columns)
         if solution is not None and solution.estimate is not None:
-            start = solution.estimate  # the streamed columns' least squares (every candidate's, while choosing)
+            start = solution.estimate
         lag = max(4, 2 * support)
         with np.errstate(all="ignore"):
             flagged, level, _ = outside_torques(X, tau, usable, rest, coulomb, support, lag, start)
@@ -681,7 +694,7 @@ class Watcher:
         statistics = self.statistics
         if statistics is None or statistics.count <= self.union.size or not self._recent:
             return None
-        if self.union is not self.model:
+        if self.choosing:
             self._choose_mechanism()
         solution = statistics.solution(columns=self.columns)
         recent = self._recent_rows()
@@ -698,53 +711,88 @@ class Watcher:
         # The whole run's statistics, not the recent rows' the result carries for its charts.
         vars(result)["uncertainty"] = uncertainty
         vars(result)["training_rmse"] = float(solution.residual_norm) / math.sqrt(solution.row_count)
-        return with_judgement(result, self._judgement(result, statistics))
+        judgement = self._judgement(result, statistics)
+        judged = with_judgement(result, judgement)
+        if judgement.spread and uncertainty is not None:  # the analysis choices widen the reported errors
+            vars(judged)["uncertainty"] = replace(uncertainty, spread=np.asarray(judgement.spread, dtype=float))
+            vars(judged).pop("bse", None)
+        return judged
 
     def _judgement(self, result: FitResult, statistics: BatchStatistics):
-        """The verdicts as a log fit's: noise errors, the sensitivity refits, --no-robust, the halves' scatter."""
+        """The verdicts and reported errors as a log fit's (studies.log_fit.judge_log): the noise errors widened by
+        the other analysis choices' moves and the halves' scatter."""
         names = self.model.names
         uncertainty = result.uncertainty
-        if uncertainty is None or uncertainty.relative_std_pct is None:
+        if uncertainty is None or uncertainty.noise_relative_std_pct is None:
             return noise_judgement(names, None)
-        findings = list(self._sensitivity_findings(result))
-        findings += self._robust_findings(result)
+        findings = []
         if self.filter.active and len(statistics.batches) < 2 * MIN_BATCHES:
             # A log fit compares its halves; until the run is long enough for that, nothing is called well
             # determined (early refreshes would otherwise judge a few seconds on the noise alone).
             findings += [Finding(name, TOO_SHORT) for name in names]
-        return judge(names, uncertainty.relative_std_pct, None, findings, self._halves_scatter(result))
+        exact = is_exact(result)
+        return judge(names, uncertainty.noise_relative_std_pct, None, findings,
+                     () if exact else self._halves_scatter(result), () if exact else self._spreads(result),
+                     result.estimate, uncertainty.noise_std_error)
 
-    def _sensitivity_findings(self, result: FitResult) -> tuple[Finding, ...]:
-        """The sensitivity check's flags from the parallel pipelines' estimates, as a log fit's."""
-        if not self.variant_statistics or result.uncertainty.residual_std_error is None:
+    def _spreads(self, result: FitResult):
+        """How far the other analysis choices move the parameters beyond noise, as studies.log_fit.log_spreads: the
+        derivative window and cutoff halved and doubled (the parallel pipelines), the robust step's exclusions,
+        and a torque offset explained the other way (its columns streamed beside the model's)."""
+        from .log_fit import SETTING_CHOICES
+
+        model, estimate, noise = self.model, result.estimate, result.uncertainty.noise_std_error
+        if noise is None:
             return ()
-        base = Variant("", 1.0, self.window, self.filter.cutoff, result.estimate)
-        variants = []
-        for pipeline, statistics in self.variant_statistics.items():
-            solution = statistics.solution(columns=self.columns)
-            if solution is None or solution.estimate is None:
-                continue
-            variants.append(Variant(pipeline.label, pipeline.factor, pipeline.window, pipeline.chosen.cutoff,
-                                    self.model.report(solution.estimate)))
-        torque_rms = float(np.linalg.norm(self.statistics.triangle[:, -1])) / math.sqrt(self.statistics.count)
-        check = sensitivity_check(self.model.names, base, result.uncertainty.residual_std_error, variants,
-                                  rmse=result.training_rmse, torque_rms=torque_rms)
-        return tuple(Finding(name, SETTINGS_MOVED) for name, flagged in zip(check.names, check.flags) if flagged)
-
-    def _robust_findings(self, result: FitResult) -> list[Finding]:
-        """Parameters the fit with the outside torques kept in moves beyond ROBUST_MOVE standard errors."""
+        names = model.names
+        # A refit's noise errors: its independent-residual errors scaled as the fit's Newey-West ones are to its own.
+        alone = parameter_uncertainty(result.solution, None, model).noise_std_error
+        with np.errstate(all="ignore"):
+            scale = np.where(alone > 0, noise / alone, 1.0)
+        spreads = []
+        for setting, choice in SETTING_CHOICES.items():
+            others, errors = [], []
+            for pipeline, statistics in self.variant_statistics.items():
+                solution = statistics.solution(columns=self.columns)
+                if pipeline.label != setting or solution is None or solution.estimate is None:
+                    continue
+                refit = parameter_uncertainty(solution, None, model)
+                others.append(refit.estimate)
+                errors.append(None if refit.noise_std_error is None else refit.noise_std_error * scale)
+            spreads += beyond_noise(names, estimate, noise, others, choice, errors)
         moving = self.all_moving
-        if not self.robust or moving.count == self.statistics.count:
-            return []
-        solution = moving.solution(columns=self.columns)
-        errors = result.uncertainty.residual_std_error
-        if solution is None or solution.estimate is None or errors is None:
-            return []
-        kept_in = self.model.report(solution.estimate)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            moves = np.abs(kept_in - result.estimate) / errors
-        return [Finding(name, f"moved {move:.1f} standard errors by --no-robust")
-                for name, move in zip(self.model.names, moves) if move > ROBUST_MOVE]
+        if self.robust and moving.count != self.statistics.count:
+            solution = moving.solution(columns=self.columns)
+            if solution is not None and solution.estimate is not None:
+                spreads += beyond_noise(names, estimate, noise, [model.report(solution.estimate)], ROBUST_CHOICE)
+        spreads += self._offset_spreads(estimate, noise)
+        return tuple(spreads)
+
+    def _offset_spreads(self, estimate: np.ndarray, noise: np.ndarray):
+        """The spread of a torque offset explained the other way (a bias <-> an angle offset), as a log fit's."""
+        if self.alternative is None:
+            return ()
+        other, choice = self.alternative
+        columns = [self.union.column_names.index(name) for name in other.column_names]
+        solution = self.statistics.solution(columns=columns)
+        if solution is None or solution.estimate is None:
+            return ()
+        correlated = None
+        if self.newey_west is not None:
+            from .log_fit import correlation_lag
+
+            correlated = self.newey_west.covariance(solution, correlation_lag(solution.row_count, self.filter),
+                                                    columns)
+        with np.errstate(all="ignore"):
+            refit = parameter_uncertainty(solution, None, other, None, correlated)
+        errors = refit.noise_std_error
+        if errors is None or not (np.all(np.isfinite(refit.estimate)) and np.all(np.isfinite(errors))):
+            return ()
+        by_name = dict(zip(other.names, zip(refit.estimate, errors)))
+        found = np.array([by_name.get(name, (np.nan, np.nan)) for name in self.model.names], dtype=float)
+        shared = np.isfinite(found[:, 0])
+        return beyond_noise(self.model.names, estimate, noise, [np.where(shared, found[:, 0], estimate)], choice,
+                            [np.where(shared, found[:, 1], noise)])
 
     def _halves_scatter(self, result: FitResult):
         """The scatter of the run's two halves (each fitted alone) beyond their errors, as a log fit's."""

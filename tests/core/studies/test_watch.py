@@ -103,10 +103,16 @@ def test_the_last_refresh_matches_an_offline_fit_of_the_same_samples(make, size,
     # and outside torques block by block: a few percent of the rows differ, so the estimates agree within their
     # standard error and the errors to the precision a standard error has.
     assert final.fitted >= 0.8 * fit.result.training.count
+    noise = dict(zip(fit.result.model.names, fit.result.uncertainty.noise_std_error))
+    live_noise = dict(zip(final.result.model.names, final.result.uncertainty.noise_std_error))
     for trace in final.parameters:
         error = fit.bse[trace.name]
         assert abs(trace.value - fit.params[trace.name]) <= 1.5 * error, (trace, fit.params[trace.name], error)
-        assert 0.8 <= trace.error / error <= 1.25, (trace.name, trace.error, error)
+        # The noise's (Newey-West) errors agree to the precision a standard error has; the reported ones are
+        # widened by the same analysis choices where those move the estimate (the halves' scatter, judged on
+        # other rows, may differ).
+        assert 0.8 <= live_noise[trace.name] / noise[trace.name] <= 1.25, (trace.name, live_noise, noise)
+        assert trace.error >= live_noise[trace.name]
     assert final.result.params.keys() == fit.params.keys()
     assert dict(final.result.bse) == {trace.name: trace.error for trace in final.parameters}
 
