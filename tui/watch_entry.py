@@ -5,6 +5,8 @@ from __future__ import annotations
 from jointid.cli.arguments import UserError
 from jointid.cli.exit_status import ExitStatus
 
+from jointid.cli.watch_command import watch_status
+
 from .entry import Interrupt, exit_status
 
 
@@ -51,9 +53,9 @@ def watch(plan) -> int:
         print(line)
     print(saved_sentence(saved))
     status = exit_status(app, interrupted=interrupt.received)
-    if status == ExitStatus.SUCCESS and saved.path is None and plan.save_path is not None:
-        return ExitStatus.USER_ERROR
-    return status
+    if status == ExitStatus.ERROR:
+        return status
+    return watch_status(plan, saved, interrupt.received)
 
 
 class StopOnInterrupt(Interrupt):

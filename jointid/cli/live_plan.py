@@ -88,17 +88,86 @@ def open_watch(args: argparse.Namespace, refresh_hz: float) -> WatchPlan:
     return WatchPlan(source, session, recorder, args.save, args.force)
 
 
+def live_reading(args: argparse.Namespace):
+    """How arriving values become what is fitted (--degrees, --zero, --clockwise, the effort flags): a
+    live.reading.LiveReading; UserError on a bad mix of the effort flags."""
+    from dataclasses import replace
+
+    from ..live.reading import LiveReading
+    from ..logs.conventions import AngleConvention
+    from .effort_arguments import effort_reading
+
+    effort = effort_reading(args)
+    if args.effort_scale is not None:
+        effort = replace(effort, scale=args.effort_scale)
+    return LiveReading(bool(args.degrees), AngleConvention(args.zero or "right", bool(args.clockwise)), effort)
+
+
 def open_source(args: argparse.Namespace) -> LiveSource:
     """The growing CSV or the NetworkTables subscription of the flags; UserError when it cannot be opened."""
-    raise UserError("watching needs jointid.live's sources, which this build does not have yet")
+    from ..logs.table import LogError
+
+    reading = live_reading(args)
+    try:
+        if args.csv is not None:
+            from ..live.growing_csv import GrowingCsv
+
+            return GrowingCsv(args.csv, columns=args.columns, reading=reading, duration=args.duration)
+        return open_network_tables(args, reading)
+    except LogError as error:
+        raise UserError(str(error)) from None
+
+
+def open_network_tables(args: argparse.Namespace, reading) -> LiveSource:
+    """The NetworkTables 4 subscription of --nt and --entry (jointid.live's)."""
+    try:
+        from ..live.network_tables import NetworkTablesSource
+    except ImportError:
+        raise UserError("--nt: this build has no NetworkTables source yet (jointid.live.network_tables)") from None
+    host, port = args.nt
+    return NetworkTablesSource(host, port, args.entry, reading=reading, units=args.units, duration=args.duration)
 
 
 def new_refitter(args: argparse.Namespace, source: LiveSource):
     """The incremental fit of the flags' model, effort, motor, filtering and conventions (studies.watch.Watcher)."""
-    raise UserError("watching needs jointid.studies.watch, which this build does not have yet")
+    try:
+        from ..studies.watch import Watcher
+    except ImportError:
+        raise UserError("watching needs the incremental fit (jointid.studies.watch), which this build does not "
+                        "have yet") from None
+    return Watcher(source.effort)
+
+
+class ReceivedRecorder:
+    """Every sample received, kept to be written as a CSV log that `jointid fit --csv` reads (t, q, qd, qdd, tau as
+    they were fitted: SI units, jointid's angle convention)."""
+
+    COLUMNS = ("t", "q", "qd", "qdd", "tau")
+
+    def __init__(self) -> None:
+        self.blocks: list[dict] = []
+        self.count = 0
+
+    def add(self, block: Received) -> None:
+        """Keep a block's numeric columns."""
+        if block.count:
+            self.blocks.append({name: block.columns[name] for name in self.COLUMNS if name in block.columns})
+            self.count += block.count
+
+    def write(self, path: str, overwrite: bool = False) -> int:
+        """Write the samples atomically (jointid.files); the number written. ExportError when it cannot."""
+        import numpy as np
+
+        from ..files import atomic_output
+
+        names = [name for name in self.COLUMNS if all(name in block for block in self.blocks)]
+        table = np.column_stack([np.concatenate([block[name] for block in self.blocks]) for name in names])
+        with atomic_output(path, overwrite=overwrite) as handle:
+            # 17 significant digits: reading the file back gives the same doubles.
+            np.savetxt(handle, table, delimiter=",", fmt="%.17g", header=",".join(names), comments="")
+        return len(table)
 
 
 def new_recorder(args: argparse.Namespace, source: LiveSource):
-    """The received-log writer, fed every block (jointid.live's)."""
-    raise UserError("watching needs jointid.live's received log, which this build does not have yet")
-
+    """The received-log writer, fed every block."""
+    return ReceivedRecorder()

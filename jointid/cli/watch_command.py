@@ -206,8 +206,19 @@ def watch_in_text(plan, json_lines: bool) -> int:
         for line in (closing_lines(last) if last is not None else ()):
             print(line)
         print(saved_sentence(saved), flush=True)
-    if saved.path is None and saved.why_not is not None and plan.save_path is not None:
-        return ExitStatus.USER_ERROR  # --save asked for a log that could not be written (the line above says why)
+    return watch_status(plan, saved, bool(interrupted))
+
+
+def watch_status(plan, saved: Saved, interrupted: bool) -> int:
+    """The exit status once a watch stopped and saved: 2 (with the line why on stderr) when the source could not be
+    read on or --save could not be written, 130 after Ctrl+C, else 0."""
+    from .arguments import print_error_line
+
+    if plan.session.failure is not None:
+        print_error_line(f"jointid: {plan.session.failure}")
+        return ExitStatus.USER_ERROR
+    if saved.path is None and plan.save_path is not None:
+        return ExitStatus.USER_ERROR  # --save asked for a log that could not be written (the output said why)
     return ExitStatus.INTERRUPTED if interrupted else ExitStatus.SUCCESS
 
 

@@ -11,6 +11,7 @@ from typing import Callable, Iterable, Protocol
 import numpy as np
 
 from ..live.received import LiveSource, Received
+from ..logs.table import LogError
 from .watch_refresh import WatchRefresh
 
 DEFAULT_REFRESH_HZ = 4.0
@@ -25,6 +26,8 @@ DURATION = "duration"
 """How a watch ended: --duration seconds passed."""
 SOURCE_ENDED = "source ended"
 """How a watch ended: the source said it is finished for good (or is gone)."""
+SOURCE_FAILED = "source failed"
+"""How a watch ended: the source could not be read on (a bad line in a CSV); `failure` says why."""
 
 
 class Refitter(Protocol):
@@ -35,7 +38,8 @@ class Refitter(Protocol):
 
 
 def merged(blocks: Iterable[Received]) -> Received:
-    """Several blocks as one: columns joined in order, events in order, drops added up, ended if any ended.
+    """Several blocks as one: columns joined in order, events in order, drops added up, stretch breaks kept,
+    ended if any ended.
 
     A column missing from some blocks that carry samples is dropped, so every array keeps the same length.
     """
@@ -46,8 +50,13 @@ def merged(blocks: Iterable[Received]) -> Received:
         shared = set(with_samples[0].columns).intersection(*(block.columns for block in with_samples[1:]))
         columns = {name: np.concatenate([np.asarray(block.columns[name]) for block in with_samples])
                    for name in with_samples[0].columns if name in shared}
+    breaks, offset = [], 0
+    for block in with_samples:  # each block's stretch starts, as rows of the joined block
+        breaks.extend(offset + row for row in block.breaks)
+        offset += block.count
     return Received(columns=columns, events=tuple(event for block in blocks for event in block.events),
-                    dropped=sum(block.dropped for block in blocks), ended=any(block.ended for block in blocks))
+                    dropped=sum(block.dropped for block in blocks), ended=any(block.ended for block in blocks),
+                    breaks=tuple(breaks))
 
 
 class WatchSession:
@@ -67,6 +76,8 @@ class WatchSession:
         self.clock = clock
         self.last: WatchRefresh | None = None
         """The latest refresh (the final one once run() has returned)."""
+        self.failure: str | None = None
+        """Why the source could not be read on (the watch then ends as SOURCE_FAILED), else None."""
         self._stop = threading.Event()
 
     def stop(self) -> None:
@@ -80,7 +91,7 @@ class WatchSession:
 
     def run(self, on_refresh: Callable[[WatchRefresh], None]) -> str:
         """Watch until stopped, --duration or the source's end, calling on_refresh with each refresh (the last
-        has `ended` set); how it ended (STOPPED, DURATION or SOURCE_ENDED)."""
+        has `ended` set); how it ended (STOPPED, DURATION, SOURCE_ENDED or SOURCE_FAILED)."""
         start = self.clock()
         next_refresh = start + self.period
         pending: list[Received] = []
@@ -92,13 +103,17 @@ class WatchSession:
                 wait = min(max(next_refresh - now, 0.0), LONGEST_POLL)
                 if self.duration is not None:
                     wait = min(wait, max(start + self.duration - now, 0.0))
-                block = self.source.poll(wait)
+                try:
+                    block = self.source.poll(wait)
+                except LogError as error:  # what arrived before the bad line is still fitted and saved
+                    self.failure = str(error)
+                    block = Received(events=(f"stopped reading: {self.failure}",), ended=True)
                 if block.count or block.events or block.dropped or block.ended:
                     pending.append(block)
                     if self.record is not None:
                         self.record(block)
                 if block.ended:
-                    ending = SOURCE_ENDED
+                    ending = SOURCE_FAILED if self.failure is not None else SOURCE_ENDED
             if ending is not None:
                 # The last refresh says the watch is over, whatever stopped it (the contract's `ended`).
                 self._refresh([*pending, Received(ended=True)], on_refresh)
