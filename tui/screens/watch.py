@@ -7,16 +7,17 @@ so a slow terminal shows fewer refreshes, never older ones. The screen holds the
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import TYPE_CHECKING
 
 from textual import work
 from textual.app import ComposeResult
 from textual.binding import Binding
-from textual.containers import Horizontal, Vertical
+from textual.containers import Horizontal, Vertical, VerticalScroll
 from textual.content import Content
 from textual.message import Message
 from textual.screen import Screen
-from textual.widgets import Static
+from textual.widgets import Markdown, Static
 
 from jointid.present.readouts import precision, readouts
 from jointid.present.watch import (
@@ -42,6 +43,8 @@ if TYPE_CHECKING:
 
 WAITING = "Waiting for the first samples…"
 """The notes before the first refresh."""
+NOTIFIED_EVENTS = ("gap", "gone", "reconnect", "dropped", "truncated", "replaced", "lost", "stopped reading")
+"""Words of the source's events that also pop up as a notification: what interrupts or loses data."""
 STATUS_LINES = 2
 """Rows the status takes: the counts and the latest event, or what became of the samples."""
 
@@ -164,8 +167,11 @@ class WatchScreen(Screen):
         if self._leave_when_done:
             self.app.exit(self.app.return_code)
             return
-        self.notify(saved_sentence(message.saved), title="Watching stopped",
-                    severity="information" if message.saved.path is not None else "warning")
+        if message.saved.path is None and self.plan.save_path is not None:  # the status says it; a failure pops up
+            self.notify(saved_sentence(message.saved), title="Not saved", severity="error")
+        failure = getattr(self.plan.session, "failure", None)
+        if failure is not None:
+            self.notify(failure, title="Source", severity="error")
 
     # --- what is shown ---------------------------------------------------------------------
 
@@ -182,8 +188,8 @@ class WatchScreen(Screen):
         notes = closing_lines(refresh)
         self.query_one("#watch-notes", Static).update("\n".join(notes) if notes else WAITING)
         for event in new_events(self._events, refresh.events):
-            self.notify(event, title="Source", severity="warning" if "gap" in event or "gone" in event
-                        else "information")
+            if any(word in event for word in NOTIFIED_EVENTS):  # the status line has every event; these also pop up
+                self.notify(event, title="Source", severity="warning")
         self._events = refresh.events
         self.show_status()
 
@@ -220,7 +226,47 @@ class WatchScreen(Screen):
             self.query_one(ConvergenceChart).show(convergence_chart(self.shown, self.convergence_kind))
 
     def action_help(self) -> None:
-        """The help, its keys those of this view."""
-        from .help import HelpScreen
+        """The watch view's help."""
+        self.app.push_screen(WatchHelpScreen(self.BINDINGS))
 
-        self.app.push_screen(HelpScreen(self.BINDINGS))
+
+WATCH_HELP_FILE = Path(__file__).parent.parent / "help_watch.md"
+"""The watch view's help; `{keys}` is filled in from its bindings."""
+
+
+def watch_help_markdown(bindings: list[Binding]) -> str:
+    """The watch view's help text with its keys."""
+    rows = [(binding.key_display or binding.key, binding.tooltip) for binding in bindings if binding.tooltip]
+    keys = "\n".join(f"- `{key}`: {does}" for key, does in rows)
+    return WATCH_HELP_FILE.read_text(encoding="utf-8").format(keys=keys)
+
+
+class WatchHelpScreen(Screen):
+    """The watch view's help; Escape (or ?, q) closes it."""
+
+    CSS_PATH = Path(__file__).parent.parent / "views.tcss"
+
+    BINDINGS = [
+        Binding("escape", "close", "Close help"),
+        Binding("question_mark", "close", "Close help", key_display="?", show=False),
+        Binding("q", "close", "Close help", show=False),
+    ]
+
+    def __init__(self, bindings: list[Binding]) -> None:
+        super().__init__()
+        self.view_bindings = bindings
+
+    def compose(self) -> ComposeResult:
+        """The help Markdown in a focused scroll view, and the footer."""
+        with VerticalScroll() as scroll:
+            scroll.border_title = "Help"
+            yield Markdown(watch_help_markdown(self.view_bindings))
+        yield KeyFooter()
+
+    def on_mount(self) -> None:
+        """Focus the scroll view so the arrow keys scroll at once."""
+        self.query_one(VerticalScroll).focus()
+
+    def action_close(self) -> None:
+        """Back to the watch."""
+        self.dismiss()

@@ -60,8 +60,7 @@ class ConvergenceChart(SmallPlot):
             plt.hline(float(np.log10(WELL_DETERMINED_LIMIT)), color=theme_rgb(self.app, "foreground-muted"))
         else:
             lines = [(name, x, np.clip(y, *ESTIMATE_RANGE)) for name, x, y in data.lines]
-            y_range = ESTIMATE_RANGE
-            plt.hline(1.0, color=theme_rgb(self.app, "foreground-muted"))
+            y_range = ESTIMATE_RANGE  # no line at 1: it hid the estimates that had settled there
             ticks, labels = at_least_three_ticks(*y_range, 4)
             plt.yticks(ticks, labels)
         plt.ylim(*y_range)
