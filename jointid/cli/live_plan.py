@@ -7,6 +7,7 @@ import argparse
 import threading
 from typing import TYPE_CHECKING, Callable
 
+from ..options import DEFAULT_ORDER
 from .arguments import UserError
 
 if TYPE_CHECKING:
@@ -135,7 +136,15 @@ def new_refitter(args: argparse.Namespace, source: LiveSource):
     except ImportError:
         raise UserError("watching needs the incremental fit (jointid.studies.watch), which this build does not "
                         "have yet") from None
-    return Watcher(source.effort)
+    from ..logs.derivatives import FilterSettingError
+
+    # The angle's convention and the effort's conversion are the source's (live.reading): its q is jointid's.
+    try:
+        return Watcher(model=args.model, mechanism=args.mechanism, effort=source.effort, linear=source.linear,
+                       window=args.window, order=DEFAULT_ORDER if args.order is None else args.order,
+                       cutoff=args.cutoff, decimate=args.decimate, robust=not args.no_robust)
+    except FilterSettingError as error:
+        raise UserError(f"argument --{error.field}: {error.problem}") from None
 
 
 class ReceivedRecorder:

@@ -31,10 +31,13 @@ SOURCE_FAILED = "source failed"
 
 
 class Refitter(Protocol):
-    """The incremental identification (studies.watch.Watcher): fed each merged block, it returns a refresh."""
+    """The incremental identification (studies.watch.Watcher): given each merged block, asked for a refresh."""
 
-    def feed(self, received: Received) -> WatchRefresh:
-        """Take the samples and events of `received` and return what the faces show now."""
+    def add(self, received: Received) -> None:
+        """Take the samples, events, drops and end of `received`."""
+
+    def refresh(self) -> WatchRefresh:
+        """What the faces show now."""
 
 
 def merged(blocks: Iterable[Received]) -> Received:
@@ -125,5 +128,6 @@ class WatchSession:
 
     def _refresh(self, blocks: list[Received], on_refresh: Callable[[WatchRefresh], None]) -> None:
         """Feed the blocks as one and hand the refresh on."""
-        self.last = self.refitter.feed(merged(blocks))
+        self.refitter.add(merged(blocks))
+        self.last = self.refitter.refresh()
         on_refresh(self.last)

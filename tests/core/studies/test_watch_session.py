@@ -58,11 +58,14 @@ class CountingRefitter:
         self.fed: list[Received] = []
         self.total = 0
 
-    def feed(self, received: Received) -> WatchRefresh:
+    def add(self, received: Received) -> None:
         self.fed.append(received)
         self.total += received.count
+        self.ended = received.ended
+
+    def refresh(self) -> WatchRefresh:
         return WatchRefresh(elapsed=0.0, received=self.total, fitted=self.total, dropped=0, parameters=(),
-                            ended=received.ended)
+                            ended=self.ended)
 
 
 def block(start: int, count: int, **kwargs) -> Received:
