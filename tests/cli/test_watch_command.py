@@ -4,8 +4,12 @@ saved log, read back by `jointid fit --csv`, fits to the last refresh's numbers.
 
 from __future__ import annotations
 
+import json
+import threading
+
+import numpy as np
 import pytest
-from support.cli_support import refused, run
+from support.cli_support import fit_json, refused, run
 
 
 @pytest.fixture
@@ -62,3 +66,66 @@ def test_help_lists_the_sources_and_the_save(capsys):
     for flag in ("--csv PATH", "--nt HOST[:PORT]", "--entry MAP", "--refresh HZ", "--duration S", "--save PATH",
                  "--force", "--json-lines", "--motor NAME", "--mechanism"):
         assert flag in out
+
+
+# ----------------------------------------------------------------------------- with the incremental fit
+
+def needs_watcher():
+    """Skip unless livefit's incremental fit (jointid.studies.watch) is in this build."""
+    pytest.importorskip("jointid.studies.watch", reason="livefit's Watcher is not merged into this build yet")
+
+
+def grow(source_path, target_path, lines_at_once: int, started: threading.Event) -> None:
+    """Append the source log's lines to the target in bursts, a partial line left hanging between two of them,
+    as a bench logger writes."""
+    lines = source_path.read_text().splitlines(keepends=True)
+    with open(target_path, "w") as out:
+        out.write(lines[0])  # the header
+        out.flush()
+        started.set()
+        for start in range(1, len(lines), lines_at_once):
+            chunk = "".join(lines[start:start + lines_at_once])
+            half = len(chunk) // 2
+            out.write(chunk[:half])  # a line cut in two: the watch must wait for its end
+            out.flush()
+            out.write(chunk[half:])
+            out.flush()
+
+
+def test_json_lines_on_a_growing_csv_and_the_saved_log_fits_to_the_last_refresh(capsys, in_folder):
+    needs_watcher()
+    started = threading.Event()
+    writer = threading.Thread(target=grow, args=(in_folder / "done.csv", in_folder / "growing.csv", 37, started))
+    writer.start()
+    started.wait()
+    status, out, err = run(capsys, "watch", "--csv", "growing.csv", "--duration", "7.9", "--json-lines",
+                           "--save", "saved.csv")
+    writer.join()
+    assert status == 0, err
+    objects = [json.loads(line) for line in out.splitlines()]
+    *refreshes, closing = objects
+    assert refreshes and all(set(r) >= {"elapsed", "received", "verdicts", "verdict_reasons", "parameters"}
+                             for r in refreshes)
+    assert [r["received"] for r in refreshes] == sorted(r["received"] for r in refreshes)
+    last = refreshes[-1]
+    assert last["ended"] and closing["stopped_by"] == "source ended"
+    saved = closing["saved"]
+    assert saved["path"] == "saved.csv" and saved["samples"] == last["received"]
+    # What was saved is what was received, and an offline fit of it says what the last refresh said.
+    offline = fit_json(capsys, "--csv", "saved.csv")
+    assert offline["samples"] == last["fitted"]
+    assert offline["verdicts"] == last["verdicts"]
+    for name, value in last["estimate"].items():
+        assert value == pytest.approx(offline["estimate"][name], rel=1e-6, abs=1e-9 * abs(value) + 1e-12)
+
+
+def test_text_lines_end_with_what_was_written(capsys, in_folder):
+    needs_watcher()
+    status, out, err = run(capsys, "watch", "--csv", "done.csv", "--duration", "5", "--save", "five.csv")
+    assert status == 0, err
+    lines = out.splitlines()
+    assert lines[-1].startswith("Wrote ") and "five.csv" in lines[-1]
+    assert lines[0].startswith(("0.", "1.", "2.", "3.", "4.", "5.")) and " received, " in lines[0]
+    saved = np.loadtxt(in_folder / "five.csv", delimiter=",", skiprows=1)
+    original = np.loadtxt(in_folder / "done.csv", delimiter=",", skiprows=2)
+    assert np.array_equal(saved[:, 0], original[:len(saved), 0]) and saved[-1, 0] <= 5.0
