@@ -1,0 +1,675 @@
+"""Live identification: a joint's parameters refitted as its samples arrive, in bounded time and memory.
+
+A `Watcher` takes the `Received` blocks of a live source (jointid.live) and gives a `WatchRefresh` whenever asked.
+It runs a recorded log's pipeline as far as it can be run on samples as they arrive:
+
+1. a warm-up (WARMUP_SECONDS) fixes what a log fit chooses from the whole log: the sampling step, the low-pass
+   cutoff and decimation (jointid.estimation.low_pass.choose_filter, from the warm-up's motion) and the
+   derivative window (jointid.logs.derivatives.smoothing_window); a SysId routine (a state column) is not
+   low-passed unless a cutoff is given, as studies.sysid fits it;
+2. each contiguous stretch (no gap, one SysId test) goes through the streaming derivatives and low-pass of
+   jointid.studies.watch_streams, equal to the offline values away from the stretch's ends, which are not fitted;
+3. the rows are judged in blocks of ROBUST_SECONDS: standstill (models with Coulomb friction) and outside torques
+   (jointid.estimation.exclusion.outside_torques, from the current estimate) are left out;
+4. the rows kept are added to bounded least-squares statistics (studies.watch_streams.BatchStatistics): the
+   estimate is jointid's column-scaled least squares of every row kept, its errors the batch-means covariance
+   (the residuals of a low-passed log are correlated, as the Newey-West errors of a log fit allow for);
+5. the sensitivity check's refits (derivative window and cutoff halved and doubled) run as parallel pipelines,
+   their estimates compared as studies.sensitivity does; the halves of the run are compared as
+   studies.refits.stretch_scatter does; and the verdicts come from estimation.judgement.judge, as a log fit's.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..estimation.exclusion import commanded_changes, explained_transients, outside_torques, runs, widened
+from ..estimation.fit import FitResult, with_judgement
+from ..estimation.judgement import Finding, judge, noise_judgement
+from ..estimation.low_pass import FilterRequest, FilterRequestError, ParallelFilter, automatic_cutoff, choose_filter
+from .watch_streams import BatchStatistics, DerivativeStream, LowPassStream
+from ..estimation.uncertainty import WELL_DETERMINED, parameter_uncertainty
+from ..logs.conventions import AngleConvention
+from ..logs.derivatives import WindowChoice, check_filter, smoothing_window
+from ..logs.timing import GAP_FACTOR
+from ..model.effort import effort_named
+from ..model.terms import SIMPLE_MOTOR, JointModel, model_named
+from ..options import DEFAULT_ORDER, default_log_model
+from ..samples import JointData
+from .refits import ROBUST_MOVE, scatter_findings, scatter_ratios
+from .sensitivity import FACTORS, Variant, sensitivity_check
+from .watch_refresh import ParameterTrace, WatchRefresh
+
+WARMUP_SECONDS = 5.0
+"""Seconds of samples from which the step, the low-pass and the derivative window are chosen before fitting."""
+WARMUP_SAMPLES = 64
+"""At least this many samples in the warm-up."""
+ROBUST_SECONDS = 5.0
+"""Seconds of fitted rows judged together for standstill and outside torques."""
+RECENT_SECONDS = 10.0
+"""Seconds of fitted rows kept for the charts and the prediction."""
+MIN_BATCHES = 8
+"""Batches (stretches longer than the residuals' correlation) needed before an error is judged: fewer give a
+batch-means error too rough to call anything well determined."""
+HISTORY = 120
+"""A trace's history is thinned to half when it reaches twice this many points."""
+EVENTS = 50
+"""Source events kept (the newest)."""
+IDLE_STATES = ("", "none")
+"""SysId test states that are no test (the routine is idle): their samples are received, not fitted."""
+STANDSTILL_SHARE = 0.1
+"""Speeds below this share of the RMS filtered speed so far count as standstill (as estimation.exclusion)."""
+SETTINGS_MOVED = "moved by the derivative settings"
+"""The log fit's reason for a sensitivity flag (studies.log_fit.SETTINGS_MOVED)."""
+
+
+@dataclass(frozen=True)
+class Pipeline:
+    """One analysis of the stream: its derivative window and low-pass (the fit's own, or a sensitivity refit's)."""
+
+    label: str
+    """'' for the fit itself, else 'window' or 'cutoff'."""
+    factor: float
+    window: int | None
+    chosen: ParallelFilter
+
+
+class _Segment:
+    """The streaming stages of one contiguous stretch of samples (no gap, one SysId test)."""
+
+    def __init__(self, watcher: Watcher, state: str):
+        self.state = state
+        self.derivatives = {}
+        self.filters = {}
+        for pipeline in watcher.pipelines:
+            if pipeline.window not in self.derivatives:
+                self.derivatives[pipeline.window] = DerivativeStream(watcher.model.terms, watcher.step,
+                                                                     pipeline.window, watcher.order)
+            self.filters[pipeline] = LowPassStream(pipeline.chosen)
+        self.outputs = {pipeline: [] for pipeline in watcher.pipelines}
+        self.watcher = watcher
+
+    def add(self, columns: dict[str, np.ndarray]) -> dict | None:
+        """Feed raw samples; return the rows every pipeline has produced since (aligned), or None."""
+        produced = {window: stream.add(columns) for window, stream in self.derivatives.items()}
+        for pipeline, stream in self.filters.items():
+            out = produced[pipeline.window]
+            if out is None:
+                continue
+            main = pipeline is self.watcher.pipelines[0]
+            values = [out["X"], out["tau"][:, None]]
+            if main:
+                values += [out["q"][:, None], out["qd"][:, None], out["qdd"][:, None], out["t"][:, None]]
+            rows, filtered = stream.add(np.hstack(values), int(out["index"][0]))
+            if len(rows):
+                self.outputs[pipeline].append((rows, filtered))
+        return self._aligned()
+
+    def _aligned(self) -> dict | None:
+        """The rows every pipeline has, as arrays; rows only some have wait (those before all began are lost)."""
+        spans = {}
+        for pipeline, pieces in self.outputs.items():
+            if not pieces:
+                return None
+            spans[pipeline] = (int(pieces[0][0][0]), int(pieces[-1][0][-1]))
+        first = max(span[0] for span in spans.values())
+        last = min(span[1] for span in spans.values())
+        if last < first:
+            return None
+        p = self.watcher.model.size
+        aligned = {}
+        for pipeline, pieces in self.outputs.items():
+            rows = np.concatenate([piece[0] for piece in pieces])
+            values = np.concatenate([piece[1] for piece in pieces])
+            inside = (rows >= first) & (rows <= last)
+            aligned[pipeline] = values[inside]
+            later = rows > last
+            self.outputs[pipeline] = [(rows[later], values[later])] if later.any() else []
+        main = aligned[self.watcher.pipelines[0]]
+        return {"X": main[:, :p], "tau": main[:, p], "q": main[:, p + 1], "qd": main[:, p + 2],
+                "qdd": main[:, p + 3], "t": main[:, p + 4],
+                "variants": {pipeline: (aligned[pipeline][:, :p], aligned[pipeline][:, p])
+                             for pipeline in self.watcher.pipelines[1:]}}
+
+
+class Watcher:
+    """A joint identified while it moves: `add` each Received block, `refresh` for what to show."""
+
+    def __init__(self, *, model: str | JointModel | None = None, mechanism: str | None = None,
+                 effort: str = "torque", linear: bool = False, zero: str = "right", clockwise: bool = False,
+                 window: int | None = None, order: int = DEFAULT_ORDER, cutoff: float | None = None,
+                 decimate: int | None = None, robust: bool = True, sensitivity: bool = True,
+                 warmup: float = WARMUP_SECONDS, recent: float = RECENT_SECONDS):
+        """Configured as a log fit: `model` (a name or JointModel) or `mechanism` ('simple', 'elevator', 'arm'),
+        `effort` ('torque' or 'voltage', the source's), `linear` (q in metres), the angle's `zero` and `clockwise`
+        convention, the derivative `window` and `order`, the low-pass `cutoff` (Hz; 0 off) and `decimate`, the
+        robust step and the sensitivity check; `warmup` seconds choose the filters, `recent` seconds are charted."""
+        if effort not in ("torque", "voltage"):
+            raise ValueError(f"effort must be 'torque' or 'voltage' (a source converts current); got {effort!r}")
+        check_filter(window, order)
+        if cutoff is not None and cutoff < 0:
+            raise ValueError(f"cutoff must be at least 0 Hz; got {cutoff}")
+        if decimate is not None and decimate < 1:
+            raise ValueError(f"decimate must be at least 1; got {decimate}")
+        self.effort = effort_named(effort)
+        self.convention = AngleConvention(zero, bool(clockwise))
+        self.linear = bool(linear)
+        self._asked_model, self._asked_mechanism = model, mechanism
+        self.window_asked, self.order = window, order
+        self.request = FilterRequest(cutoff, decimate)
+        self.robust, self.sensitivity = bool(robust), bool(sensitivity)
+        self.warmup, self.recent_seconds = float(warmup), float(recent)
+        self.model: JointModel | None = None
+        if model is not None or mechanism is not None or effort == "torque":
+            self.model = self._model_for(sysid=False)
+        # What the warm-up fixes.
+        self.step: float | None = None
+        self.window: int | None = None
+        self.window_choice: WindowChoice | None = None
+        self.filter: ParallelFilter | None = None
+        self.pipelines: tuple[Pipeline, ...] = ()
+        self._warm: list[dict[str, np.ndarray]] = []
+        # Counts and the source's story.
+        self.received = 0
+        self.dropped = 0
+        self.elapsed = 0.0
+        self.ended = False
+        self.events: deque[str] = deque(maxlen=EVENTS)
+        self.tests: dict[str, float] = {}
+        self._last_t: float | None = None
+        self._segment: _Segment | None = None
+        self._fed: tuple[float, str | None] | None = None
+        """The last sample streamed: its time and SysId state."""
+        self._sysid = False
+        # Fitted statistics.
+        self.statistics: BatchStatistics | None = None
+        self.variant_statistics: dict[Pipeline, BatchStatistics] = {}
+        self.all_moving: BatchStatistics | None = None
+        """Every moving row, outside torques kept in: the --no-robust refit's statistics."""
+        self._pending: list[dict] = []
+        self._speed_squares = 0.0
+        self._speed_count = 0
+        self._resolution = 0.0
+        self._range = [math.inf, -math.inf]
+        self._directions = [0, 0]
+        self._recent: deque[dict] = deque()
+        self._history: dict[str, list[tuple[float, float, float]]] = {}
+        self._determined: dict[str, tuple[float, float] | None] = {}
+
+    # -- configuration --------------------------------------------------------------------------------------------
+
+    def _model_for(self, sysid: bool) -> JointModel:
+        """The model to fit: as asked, else the mechanism's, else a log's default for the effort (a SysId routine's
+        arm model, a simple motor's for a linear one)."""
+        from .mechanism import mechanism_model
+
+        asked = self._asked_model
+        if asked is not None:
+            model = model_named(asked) if isinstance(asked, str) else asked
+            if not isinstance(model, JointModel):
+                raise TypeError(f"model must be a model name or a JointModel; got {type(asked).__name__}")
+        elif self._asked_mechanism is not None:
+            model = mechanism_model(self._asked_mechanism)
+        elif sysid:
+            from .sysid import SYSID_MODEL
+
+            model = SIMPLE_MOTOR if self.linear else model_named(SYSID_MODEL)
+        else:
+            model = model_named(default_log_model(self.effort.name))
+        model = model.in_effort(self.effort)
+        kinds = {term.kind for term in model.terms}
+        if self.linear and kinds & {"h", "h_c", "h_s"}:
+            raise ValueError(f"the model {model.name!r} takes cos(q), but q is a length in metres: fit it as a "
+                             f"simple motor or an elevator")
+        return model
+
+    def _start(self) -> None:
+        """Fix the step, the filters and the pipelines from the warm-up's samples, then feed them."""
+        warm = {name: np.concatenate([block[name] for block in self._warm]) for name in self._warm[0]}
+        t, q = warm["t"], warm["q"]
+        steps = np.diff(t)
+        self.step = float(np.median(steps[steps > 0]))
+        self._sysid = "state" in warm
+        if self.model is None or (self._sysid and self._asked_model is None and self._asked_mechanism is None):
+            self.model = self._model_for(self._sysid)
+        request = self.request
+        if self._sysid and request.cutoff is None:
+            request = FilterRequest(0.0, request.decimate)  # as studies.sysid.sysid_filtering
+        missing = not {"qd", "qdd"} <= set(warm)
+        automatic = None
+        if missing:
+            window = self.window_asked
+            if window is None:
+                window = self.order + 2 if self.order % 2 else self.order + 3
+                automatic = None if request.cutoff else automatic_cutoff(q, self.step)
+                follows = request.cutoff if request.cutoff else (automatic or (None,))[0]
+                if follows:
+                    self.window_choice = smoothing_window(self.step, follows, self.order, len(q), automatic)
+                    window = self.window_choice.window
+            self.window = window
+        # Decimation as for a long log (a warm-up's count would cap it); the cutoff from the warm-up's motion.
+        long = max(len(q), int(3600 / self.step))
+        try:
+            self.filter = choose_filter(request, self.step, True, q, long, automatic)
+        except FilterRequestError as error:
+            raise ValueError(f"the low-pass cannot apply: {error}") from None
+        pipelines = [Pipeline("", 1.0, self.window, self.filter)]
+        if self.sensitivity:
+            if self.window is not None:
+                from .log_fit import _scaled_window
+
+                for factor in FACTORS:
+                    other = _scaled_window(self.window, factor, self.order, 10 ** 9)
+                    if other is not None and other != self.window:
+                        pipelines.append(Pipeline("window", factor, other, self.filter))
+            if self.filter.active:
+                for factor in FACTORS:
+                    try:
+                        other = choose_filter(FilterRequest(self.filter.cutoff * factor, self.filter.decimation),
+                                              self.step, True, q, long)
+                    except FilterRequestError:  # a doubled cutoff beyond the Nyquist frequency: skipped
+                        continue
+                    pipelines.append(Pipeline("cutoff", factor, self.window, other))
+        self.pipelines = tuple(pipelines)
+        p = self.model.size
+        self.statistics = BatchStatistics(p, self._batch_rows())
+        self.variant_statistics = {pipeline: BatchStatistics(p, 10 ** 12) for pipeline in self.pipelines[1:]}
+        self.all_moving = BatchStatistics(p, 10 ** 12)
+        if self.filter.active:
+            counts = np.abs(np.diff(q))
+            counts = counts[counts > 1e-9 * max(1.0, float(np.max(np.abs(q))))]
+            if len(counts):  # one encoder count over half a cutoff period (estimation.exclusion's resolution)
+                self._resolution = float(np.percentile(counts, 1)) * 2 * self.filter.cutoff
+        self._warm = []
+        self._feed(warm)
+
+    def _batch_rows(self) -> int:
+        """The shortest batch: several times the rows over which a filtered fit's residuals correlate."""
+        chosen = self.filter
+        if not chosen.active:
+            return max(4 * self.model.size, 16)
+        support = max(1, math.ceil(chosen.support * chosen.rate / chosen.decimation))
+        return max(4 * support, 4 * self.model.size, 16)
+
+    @property
+    def support(self) -> int:
+        """The filter's support in fitted rows (0 unfiltered)."""
+        chosen = self.filter
+        if chosen is None or not chosen.active:
+            return 0
+        return max(1, math.ceil(chosen.support * chosen.rate / chosen.decimation))
+
+    @property
+    def fitted_rate(self) -> float:
+        """Fitted rows per second."""
+        return 1.0 / (self.step * self.filter.decimation)
+
+    # -- samples in -------------------------------------------------------------------------------------------------
+
+    def add(self, received) -> None:
+        """Take one Received block: its samples, events, drops and end."""
+        self.events.extend(received.events)
+        self.dropped += int(received.dropped)
+        self.ended = self.ended or bool(received.ended)
+        if not received.count:
+            return
+        columns = {name: np.asarray(values) for name, values in received.columns.items()}
+        for name in columns:
+            if name != "state":
+                columns[name] = np.asarray(columns[name], dtype=float)
+        if "q" not in columns or "tau" not in columns:
+            raise ValueError("a live source must give q and tau (and t) to be watched")
+        sign, offset = self.convention.sign, self.convention.offset
+        if not self.convention.is_default:  # as a log's convention: in radians, after the source's units
+            columns["q"] = sign * columns["q"] + offset
+            for name in ("qd", "qdd", "tau"):
+                if name in columns:
+                    columns[name] = sign * columns[name]
+        self.received += received.count
+        self._count_time(columns["t"])
+        if self.step is None:
+            self._warm.append(columns)
+            t0 = self._warm[0]["t"][0]
+            count = sum(len(block["t"]) for block in self._warm)
+            if columns["t"][-1] - t0 >= self.warmup and count >= WARMUP_SAMPLES:
+                self._start()
+            return
+        self._feed(columns)
+
+    def _count_time(self, t: np.ndarray) -> None:
+        """Seconds of samples received, gaps not counted."""
+        previous = self._last_t
+        steps = np.diff(t) if previous is None else np.diff(np.concatenate([[previous], t]))
+        if self.step is not None:
+            steps = steps[steps <= GAP_FACTOR * self.step]
+        self.elapsed += float(np.sum(steps[steps > 0]))
+        self._last_t = float(t[-1])
+
+    def _feed(self, columns: dict[str, np.ndarray]) -> None:
+        """Cut samples into contiguous stretches (at gaps and SysId test changes) and stream each."""
+        t = columns["t"]
+        state = columns.get("state")
+        if state is not None:
+            state = np.asarray(state).astype(str)
+            self._count_tests(state)
+        before = np.concatenate([[math.nan if self._fed is None else self._fed[0]], t[:-1]])
+        breaks = ~(np.diff(np.concatenate([[before[0]], t])) <= GAP_FACTOR * self.step)  # NaN: a first sample
+        if state is not None:
+            breaks |= state != np.concatenate([[None if self._fed is None else self._fed[1]], state[:-1]])
+        starts = np.flatnonzero(breaks)
+        edges = [0, *(int(k) for k in starts if k > 0), len(t)]
+        for first, last in zip(edges[:-1], edges[1:]):
+            piece = {name: values[first:last] for name, values in columns.items() if name != "state"}
+            if breaks[first]:
+                self._finish_segment()
+                name = "" if state is None else str(state[first])
+                idle = state is not None and name.strip().lower() in IDLE_STATES
+                self._segment = None if idle else _Segment(self, name)
+            if self._segment is not None:
+                rows = self._segment.add(piece)
+                if rows is not None:
+                    self._pending.append(rows)
+        self._fed = (float(t[-1]), None if state is None else str(state[-1]))
+        self._judge_pending(final=False)
+
+    def _count_tests(self, state: np.ndarray) -> None:
+        """Seconds of each SysId test received."""
+        names, counts = np.unique(state, return_counts=True)
+        for name, count in zip(names, counts):
+            if str(name).strip().lower() not in IDLE_STATES:
+                self.tests[str(name)] = self.tests.get(str(name), 0.0) + float(count) * self.step
+
+    def _finish_segment(self) -> None:
+        """Close the current stretch: its unfinished ends are not fitted; what waits is judged."""
+        self._segment = None
+        self._judge_pending(final=True)
+
+    # -- rows judged and fitted -----------------------------------------------------------------------------------
+
+    def _judge_pending(self, final: bool) -> None:
+        """Judge the rows waiting for standstill and outside torques once a block's worth has arrived (any at the
+        end of a stretch), and add the kept rows to the statistics."""
+        count = sum(len(rows["tau"]) for rows in self._pending)
+        enough = max(int(ROBUST_SECONDS * self.fitted_rate) if self.step else 0, 8 * (self.model.size + 1))
+        if not count or (count < enough and not final):
+            return
+        pending = self._pending
+        self._pending = []
+        block = {name: np.concatenate([rows[name] for rows in pending]) for name in ("X", "tau", "q", "qd", "qdd",
+                                                                                      "t")}
+        variants = {pipeline: (np.concatenate([rows["variants"][pipeline][0] for rows in pending]),
+                               np.concatenate([rows["variants"][pipeline][1] for rows in pending]))
+                    for pipeline in self.pipelines[1:]}
+        still, pushes = self._exclusions(block)
+        kept = ~(still | pushes)
+        when = self.elapsed
+        self.statistics.add(block["X"][kept], block["tau"][kept], when)
+        self.all_moving.add(block["X"][~still], block["tau"][~still], when)
+        for pipeline, (X, tau) in variants.items():
+            self.variant_statistics[pipeline].add(X[kept], tau[kept], when)
+        self._remember(block, kept)
+
+    def _exclusions(self, block: dict) -> tuple[np.ndarray, np.ndarray]:
+        """(standstill, outside torques) of a block of rows, as a log fit finds them (estimation.exclusion)."""
+        X, tau = block["X"], block["tau"]
+        size = len(tau)
+        still = np.zeros(size, dtype=bool)
+        rest = still
+        model = self.model
+        support = self.support
+        coulomb, speed_index = model.index_of("Fc"), model.index_of("B")
+        if coulomb is not None and speed_index is not None:
+            speed = X[:, speed_index]
+            self._speed_squares += float(np.dot(speed, speed))
+            self._speed_count += size
+            threshold = max(STANDSTILL_SHARE * math.sqrt(self._speed_squares / self._speed_count),
+                            3.0 * self._resolution)
+            slow = np.abs(speed) < threshold
+            rest = np.zeros(size, dtype=bool)
+            for first, last in runs(slow):
+                if last - first + 1 >= max(2, support):
+                    rest[first:last + 1] = True
+            rest = widened(rest, support)
+            still = slow | rest
+            if (~still).sum() <= 4 * X.shape[1]:
+                still = rest = np.zeros(size, dtype=bool)
+        pushes = np.zeros(size, dtype=bool)
+        usable = ~still
+        if not self.robust or usable.sum() <= 4 * X.shape[1]:
+            return still, pushes
+        start = None
+        solution = self.statistics.solution()
+        if solution is not None and solution.estimate is not None:
+            start = solution.estimate
+        lag = max(4, 2 * support)
+        with np.errstate(all="ignore"):
+            flagged, level, _ = outside_torques(X, tau, usable, rest, coulomb, support, lag, start)
+            if not model.effort.is_torque:  # a voltage step's response is the signal, not an outside torque
+                reach = (self.window or 0) + 2 * support + 2
+                flagged = explained_transients(X, tau, flagged, usable, commanded_changes(tau, reach), level)
+        return still, flagged
+
+    def _remember(self, block: dict, kept: np.ndarray) -> None:
+        """Keep the recent rows for the charts, the prediction and the advice's view of the motion."""
+        q, qd = block["q"][kept], block["qd"][kept]
+        if len(q):
+            self._range = [min(self._range[0], float(np.min(q))), max(self._range[1], float(np.max(q)))]
+            self._directions[0] += int(np.sum(qd > 0))
+            self._directions[1] += int(np.sum(qd < 0))
+        self._recent.append({name: block[name][kept] for name in ("t", "q", "qd", "qdd", "tau", "X")})
+        newest = block["t"][-1]
+        while self._recent and len(self._recent[0]["t"]) and self._recent[0]["t"][-1] < newest - self.recent_seconds:
+            self._recent.popleft()
+        while self._recent and not len(self._recent[0]["t"]):
+            self._recent.popleft()
+
+    # -- refresh ----------------------------------------------------------------------------------------------------
+
+    def refresh(self) -> WatchRefresh:
+        """What to show now: each parameter's estimate, error, verdict and history, the advice, the tests seen."""
+        result = self._fit()
+        parameters = self._traces(result)
+        return WatchRefresh(
+            elapsed=self.elapsed,
+            received=self.received,
+            fitted=0 if self.statistics is None else self.statistics.count,
+            dropped=self.dropped,
+            parameters=parameters,
+            advice=self._advice(parameters),
+            tests=tuple(self.tests.items()),
+            events=tuple(self.events),
+            recent=self._recent_columns(result),
+            result=result,
+            ended=self.ended,
+        )
+
+    def _fit(self) -> FitResult | None:
+        """The current fit as a FitResult carrying the whole run's statistics and the judged verdicts."""
+        statistics = self.statistics
+        if statistics is None or statistics.count <= self.model.size or not self._recent:
+            return None
+        solution = statistics.solution()
+        recent = self._recent_rows()
+        training = JointData(t=recent["t"], q=recent["q"], qd=recent["qd"], qdd=recent["qdd"], tau=recent["tau"])
+        result = FitResult(training=training, heldout=None, heldout_is_noiseless=False, solution=solution,
+                           training_regressor=recent["X"], model=self.model)
+        correlated = None
+        if self.filter.active and solution.estimate is not None:
+            correlated = statistics.batch_covariance(solution)
+        uncertainty = parameter_uncertainty(solution, None, self.model, None, correlated)
+        # The whole run's statistics, not the recent rows' the result carries for its charts.
+        vars(result)["uncertainty"] = uncertainty
+        vars(result)["training_rmse"] = float(solution.residual_norm) / math.sqrt(solution.row_count)
+        return with_judgement(result, self._judgement(result, statistics))
+
+    def _judgement(self, result: FitResult, statistics: BatchStatistics):
+        """The verdicts as a log fit's: noise errors, the sensitivity refits, --no-robust, the halves' scatter."""
+        names = self.model.names
+        uncertainty = result.uncertainty
+        if uncertainty is None or uncertainty.relative_std_pct is None:
+            return noise_judgement(names, None)
+        if self.filter.active and len(statistics.batches) < MIN_BATCHES:
+            return noise_judgement(names, None)
+        findings = list(self._sensitivity_findings(result))
+        findings += self._robust_findings(result)
+        return judge(names, uncertainty.relative_std_pct, None, findings, self._halves_scatter(result))
+
+    def _sensitivity_findings(self, result: FitResult) -> tuple[Finding, ...]:
+        """The sensitivity check's flags from the parallel pipelines' estimates, as a log fit's."""
+        if not self.variant_statistics or result.uncertainty.residual_std_error is None:
+            return ()
+        base = Variant("", 1.0, self.window, self.filter.cutoff, result.estimate)
+        variants = []
+        for pipeline, statistics in self.variant_statistics.items():
+            solution = statistics.solution()
+            if solution is None or solution.estimate is None:
+                continue
+            variants.append(Variant(pipeline.label, pipeline.factor, pipeline.window, pipeline.chosen.cutoff,
+                                    self.model.report(solution.estimate)))
+        torque_rms = float(np.linalg.norm(self.statistics.triangle[:, -1])) / math.sqrt(self.statistics.count)
+        check = sensitivity_check(self.model.names, base, result.uncertainty.residual_std_error, variants,
+                                  rmse=result.training_rmse, torque_rms=torque_rms)
+        return tuple(Finding(name, SETTINGS_MOVED) for name, flagged in zip(check.names, check.flags) if flagged)
+
+    def _robust_findings(self, result: FitResult) -> list[Finding]:
+        """Parameters the fit with the outside torques kept in moves beyond ROBUST_MOVE standard errors."""
+        moving = self.all_moving
+        if not self.robust or moving.count == self.statistics.count:
+            return []
+        solution = moving.solution()
+        errors = result.uncertainty.residual_std_error
+        if solution is None or solution.estimate is None or errors is None:
+            return []
+        kept_in = self.model.report(solution.estimate)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            moves = np.abs(kept_in - result.estimate) / errors
+        return [Finding(name, f"moved {move:.1f} standard errors by --no-robust")
+                for name, move in zip(self.model.names, moves) if move > ROBUST_MOVE]
+
+    def _halves_scatter(self, result: FitResult):
+        """The scatter of the run's two halves (each fitted alone) beyond their errors, as a log fit's."""
+        batches = self.statistics.batches
+        if not self.filter.active or len(batches) < 2 * MIN_BATCHES:
+            return ()
+        counts = np.cumsum([batch.count for batch in batches])
+        middle = int(np.searchsorted(counts, counts[-1] / 2))
+        values, errors = [], []
+        for half in (batches[:middle + 1], batches[middle + 1:]):
+            if len(half) < 2:
+                return ()
+            solution = self.statistics.solution(half)
+            if solution.estimate is None:
+                return ()
+            correlated = self.statistics.batch_covariance(solution, half)
+            uncertainty = parameter_uncertainty(solution, None, self.model, None, correlated)
+            error = uncertainty.residual_std_error
+            if error is None or not np.all(np.isfinite(error)) or not np.all(error > 0):
+                return ()
+            values.append(uncertainty.estimate), errors.append(error)
+        ratios, significant = scatter_ratios(np.array(values), np.array(errors))
+        return scatter_findings(self.model.names, ratios, significant, "halves of the run")
+
+    def _traces(self, result: FitResult | None) -> tuple[ParameterTrace, ...]:
+        """Each parameter's trace: now, its thinned history and when it became well determined."""
+        if self.model is None:
+            return ()
+        traces = []
+        judgement = None if result is None else result.judgement
+        for k, parameter in enumerate(self.model.parameters):
+            name = parameter.name
+            value = error = math.nan
+            verdict = reason = None
+            if result is not None and result.estimate is not None:
+                value = float(result.estimate[k])
+                error = float(result.bse[name])
+                verdict = judgement.verdicts[k]
+                reason = judgement.reasons[k] or None
+                history = self._history.setdefault(name, [])
+                if not history or history[-1][0] < self.elapsed:
+                    history.append((self.elapsed, value, error))
+                    if len(history) >= 2 * HISTORY:
+                        del history[1:-1:2]  # every other point, the first and the newest kept
+            if verdict == WELL_DETERMINED:
+                if self._determined.get(name) is None:
+                    self._determined[name] = (self.elapsed, 100.0 * error / abs(value))
+            else:
+                self._determined[name] = None
+            since = self._determined.get(name)
+            traces.append(ParameterTrace(name, parameter.label, parameter.unit, value, error, verdict, reason,
+                                         None if since is None else since[0], None if since is None else since[1],
+                                         tuple(self._history.get(name, ()))))
+        return tuple(traces)
+
+    def _advice(self, traces: tuple[ParameterTrace, ...]) -> tuple[str, ...]:
+        """What motion would determine what is not determined yet."""
+        if self.model is None or self.step is None:
+            return (f"Waiting for {self.warmup:g} s of samples to choose the filters.",)
+        if self.statistics is None or not self.statistics.count:
+            return ("Waiting for the first fitted samples.",)
+        advice = []
+        for trace in traces:
+            if trace.verdict == WELL_DETERMINED:
+                continue
+            kind = self.model.term(self.model.columns_behind(trace.name)[0]).kind
+            motion = self._motion_for(kind)
+            if trace.verdict is None:
+                state = "not judged yet (too few stretches of data)"
+            elif trace.reason:
+                state = f"{trace.verdict} ({trace.reason})"
+            else:
+                state = f"{trace.verdict} at {100 * trace.error / abs(trace.value):.0f} %" \
+                    if trace.value and math.isfinite(trace.error) else trace.verdict
+            advice.append(f"{trace.name} ({trace.label}) is {state}: {motion}.")
+        return tuple(advice)
+
+    def _motion_for(self, kind: str) -> str:
+        """The motion that excites a term of kind `kind` (its torque term's name), given what was seen."""
+        both = self._directions[0] > 0 and self._directions[1] > 0
+        turn = "" if both else "move in both directions, and "
+        span = self._range[1] - self._range[0]
+        if kind == "I":
+            return "accelerate and brake harder (quick reversals or steps)"
+        if kind == "B":
+            return turn + "move at more different speeds, faster ones too"
+        if kind in ("Fc", "tau0"):
+            return "move in both directions" if not both else "move slowly as well as fast, in both directions"
+        if kind in ("h", "h_c", "h_s", "q0"):
+            return f"swing through more of the angle range (so far {math.degrees(span):.0f} degrees)" \
+                if math.isfinite(span) else "swing through more of the angle range"
+        if kind == "tauG":
+            return "move up and down at steady speeds"
+        return "move more, and more variedly"
+
+    def _recent_rows(self) -> dict[str, np.ndarray]:
+        """The recent fitted rows as arrays."""
+        return {name: np.concatenate([rows[name] for rows in self._recent]) for name in self._recent[0]}
+
+    def _recent_columns(self, result: FitResult | None) -> dict[str, np.ndarray]:
+        """'t', 'q', 'qd', 'tau' and 'predicted' of the last seconds, for the charts."""
+        if not self._recent:
+            return {}
+        rows = self._recent_rows()
+        recent = {name: rows[name] for name in ("t", "q", "qd", "tau")}
+        if result is not None and result.column_estimate is not None:
+            recent["predicted"] = rows["X"] @ result.column_estimate
+        return recent
+
+    @property
+    def state_size(self) -> int:
+        """Numbers the watcher holds (statistics, buffers, recent rows, histories): bounded however long it runs."""
+        total = 0
+        for statistics in (self.statistics, self.all_moving, *self.variant_statistics.values()):
+            total += 0 if statistics is None else statistics.size
+        total += sum(values.size for rows in self._recent for values in rows.values())
+        total += sum(len(history) * 3 for history in self._history.values())
+        if self._segment is not None:
+            for stream in self._segment.derivatives.values():
+                total += sum(values.size for values in stream._raw.values())
+            for stream in self._segment.filters.values():
+                total += 0 if stream._columns is None else stream._columns.size
+        total += sum(rows["X"].size for rows in self._pending)
+        return total

@@ -1,0 +1,262 @@
+"""The log pipeline's filters and least-squares statistics, applied to samples as they arrive (a live source).
+
+Each stage keeps only the tail of its input that later outputs still need, so memory and the work per sample do not
+grow with the time watched:
+
+- `DerivativeStream`: the regressor columns and effort of a joint model at full rate, with qd and qdd estimated
+  from q as jointid.logs.derivatives does (Savitzky-Golay smoothing, central differences) and every column not
+  made from the derivatives smoothed alike; an output waits until its whole window has arrived, so it equals the
+  offline value away from the ends (whose end polynomials a stream cannot know);
+- `LowPassStream`: the parallel low-pass and decimation of jointid.estimation.low_pass, evaluated at the kept rows
+  once the filter's whole window has arrived (the offline filter's value there, to rounding);
+- `BatchStatistics`: the upper triangle of [X | y] of every row so far (its QR update), and the same for contiguous
+  batches of rows, merged pairwise so their number stays bounded: the estimate and its covariance factor come from
+  the whole triangle; each batch's score s_b - S_b theta is linear in theta, so the batch-means (cluster) covariance
+  of the estimate, which holds for residuals correlated over less than a batch, needs only the batches' triangles.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from ..logs.derivatives import ROUNDING_FLOOR, savgol_coefficients
+from ..estimation.low_pass import ParallelFilter
+from ..estimation.solver import LeastSquaresSolution, solve_least_squares
+from ..estimation.uncertainty import covariance_factor
+
+MAX_BATCHES = 64
+"""Batches kept before adjacent pairs are merged (to half as many, each twice as long)."""
+
+
+class DerivativeStream:
+    """A model's regressor columns and the effort at full rate, from blocks of raw samples (one segment: no gap)."""
+
+    def __init__(self, terms, step: float, window: int | None, order: int):
+        """`window` None: qd and qdd are given with q (nothing to estimate or smooth)."""
+        self.terms, self.step, self.window, self.order = tuple(terms), step, window, order
+        self.half = 0 if window is None else window // 2
+        # Outputs at [a, b) need q from a - reach: smoothing q (half), two central differences, then the columns'
+        # own smoothing (half), which may read the estimated speed (Coulomb's sign qd).
+        self.reach = 0 if window is None else 2 * self.half + 2
+        self.weights = None if window is None else savgol_coefficients(window, order, 0)
+        self._raw: dict[str, np.ndarray] = {}
+        self._start = 0
+        """Segment index of the buffer's first sample."""
+        self.emitted = 0 if window is None else self.reach
+        """Segment index of the next output (the first `reach` samples have no whole window)."""
+        self._largest = 0.0
+
+    def add(self, columns: dict[str, np.ndarray]) -> dict[str, np.ndarray] | None:
+        """Append raw columns (q, tau, qd and qdd when given, t); return the outputs now complete: 'X' (n, p),
+        'tau', 'q', 'qd', 'qdd', 't' (n,), and 'index' (n,) their positions in the segment; None when none is."""
+        for name, values in columns.items():
+            old = self._raw.get(name)
+            self._raw[name] = values if old is None else np.concatenate([old, values])
+        size = len(self._raw["q"])
+        end = self._start + size - self.reach
+        if end <= self.emitted:
+            return None
+        first, last = self.emitted - self._start, end - self._start  # buffer positions of the outputs
+        raw = self._raw
+        if self.window is None:
+            q, qd, qdd = (raw[name][first:last] for name in ("q", "qd", "qdd"))
+            X = np.column_stack([term.column(q, qd, qdd) for term in self.terms]) if self.terms else \
+                np.empty((last - first, 0))
+            tau = raw["tau"][first:last]
+        else:
+            half, h = self.half, self.step
+            self._largest = max(self._largest, float(np.max(np.abs(raw["q"]))))
+            floor = ROUNDING_FLOOR * self._largest
+            span = slice(first - self.reach, last + self.reach)
+            smoothed = np.correlate(raw["q"][span], self.weights, mode="valid")  # [first-half-2, last+half+2)
+            velocity = (smoothed[2:] - smoothed[:-2]) / (2 * h)  # [first-half-1, last+half+1)
+            acceleration = (velocity[2:] - velocity[:-2]) / (2 * h)  # [first-half, last+half)
+            velocity = velocity[1:-1]
+            velocity[np.abs(velocity) <= floor / h] = 0.0  # rounding has no sign (Coulomb's column), as offline
+            wide = raw["q"][first - half: last + half]
+            inner = slice(half, len(wide) - half)
+            columns_out = []
+            for term in self.terms:
+                if term.from_derivatives:
+                    column = np.asarray(term.column(wide[inner], velocity[inner], acceleration[inner]), dtype=float)
+                else:
+                    values = np.broadcast_to(np.asarray(term.column(wide, velocity, acceleration), dtype=float),
+                                             wide.shape)
+                    column = np.correlate(values, self.weights, mode="valid")
+                columns_out.append(column)
+            X = np.column_stack(columns_out) if columns_out else np.empty((last - first, 0))
+            tau = np.correlate(raw["tau"][first - half: last + half], self.weights, mode="valid")
+            q, qd, qdd = wide[inner], velocity[inner], acceleration[inner]
+        out = {"X": X, "tau": tau, "q": q, "qd": qd, "qdd": qdd, "t": raw["t"][first:last],
+               "index": np.arange(self.emitted, end)}
+        self.emitted = end
+        keep = self.emitted - self.reach - self._start  # the next outputs read from here on
+        if keep > 0:
+            self._raw = {name: values[keep:] for name, values in self._raw.items()}
+            self._start += keep
+        return out
+
+
+class LowPassStream:
+    """The parallel low-pass and decimation of full-rate columns as they arrive, at the kept rows only."""
+
+    def __init__(self, chosen: ParallelFilter):
+        """`chosen`: the low-pass and decimation (inactive: decimation alone)."""
+        self.chosen = chosen
+        self.decimation = chosen.decimation
+        self.taps = None if chosen.design is None else chosen.design.taps
+        self.half = 0 if self.taps is None else chosen.design.half
+        self._columns: np.ndarray | None = None
+        self._start = 0
+        """Segment index of the buffer's first row."""
+        self.next_row = None
+        """The next kept row's index in decimated rows (row m is segment sample m x decimation)."""
+
+    def add(self, columns: np.ndarray, first: int) -> tuple[np.ndarray, np.ndarray]:
+        """Append (n, k) columns of segment samples first .. first + n - 1 (contiguous with the last call's); return
+        (kept rows' indices m (r,), their low-passed columns (r, k))."""
+        if self._columns is None:
+            self._columns, self._start = columns, first
+            # The first kept row whose window starts within what arrived.
+            self.next_row = -(-(first + self.half) // self.decimation)
+        else:
+            self._columns = np.concatenate([self._columns, columns])
+        end = self._start + len(self._columns)  # one past the last sample held
+        last_row = (end - 1 - self.half) // self.decimation  # the last row whose window has arrived
+        rows = np.arange(self.next_row, last_row + 1)
+        if not len(rows):
+            return rows, np.empty((0, columns.shape[1]))
+        centres = rows * self.decimation - self._start
+        if self.taps is None:
+            out = self._columns[centres]
+        else:
+            windows = np.lib.stride_tricks.sliding_window_view(self._columns, len(self.taps), axis=0)
+            out = np.einsum("rkl,l->rk", windows[centres - self.half], self.taps)
+        self.next_row = int(rows[-1]) + 1
+        drop = self.next_row * self.decimation - self.half - self._start
+        if drop > 0:
+            self._columns = self._columns[drop:]
+            self._start += drop
+        return rows, out
+
+
+def triangle_update(triangle: np.ndarray | None, rows: np.ndarray) -> np.ndarray:
+    """The (k, k) upper triangle R of [previous rows; `rows`] (R^T R = Z^T Z), from the previous triangle."""
+    stacked = rows if triangle is None else np.vstack([triangle, rows])
+    upper = np.linalg.qr(stacked, mode="r")
+    width = stacked.shape[1]
+    if upper.shape[0] < width:
+        upper = np.vstack([upper, np.zeros((width - upper.shape[0], width))])
+    return upper
+
+
+@dataclass
+class Batch:
+    """A contiguous stretch of fitted rows: its triangle, row count and column sums (residual sums need them)."""
+
+    triangle: np.ndarray
+    count: int
+    sums: np.ndarray
+    start: float
+    """Seconds watched at its first row."""
+
+
+class BatchStatistics:
+    """The least-squares statistics of rows [X | y] arriving in blocks, in bounded memory."""
+
+    def __init__(self, columns: int, batch_rows: int):
+        """`columns`: p; `batch_rows`: the shortest batch, longer than the residuals' correlation."""
+        self.columns = columns
+        self.batch_rows = max(1, batch_rows)
+        self.triangle: np.ndarray | None = None
+        self.count = 0
+        self.closed: list[Batch] = []
+        self.open: Batch | None = None
+
+    def add(self, X: np.ndarray, y: np.ndarray, when: float) -> None:
+        """Add rows (n, p) and (n,), `when` seconds watched at the first."""
+        if not len(y):
+            return
+        Z = np.column_stack([X, y])
+        self.triangle = triangle_update(self.triangle, Z)
+        self.count += len(y)
+        position = 0
+        while position < len(Z):
+            if self.open is None:
+                self.open = Batch(np.zeros((0, Z.shape[1])), 0, np.zeros(Z.shape[1]), when)
+            room = self.batch_rows - self.open.count
+            piece = Z[position: position + room]
+            self.open.triangle = triangle_update(self.open.triangle, piece)
+            self.open.count += len(piece)
+            self.open.sums = self.open.sums + piece.sum(axis=0)
+            position += len(piece)
+            if self.open.count >= self.batch_rows:
+                self.closed.append(self.open)
+                self.open = None
+                if len(self.closed) > MAX_BATCHES:
+                    self._merge()
+
+    def _merge(self) -> None:
+        """Adjacent batches merged pairwise (an odd last one kept): half as many, twice as long."""
+        merged = []
+        for k in range(0, len(self.closed) - 1, 2):
+            a, b = self.closed[k], self.closed[k + 1]
+            merged.append(Batch(triangle_update(a.triangle, b.triangle), a.count + b.count, a.sums + b.sums,
+                                a.start))
+        if len(self.closed) % 2:
+            merged.append(self.closed[-1])
+        self.closed = merged
+        self.batch_rows *= 2
+
+    @property
+    def batches(self) -> list[Batch]:
+        """Every batch, the open one last."""
+        return self.closed + ([self.open] if self.open is not None and self.open.count else [])
+
+    def solution(self, subset: list[Batch] | None = None) -> LeastSquaresSolution | None:
+        """jointid's column-scaled, pivoted least squares of every row (or of `subset`'s), None before any row."""
+        if subset is None:
+            if self.triangle is None:
+                return None
+            triangle, count = self.triangle, self.count
+        else:
+            triangle = None
+            for batch in subset:
+                triangle = triangle_update(triangle, batch.triangle)
+            count = sum(batch.count for batch in subset)
+        p = self.columns
+        # ||y - X theta|| = ||T_y - T_X theta|| for every theta: the same problem in p + 1 rows.
+        return replace(solve_least_squares(triangle[:, :p], triangle[:, p]), row_count=count)
+
+    def batch_covariance(self, solution: LeastSquaresSolution, subset: list[Batch] | None = None
+                         ) -> tuple[np.ndarray, float] | None:
+        """(The batch-means covariance of the column estimate, the effective count of independent rows), or None
+        with fewer than two batches or no unique fit."""
+        batches = self.batches if subset is None else subset
+        theta = solution.estimate
+        if theta is None or len(batches) < 2:
+            return None
+        p, count = self.columns, solution.row_count
+        meat = np.zeros((p, p))
+        shared = 0.0
+        for batch in batches:
+            gram = batch.triangle.T @ batch.triangle
+            score = gram[:p, p] - gram[:p, :p] @ theta
+            meat += np.outer(score, score)
+            shared += float(batch.sums[p] - batch.sums[:p] @ theta) ** 2
+        factor = covariance_factor(solution)
+        size = len(batches)
+        correction = size / (size - 1) * count / max(count - p, 1)
+        covariance = factor @ meat @ factor * correction
+        covariance = (covariance + covariance.T) / 2
+        rss = float(solution.residual_norm) ** 2
+        autocorrelation = max(shared / rss, 1.0) if rss > 0 else 1.0
+        return covariance, count / autocorrelation
+
+    @property
+    def size(self) -> int:
+        """Numbers held (the state's size, for memory checks)."""
+        return sum(batch.triangle.size + batch.sums.size for batch in self.batches) + (
+            0 if self.triangle is None else self.triangle.size)
