@@ -14,6 +14,8 @@ from support.nt_publishers import CLOCK_START, LoopbackServer, free_port, wait_u
 from support.simulated_joints import ARM, arm, flywheel  # noqa: E402
 
 from jointid.live.network_tables import NetworkTablesError, NetworkTablesSource, parse_address  # noqa: E402
+from jointid.live.received_log import ReceivedLog  # noqa: E402
+from jointid.logs.csv_reader import load_log  # noqa: E402
 
 ARM_TOPICS = {"/Arm/Position": "double", "/Arm/Velocity": "double", "/Arm/Acceleration": "double",
               "/Arm/Torque": "double"}
@@ -121,6 +123,34 @@ def test_a_server_restart_is_reconnected_and_the_gap_said_not_bridged(server, so
     np.testing.assert_allclose(after["t"], CLOCK_START + second.t, rtol=0, atol=1e-9)
     first_block = next(block for block in blocks if block.count)
     assert first_block.breaks == (0,)  # the second stretch starts a new one: nothing across the gap
+
+
+def test_what_arrived_across_a_restart_is_written_as_a_log_that_reads_back_the_same(server, sources, tmp_path):
+    first, second = arm(rate=50, duration=3.0), arm(rate=50, duration=3.0, start=5.0)
+    server.publish_topics(ARM_TOPICS)
+    source = arm_source(server, sources)
+    log = ReceivedLog.for_source(tmp_path / "watched.csv", source)
+    server.stream(dict(zip(ARM_TOPICS, (first.q, first.qd, first.qdd, first.tau))), first.t).join()
+    port = server.port
+    blocks = collect(source, len(first.t))[2]
+    server.stop()
+    blocks += collect(source, 0, until=lambda events: any("source gone" in e for e in events))[2]
+    restarted = LoopbackServer(tmp_path, port)
+    try:
+        restarted.publish_topics(ARM_TOPICS)
+        wait_until(lambda: all(restarted.subscribed(name) for name in ARM_TOPICS), what="the resubscriptions")
+        restarted.stream(dict(zip(ARM_TOPICS, (second.q, second.qd, second.qdd, second.tau))), second.t)
+        blocks += collect(source, len(second.t))[2]
+    finally:
+        restarted.stop()
+    for block in blocks:
+        log.write(block)
+    log.finish()
+    read = load_log(tmp_path / "watched.csv")
+    np.testing.assert_allclose(read.data.t, CLOCK_START + np.concatenate([first.t, second.t]), rtol=0, atol=1e-9)
+    np.testing.assert_array_equal(read.data.tau, np.concatenate([first.tau, second.tau]))
+    text = (tmp_path / "watched.csv").read_text()
+    assert "# stretch 2 starts here" in text and "(not bridged)" in text
 
 
 def test_values_published_faster_than_polled_beyond_the_buffer_are_counted_as_dropped(server, sources):
