@@ -19,6 +19,7 @@ from __future__ import annotations
 import json
 import threading
 import time
+import weakref
 from collections import deque
 
 import numpy as np
@@ -30,6 +31,7 @@ from .alignment import TopicAligner
 from .reading import LiveReading
 from .received import Received
 from .stretches import StretchClock
+from .unwrapping import LiveUnwrap
 
 DEFAULT_PORT = 5810
 """NetworkTables 4's port."""
@@ -92,12 +94,14 @@ class NetworkTablesSource:
 
     def __init__(self, address: str, entries, *, reading: LiveReading | None = None, units: str | None = None,
                  connect_timeout: float = 5.0, topic_timeout: float = 2.0, duration: float | None = None,
-                 buffered_values: int = BUFFERED_VALUES, client_name: str = "jointid watch"):
+                 gone_timeout: float | None = None, buffered_values: int = BUFFERED_VALUES,
+                 client_name: str = "jointid watch"):
         """Connect to the server at `address` ('HOST[:PORT]') and subscribe to the topics `entries` names (an
         EntryMap, 'q=/Arm/Position,tau=/Arm/Voltage' or a mapping); NetworkTablesError when the server does not
         answer within `connect_timeout` s, a topic is not published within `topic_timeout` s after that, or one
         has the wrong type. `units` reads every angle topic in that unit over its properties ('rotations',
-        'radians', 'degrees', 'meters'); `duration` ends the source after that many seconds of samples."""
+        'radians', 'degrees', 'meters'); `duration` ends the source after that many seconds of samples,
+        `gone_timeout` after the server has been gone that many seconds (None: it is waited for)."""
         self.host, self.port = parse_address(address)
         self.where = f"NetworkTables {self.host}:{self.port}"
         try:
@@ -115,7 +119,7 @@ class NetworkTablesSource:
                                      "voltage or torque)")
         if units is not None and units not in UNIT_CHOICES:
             raise NetworkTablesError(f"--units {units!r}: give one of {', '.join(UNIT_CHOICES)}")
-        self.units, self.duration = units, duration
+        self.units, self.duration, self.gone_timeout = units, duration, gone_timeout
         self.reading = reading or LiveReading()
         self.buffered_values = int(buffered_values)
         self.description = f"{self.where}: " + ", ".join(f"{key}={name}" for key, name in self.entries.pairs)
@@ -138,6 +142,7 @@ class NetworkTablesSource:
         self.numeric = tuple(key for key in ("q", "qd", "qdd", "tau") if key in self.pairs)
         self.aligner = TopicAligner(self.numeric, "q" if "q" in self.pairs else "qd", "state" in self.pairs)
         self.clock = StretchClock()
+        self.unwrapping = LiveUnwrap()
         self.first_t: float | None = None
         self.ended = False
         self.last_seen: dict[str, tuple[int, object]] = {}
@@ -150,6 +155,7 @@ class NetworkTablesSource:
         """A client instance subscribed to every topic named (before connecting, so no early value is missed)."""
         nt = self.ntcore
         self.instance = nt.NetworkTableInstance.create()
+        self._release = weakref.finalize(self, _release, nt, self.instance, self.listeners)
         options = nt.PubSubOptions(sendAll=True, keepDuplicates=True, periodic=SEND_PERIOD)
         self.topics = {key: self.instance.getTopic(name) for key, name in self.pairs.items()}
         self.subscribers = {key: topic.genericSubscribe(options) for key, topic in self.topics.items()}
@@ -293,7 +299,12 @@ class NetworkTablesSource:
                 return
             if self.clock.starting:
                 breaks.append(sum(len(part["t"]) for part in parts))
+                self.unwrapping.restart()
             columns = self.reading.convert(columns, self.factors)
+            if "q" in columns and not self.linear:
+                columns["q"], wrapped = self.unwrapping.unwrap(columns["t"], columns["q"])
+                if wrapped:
+                    self.events.append(wrapped)
             columns["t"], said = self.clock.place(columns["t"])
             if said:
                 self.events.append(said)
@@ -318,6 +329,10 @@ class NetworkTablesSource:
                 else:
                     self.events.append(f"connected to {self.host}:{self.port}")
         take()
+        if self.gone_at is not None and self.gone_timeout is not None and \
+                time.monotonic() - self.gone_at >= self.gone_timeout:
+            self.events.append(f"the server has been gone for {self.gone_timeout:g} s: done")
+            self.ended = True
         return self._received(parts, tuple(breaks), dropped, left_out)
 
     def _add_value(self, quantity: str | None, stamp: int, value) -> None:
@@ -356,11 +371,16 @@ class NetworkTablesSource:
     def close(self) -> None:
         """Stop listening and close the connection."""
         self.ended = True
-        instance, self.instance = self.instance, None
-        if instance is None:
-            return
-        for handle in self.listeners:
-            instance.removeListener(handle)
-        self.listeners = []
-        instance.stopClient()
-        self.ntcore.NetworkTableInstance.destroy(instance)
+        if self.instance is not None:
+            self._release()
+            self.instance = None
+
+
+def _release(ntcore, instance, listeners: list) -> None:
+    """Remove the listeners and destroy the client: at close, or at exit for a source never closed (ntcore's
+    listener thread calling into Python while the interpreter shuts down aborts the process)."""
+    for handle in listeners:
+        instance.removeListener(handle)
+    listeners.clear()
+    instance.stopClient()
+    ntcore.NetworkTableInstance.destroy(instance)

@@ -153,6 +153,14 @@ def test_what_arrived_across_a_restart_is_written_as_a_log_that_reads_back_the_s
     assert "# stretch 2 starts here" in text and "(not bridged)" in text
 
 
+def test_a_server_gone_longer_than_the_gone_timeout_ends_the_source(server, sources):
+    server.publish_topics(ARM_TOPICS)
+    source = arm_source(server, sources, gone_timeout=0.2)
+    server.stop()
+    _, events, blocks = collect(source, 0, until=lambda events: False)
+    assert blocks[-1].ended and "the server has been gone for 0.2 s: done" in events
+
+
 def test_values_published_faster_than_polled_beyond_the_buffer_are_counted_as_dropped(server, sources):
     run = arm(rate=1000, duration=1.0)
     server.publish_topics(ARM_TOPICS)
