@@ -26,6 +26,7 @@ from ..logs.table import CHUNK_BYTES, COLUMNS, LogError
 from .reading import LiveReading
 from .received import Received
 from .stretches import StretchClock
+from .unwrapping import LiveUnwrap
 
 STATE_COLUMN = "state"
 """The header name of a column of SysId test names (quasistatic-forward, ..., none), read as text."""
@@ -56,6 +57,7 @@ class GrowingCsv:
         self.effort = self.reading.effort_kind
         self.handle = self._open()
         self.clock = StretchClock()
+        self.unwrapping = LiveUnwrap()
         self.quantities: tuple[str, ...] | None = None  # the first header's: a new file must give the same
         self._reset_file()
         self.last_growth = time.monotonic()
@@ -239,6 +241,11 @@ class GrowingCsv:
         if STATE_COLUMN in columns:
             columns[STATE_COLUMN] = columns[STATE_COLUMN].astype(str)
         columns = self.reading.convert(columns)
+        if starting:
+            self.unwrapping.restart()
+        columns["q"], wrapped = self.unwrapping.unwrap(columns["t"], columns["q"])
+        if wrapped:
+            self.pending_events.append(wrapped)
         t, said = self.clock.place(columns["t"])
         columns["t"] = t
         if said:

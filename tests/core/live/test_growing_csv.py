@@ -197,3 +197,15 @@ def test_a_missing_file_or_a_fifo_is_refused_at_once(tmp_path):
     os.mkfifo(fifo)
     with pytest.raises(LogError, match="not a regular file"):
         GrowingCsv(fifo)
+
+
+def test_a_wrapped_angle_is_unwrapped_across_blocks_and_said_once(tmp_path):
+    t = np.arange(600) * 0.01
+    turning = 4.0 * t + 0.5 * np.sin(2 * t)  # a joint turning round and round
+    wrapped = np.angle(np.exp(1j * turning))  # as an encoder reports it, in (-pi, pi]
+    path = tmp_path / "capture.csv"
+    path.write_text("t,q,tau\n" + "".join(f"{a!r},{b!r},1\n" for a, b in zip(t.tolist(), wrapped.tolist())))
+    source = GrowingCsv(path, chunk_bytes=2000)  # many blocks: wraps fall in them and between them
+    columns, blocks = collect(source, len(t))
+    np.testing.assert_allclose(columns["q"], wrapped[0] + (turning - turning[0]), rtol=0, atol=1e-12)
+    assert sum("the angle is wrapped" in event for event in events_of(blocks)) == 1
