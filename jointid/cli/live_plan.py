@@ -25,7 +25,7 @@ class WatchPlan:
         self.source = source
         self.session = session
         self.recorder = recorder
-        """Keeps every block received (livesrc's received-log writer)."""
+        """Takes every block received: live.received_log.ReceivedLog with --save, else a ReceivedCount."""
         self.save_path = save_path
         self.force = force
         self._saved: Saved | None = None
@@ -62,16 +62,17 @@ class WatchPlan:
             return self._saved
 
     def _write(self, saved_type) -> Saved:
-        count = self.recorder.count
+        count = self.recorder.rows
         if self.save_path is None:
             return saved_type(None, count, "no --save PATH given")
         if count == 0:
+            self.recorder.abandon()
             return saved_type(None, 0, "no sample was received")
         try:
-            written = self.recorder.write(self.save_path, overwrite=self.force)
+            path = self.recorder.finish()
         except (OSError, ValueError) as error:  # the disk filled, the folder went: said, never a traceback
             return saved_type(None, count, f"{self.save_path} could not be written: {error}")
-        return saved_type(self.save_path, written)
+        return saved_type(path, count)
 
 
 def open_watch(args: argparse.Namespace, refresh_hz: float) -> WatchPlan:
@@ -81,11 +82,11 @@ def open_watch(args: argparse.Namespace, refresh_hz: float) -> WatchPlan:
     source = open_source(args)
     try:
         refitter = new_refitter(args, source)
-        recorder = new_recorder(args, source)
-    except BaseException:
+        recorder = new_recorder(args, source)  # --save's temporary file is made now: a folder that refuses it is
+    except BaseException:                      # said before anything is watched
         source.close()
         raise
-    session = WatchSession(source, refitter, refresh_hz=refresh_hz, duration=args.duration, record=recorder.add)
+    session = WatchSession(source, refitter, refresh_hz=refresh_hz, duration=args.duration, record=recorder.write)
     return WatchPlan(source, session, recorder, args.save, args.force)
 
 
@@ -120,13 +121,15 @@ def open_source(args: argparse.Namespace) -> LiveSource:
 
 
 def open_network_tables(args: argparse.Namespace, reading) -> LiveSource:
-    """The NetworkTables 4 subscription of --nt and --entry (jointid.live's)."""
+    """The NetworkTables 4 subscription of --nt and --entry (live.network_tables); UserError (one line) when the
+    host does not answer, a topic is missing or of the wrong type, or pyntcore is not installed."""
+    from ..live.network_tables import NetworkTablesError, NetworkTablesSource
+
     try:
-        from ..live.network_tables import NetworkTablesSource
-    except ImportError:
-        raise UserError("--nt: this build has no NetworkTables source yet (jointid.live.network_tables)") from None
-    host, port = args.nt
-    return NetworkTablesSource(host, port, args.entry, reading=reading, units=args.units, duration=args.duration)
+        return NetworkTablesSource(args.nt, args.entry, reading=reading, units=args.units, duration=args.duration,
+                                   gone_timeout=args.gone)
+    except NetworkTablesError as error:
+        raise UserError(str(error)) from None
 
 
 def new_refitter(args: argparse.Namespace, source: LiveSource):
@@ -147,36 +150,26 @@ def new_refitter(args: argparse.Namespace, source: LiveSource):
         raise UserError(f"argument --{error.field}: {error.problem}") from None
 
 
-class ReceivedRecorder:
-    """Every sample received, kept to be written as a CSV log that `jointid fit --csv` reads (t, q, qd, qdd, tau as
-    they were fitted: SI units, jointid's angle convention)."""
-
-    COLUMNS = ("t", "q", "qd", "qdd", "tau")
+class ReceivedCount:
+    """Without --save: what was received is only counted (the last line says nothing was written, and why)."""
 
     def __init__(self) -> None:
-        self.blocks: list[dict] = []
-        self.count = 0
+        self.rows = 0
 
-    def add(self, block: Received) -> None:
-        """Keep a block's numeric columns."""
-        if block.count:
-            self.blocks.append({name: block.columns[name] for name in self.COLUMNS if name in block.columns})
-            self.count += block.count
-
-    def write(self, path: str, overwrite: bool = False) -> int:
-        """Write the samples atomically (jointid.files); the number written. ExportError when it cannot."""
-        import numpy as np
-
-        from ..files import atomic_output
-
-        names = [name for name in self.COLUMNS if all(name in block for block in self.blocks)]
-        table = np.column_stack([np.concatenate([block[name] for block in self.blocks]) for name in names])
-        with atomic_output(path, overwrite=overwrite) as handle:
-            # 17 significant digits: reading the file back gives the same doubles.
-            np.savetxt(handle, table, delimiter=",", fmt="%.17g", header=",".join(names), comments="")
-        return len(table)
+    def write(self, block: Received) -> None:
+        """Count a block's samples."""
+        self.rows += block.count
 
 
 def new_recorder(args: argparse.Namespace, source: LiveSource):
-    """The received-log writer, fed every block."""
-    return ReceivedRecorder()
+    """Where every block received goes: the received log of --save (live.received_log, written to a temporary
+    file beside PATH as blocks arrive, put in place when the watch stops), or a count without it."""
+    if args.save is None:
+        return ReceivedCount()
+    from ..files import ExportError
+    from ..live.received_log import ReceivedLog
+
+    try:
+        return ReceivedLog.for_source(args.save, source, overwrite=args.force)
+    except ExportError as error:
+        raise UserError(f"--save {error}") from None

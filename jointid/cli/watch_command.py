@@ -31,7 +31,7 @@ if TYPE_CHECKING:
 NAME = "watch"
 
 NT4_PORT = 5810
-"""NetworkTables 4's default port, as robot code and WPILib's simulator serve it."""
+"""NetworkTables 4's default port (live.network_tables.DEFAULT_PORT; not imported: help starts without numpy)."""
 
 HIGHEST_REFRESH_HZ = 60.0
 """More refreshes a second than a terminal shows are refused rather than spent on fits nobody sees."""
@@ -51,9 +51,9 @@ def add_parser(subparsers) -> None:
     sources.add_argument("--csv", metavar="PATH",
                          help="a CSV log being appended (a bench logger, a serial capture): read as it grows, a "
                          "partial last line waited for")
-    sources.add_argument("--nt", type=nt_address, metavar="HOST[:PORT]",
+    sources.add_argument("--nt", metavar="HOST[:PORT]",
                          help=f"a NetworkTables 4 server (the robot, or WPILib's simulator at 127.0.0.1); port "
-                         f"{NT4_PORT} by default; name the topics with --entry (needs pip install 'jointid[wpilib]')")
+                         f"{NT4_PORT} by default; name the topics with --entry (needs pip install 'jointid[nt]')")
     source.add_argument("--entry", type=_entry_map, metavar="MAP",
                         help="which topic gives which quantity, as for a data log: e.g. q=/Arm/Position,"
                         "qd=/Arm/Velocity,tau=/Arm/Voltage (quantities: q, qd, qdd, tau, and state for a SysId "
@@ -87,6 +87,9 @@ def add_parser(subparsers) -> None:
                           help="refits a second, above 0 and at most 60; default 4")
     watching.add_argument("--duration", type=positive_number, default=None, metavar="S",
                           help="stop after S seconds of watching; default: until q, Ctrl+C or the source's end")
+    watching.add_argument("--gone", type=positive_number, default=None, metavar="S",
+                          help="with --nt: stop when the server has been gone S seconds; default: wait for it to "
+                          "return (the gap is said, never bridged)")
     watching.add_argument("--save", metavar="PATH",
                           help="when watching stops, write every sample received to this CSV log (atomically), "
                           "which `jointid fit --csv PATH` fits; refused up front if PATH exists, unless --force")
@@ -94,28 +97,6 @@ def add_parser(subparsers) -> None:
     watching.add_argument("--json-lines", action="store_true",
                           help="print one JSON object per refresh on stdout (the last says what was saved), and "
                           "no explorer")
-
-
-def nt_address(text: str) -> tuple[str, int]:
-    """argparse type of --nt: (host, port) from 'HOST', 'HOST:PORT' or '[IPV6]:PORT'."""
-    host, port = text.strip(), NT4_PORT
-    if host.startswith("["):
-        inside, bracket, rest = host[1:].partition("]")
-        if not bracket or (rest and not rest.startswith(":")):
-            raise argparse.ArgumentTypeError(f"expected HOST, HOST:PORT or [IPV6]:PORT; got {text!r}")
-        host, port_text = inside, rest[1:] if rest else None
-    elif host.count(":") == 1:
-        host, port_text = host.split(":")
-    else:
-        port_text = None  # a bare IPv6 address has several colons: no port in it
-    if port_text is not None:
-        if not port_text.isdigit() or not 1 <= int(port_text) <= 65535:
-            raise argparse.ArgumentTypeError(f"the port must be a whole number from 1 to 65535; got {text!r}")
-        port = int(port_text)
-    if not host or any(c.isspace() or c in "/?#@" for c in host):
-        raise argparse.ArgumentTypeError(f"expected a host name or address, e.g. 127.0.0.1 or 10.12.34.2; got "
-                                         f"{text!r}")
-    return host, port
 
 
 def refresh_rate(text: str) -> float:
@@ -138,7 +119,8 @@ def check_flags(args: argparse.Namespace) -> None:
             raise UserError(f"{', '.join(stray)}: only for --csv; name NetworkTables topics with --entry and their "
                             "unit with --units")
     else:
-        stray = [flag for flag, value in (("--entry", args.entry), ("--units", args.units)) if value]
+        stray = [flag for flag, value in (("--entry", args.entry), ("--units", args.units), ("--gone", args.gone))
+                 if value]
         if stray:
             raise UserError(f"{', '.join(stray)}: only for --nt; name a CSV's columns with --columns")
     if args.mechanism is not None and args.model is not None:
