@@ -63,10 +63,10 @@ def verdict_word(trace: ParameterTrace) -> str:
 
 
 def parameter_text(trace: ParameterTrace, digits: int = 4) -> str:
-    """'I 0.08124 ± 3.8 % well determined' (value to `digits` significant figures; '—' without a fit)."""
+    """'I 0.8000 ± 3.8 % well determined' (value to `digits` significant figures, zeros kept; '—' without a fit)."""
     if trace.verdict is None or not math.isfinite(trace.value):
         return f"{trace.name} — {verdict_word(trace)}"
-    return f"{trace.name} {trace.value:.{digits}g} ± {percent_text(relative_error_pct(trace))} {verdict_word(trace)}"
+    return f"{trace.name} {trace.value:#.{digits}g} ± {percent_text(relative_error_pct(trace))} {verdict_word(trace)}"
 
 
 def counts_text(refresh: WatchRefresh) -> str:

@@ -198,13 +198,15 @@ class WatchScreen(Screen):
         refresh = self.shown
         counts = WAITING if refresh is None else counts_text(refresh)
         if self.saved is not None:
-            second = f"Stopped ({self.stopped_by}). {saved_sentence(self.saved)} q leaves."
+            seconds = (f"Stopped ({self.stopped_by}). {saved_sentence(self.saved)} q leaves.",)
         elif self._leave_when_done:
-            second = "Stopping: fitting what arrived and saving…"
+            seconds = ("Stopping: fitting what arrived and saving…",)
         else:
             latest = refresh.events[-1] if refresh is not None and refresh.events else None
-            second = f"Watching · {latest} · q stops and saves" if latest else "Watching · q stops and saves"
-        self.query_one("#status", FittingLine).show((Content(f"{counts}\n{second}"),))
+            # The latest event where it fits the two rows, else only the key (the notifications have the rest).
+            seconds = ((f"Watching · {latest} · q stops and saves",) if latest else ()) + (
+                "Watching · q stops and saves",)
+        self.query_one("#status", FittingLine).show(tuple(Content(f"{counts}\n{second}") for second in seconds))
 
     # --- the keys ---------------------------------------------------------------------------
 

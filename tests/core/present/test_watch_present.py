@@ -55,7 +55,7 @@ def test_the_text_line_names_each_parameter_its_relative_error_and_verdict():
     assert line.startswith("8.0 s, 200 received, 200 fitted: ")
     for trace in last.parameters:
         pct = 100 * abs(trace.error / trace.value)
-        assert f"{trace.name} {trace.value:.4g} ± {percent_text(pct)} {trace.verdict}" in line
+        assert f"{trace.name} {trace.value:#.4g} ± {percent_text(pct)} {trace.verdict}" in line
 
 
 def test_closing_lines_say_what_is_not_determined_and_the_advice_while_it_is_not():
