@@ -22,7 +22,8 @@ def watch_app(plan):
 
         def get_default_screen(self):
             """The watch view."""
-            return WatchScreen(plan)
+            self.watch_screen = WatchScreen(plan)
+            return self.watch_screen
 
     return WatchApp()
 
@@ -62,10 +63,12 @@ class StopOnInterrupt(Interrupt):
     """SIGINT stops the watch and leaves once it is saved, as q does (exit status 130)."""
 
     def __init__(self, app, plan) -> None:
+        """Handle SIGINT for `app` watching `plan`."""
         super().__init__(app)
         self.plan = plan
 
     def __call__(self, signum, frame) -> None:
+        """Stop and save as q does, from the app's loop (or at once before it runs)."""
         self.received = True
         import asyncio
 
@@ -74,4 +77,4 @@ class StopOnInterrupt(Interrupt):
         except RuntimeError:
             self.plan.stop()
             return
-        loop.call_soon_threadsafe(lambda: self.app.screen.run_action("stop"))
+        loop.call_soon_threadsafe(self.app.watch_screen.action_stop)  # whichever screen is on top (the help)

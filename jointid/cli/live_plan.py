@@ -17,6 +17,10 @@ if TYPE_CHECKING:
     from ..studies.watch_session import WatchSession
 
 
+SAVE_WAIT = 10.0
+"""Seconds save() waits for a watch stopped from another thread to record its last blocks (it takes one poll)."""
+
+
 class WatchPlan:
     """A watch ready to run: `watch(on_refresh)` until it stops, then `save()` once."""
 
@@ -30,6 +34,8 @@ class WatchPlan:
         self.force = force
         self._saved: Saved | None = None
         self._save_lock = threading.Lock()
+        self._watching = threading.Event()
+        self._watched = threading.Event()
 
     @property
     def description(self) -> str:
@@ -43,10 +49,12 @@ class WatchPlan:
 
     def watch(self, on_refresh: Callable[[WatchRefresh], None]) -> str:
         """Run the session until it stops (closing the source then); how it stopped."""
+        self._watching.set()
         try:
             return self.session.run(on_refresh)
         finally:
             self.source.close()
+            self._watched.set()
 
     def stop(self) -> None:
         """Ask the watch to stop (from any thread)."""
@@ -56,6 +64,8 @@ class WatchPlan:
         """Write what was received to --save (once; later calls return the first answer): a present.watch.Saved."""
         from ..present.watch import Saved
 
+        if self._watching.is_set():  # a stop asked from another thread: the last blocks are still being recorded
+            self._watched.wait(SAVE_WAIT)
         with self._save_lock:
             if self._saved is None:
                 self._saved = self._write(Saved)

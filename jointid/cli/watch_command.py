@@ -181,6 +181,8 @@ def watch_in_text(plan, json_lines: bool) -> int:
     with InterruptStops(plan.session) as interrupted:
         stopped_by = plan.watch(show)
     saved = plan.save()
+    if plan.session.last is None and plan.session.failure is not None:
+        return watch_status(plan, saved, bool(interrupted))  # the source failed before anything: its line alone
     if json_lines:
         print(_json_line(saved_object(saved, "interrupt" if interrupted else stopped_by)), flush=True)
     else:
@@ -193,14 +195,14 @@ def watch_in_text(plan, json_lines: bool) -> int:
 
 def watch_status(plan, saved: Saved, interrupted: bool) -> int:
     """The exit status once a watch stopped and saved: 2 (with the line why on stderr) when the source could not be
-    read on or --save could not be written, 130 after Ctrl+C, else 0."""
+    read on or --save could not write what was received, 130 after Ctrl+C, else 0."""
     from .arguments import print_error_line
 
     if plan.session.failure is not None:
         print_error_line(f"jointid: {plan.session.failure}")
         return ExitStatus.USER_ERROR
-    if saved.path is None and plan.save_path is not None:
-        return ExitStatus.USER_ERROR  # --save asked for a log that could not be written (the output said why)
+    if saved.path is None and plan.save_path is not None and saved.samples:
+        return ExitStatus.USER_ERROR  # --save's log could not be written (the output said why); none received is no error
     return ExitStatus.INTERRUPTED if interrupted else ExitStatus.SUCCESS
 
 

@@ -118,6 +118,8 @@ class WatchSession:
                 if block.ended:
                     ending = SOURCE_FAILED if self.failure is not None else SOURCE_ENDED
             if ending is not None:
+                if ending == SOURCE_FAILED and self.last is None and not any(b.count for b in pending):
+                    return ending  # nothing to show: the failure (a header that cannot be read) is all there is
                 # The last refresh says the watch is over, whatever stopped it (the contract's `ended`).
                 self._refresh([*pending, Received(ended=True)], on_refresh)
                 return ending

@@ -254,3 +254,23 @@ def test_a_50_hz_arm_over_networktables_on_loopback_converges_and_is_saved(capsy
     offline = fit_json(capsys, "--csv", "nt.csv")
     for name, value in last["estimate"].items():
         assert abs(value - offline["estimate"][name]) <= 1.96 * last["std_error"][name], name
+
+
+def test_a_csv_whose_header_cannot_be_read_is_its_one_line_and_nothing_else(capsys, in_folder):
+    needs_watcher()
+    (in_folder / "notau.csv").write_text("t,q\n0,1\n")
+    assert refused(capsys, "watch", "--csv", "notau.csv", "--duration", "5", "--save", "never.csv") == (
+        "jointid: notau.csv, row 1: missing required column 'tau' in the header")
+    assert not (in_folder / "never.csv").exists()
+
+
+def test_a_csv_that_never_grows_ends_at_the_duration_with_nothing_to_save(capsys, in_folder):
+    needs_watcher()
+    (in_folder / "empty.csv").write_text("")
+    status, out, err = run(capsys, "watch", "--csv", "empty.csv", "--duration", "0.3", "--json-lines",
+                           "--save", "never.csv")
+    assert (status, err) == (0, "")
+    *refreshes, closing = [json.loads(line) for line in out.splitlines()]
+    assert refreshes[-1]["received"] == 0 and refreshes[-1]["ended"]
+    assert closing == {"stopped_by": "duration", "saved": None, "not_saved": "no sample was received"}
+    assert sorted(path.name for path in in_folder.iterdir()) == ["done.csv", "empty.csv"]  # no temporary left
