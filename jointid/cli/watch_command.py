@@ -123,6 +123,13 @@ def check_flags(args: argparse.Namespace) -> None:
                  if value]
         if stray:
             raise UserError(f"{', '.join(stray)}: only for --nt; name a CSV's columns with --columns")
+    offline = [flag for flag, value in (("--constrained", args.constrained), ("--motor", args.motor),
+                                         ("--motor-r", args.motor_r), ("--motor-kt", args.motor_kt),
+                                         ("--motor-kv", args.motor_kv), ("--motor-count", args.motor_count),
+                                         ("--motor-inertia", args.motor_inertia), ("--gains", args.gains)) if value]
+    if offline:  # the live fit has no constraint and no motor: refused rather than silently ignored
+        raise UserError(f"{', '.join(offline)}: not while watching; --save PATH, then jointid fit --csv PATH "
+                        f"{' '.join(offline)} ...")
     if args.mechanism is not None and args.model is not None:
         raise UserError(f"--mechanism {args.mechanism} and --model {args.model}: a mechanism is a model; give one")
     if args.force and args.save is None:

@@ -54,6 +54,8 @@ def run_ok(argv) -> bool:
     (["--csv", "done.csv", "--effort", "current"], "--effort current needs --kt"),
     (["--csv", "done.csv", "--mechanism", "arm", "--model", "plain"], "a mechanism is a model"),
     (["--csv", "missing.csv"], "missing.csv"),
+    (["--csv", "done.csv", "--gains", "wpilib", "--motor", "NEO"], "--motor, --gains: not while watching; --save"),
+    (["--csv", "done.csv", "--constrained"], "--constrained: not while watching"),
 ])
 def test_bad_input_is_one_line_and_status_2(capsys, in_folder, argv, says):
     line = refused(capsys, "watch", *argv)
