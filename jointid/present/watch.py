@@ -159,6 +159,13 @@ def saved_sentence(saved: Saved) -> str:
     return f"Wrote {saved.samples:,} samples to {name} (jointid fit --csv {name} fits them)."
 
 
+def saved_brief(saved: Saved) -> str:
+    """'wrote 620 samples to arm.csv' or 'nothing saved (no --save PATH given)': the status line's short form."""
+    if saved.path is None:
+        return f"nothing saved ({saved.why_not})"
+    return f"wrote {saved.samples:,} samples to {shown_name(saved.path)}"
+
+
 def saved_object(saved: Saved, stopped_by: str) -> dict:
     """The last JSON line of a watch: how it stopped and what was saved."""
     return {"stopped_by": stopped_by,
@@ -226,8 +233,10 @@ def convergence_chart(refresh: WatchRefresh, kind: str = "estimate") -> Converge
         keep = np.isfinite(y)
         if keep.sum() >= 2:
             lines.append((trace.name, seconds[keep], y[keep]))
+    waiting = () if lines else (f"{kind.capitalize()}s over time: drawn from the second fitted refresh on",
+                                "Drawn from the second refresh", "")
     if kind == "error":
-        return ConvergenceData(("Relative error (%) of each parameter over time", "Error (%) over time", "Error %"),
-                               tuple(lines), "Error (%)")
-    return ConvergenceData(("Each estimate over time, as a share of its latest (1 = now)", "Estimate / latest",
-                            "Estimates"), tuple(lines), "Share of latest")
+        return ConvergenceData(waiting or ("Relative error (%) of each parameter over time", "Error (%) over time",
+                                           "Error %"), tuple(lines), "Error (%)")
+    return ConvergenceData(waiting or ("Each estimate over time, as a share of its latest (1 = now)",
+                                       "Estimate / latest", "Estimates"), tuple(lines), "Share of latest")

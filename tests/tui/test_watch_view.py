@@ -131,3 +131,33 @@ def test_an_undetermined_parameter_shows_the_advice_and_the_error_chart(snap_com
 def test_text_lines_of_the_same_refreshes_are_one_a_refresh():
     lines = [refresh_line(refresh) for refresh in scripted_refreshes(counts=(6, 8))]
     assert len(lines) == 2 and all("\n" not in line for line in lines)
+
+
+@pytest.fixture
+def sysid_flywheel_csv(tmp_path, monkeypatch):
+    """A finished CSV of a flywheel's SysId routine (50 Hz, 40 s: four 10 s tests named in a state column), made
+    current: read at once, it is fitted in one block, the same on every run."""
+    from support.watched_joints import flywheel
+
+    monkeypatch.chdir(tmp_path)
+    run = flywheel(50.0, 40.0)
+    tests = ["quasistatic-forward", "quasistatic-reverse", "dynamic-forward", "dynamic-reverse"]
+    rows = (f"{t!r},{q!r},{v!r},{tests[min(int(t // 10), 3)]}"
+            for t, q, v in zip(run.t.tolist(), run.q.tolist(), run.tau.tolist()))
+    (tmp_path / "fly.csv").write_text("t,q,tau,state\n" + "\n".join(rows) + "\n")
+    return tmp_path
+
+
+def test_a_sysid_routine_watched_to_its_end_shows_its_tests_and_gains(snap_compare, sysid_flywheel_csv):
+    pytest.importorskip("jointid.studies.watch", reason="livefit's Watcher is not merged into this build yet")
+    from jointid.cli import parse
+    from jointid.cli.live_plan import open_watch
+
+    args = parse(["watch", "--csv", "fly.csv", "--effort", "voltage", "--mechanism", "simple", "--duration", "39.9",
+                  "--refresh", "1", "--save", "fly-watched.csv"])
+    plan = open_watch(args, args.refresh)
+    assert snap_compare(make_watch_app(plan), terminal_size=WIDE, run_before=finished)
+    assert (sysid_flywheel_csv / "fly-watched.csv").exists()
+    last = plan.session.last
+    assert [name for name, _ in last.tests] == ["dynamic-forward", "dynamic-reverse", "quasistatic-forward",
+                                                "quasistatic-reverse"]

@@ -26,6 +26,7 @@ from jointid.present.watch import (
     convergence_chart,
     counts_text,
     recent_chart,
+    saved_brief,
     saved_sentence,
 )
 from jointid.text_safety import shown_name
@@ -109,7 +110,9 @@ class WatchScreen(Screen):
         yield Static(f"jointid watch · {shown_name(self.plan.description)}", id="title", markup=False)
         with Horizontal(id="main"):
             with Vertical(id="side"):
-                yield ReadoutPanel(id="readouts", compact=self.has_class("-compact"))
+                # One row per parameter at every size: the notes under the readouts need the rows, and a
+                # voltage fit's labels ('Fitted acceleration gain (V s²/rad)') pushed its values to rows of their own.
+                yield ReadoutPanel(id="readouts", compact=True)
                 yield Static(WAITING, id="watch-notes", markup=False)
             with Vertical(id="charts"):
                 yield TorqueChart(id="recent-chart")
@@ -124,10 +127,9 @@ class WatchScreen(Screen):
         self.run_watch()
 
     def on_resize(self) -> None:
-        """Compact readouts on small terminals; a plain message below the smallest."""
+        """The size classes (narrow side panel); a plain message below the smallest size."""
         width, height = self.size
         classes = size_classes(width, height)
-        self.query_one(ReadoutPanel).set_compact(classes["-compact"])
         self.update_classes(classes)
         if classes["-too-small"]:
             self.query_one("#too-small", Static).update(
@@ -198,7 +200,8 @@ class WatchScreen(Screen):
         refresh = self.shown
         counts = WAITING if refresh is None else counts_text(refresh)
         if self.saved is not None:
-            seconds = (f"Stopped ({self.stopped_by}). {saved_sentence(self.saved)} q leaves.",)
+            seconds = (f"Stopped ({self.stopped_by}). {saved_sentence(self.saved)} q leaves.",
+                       f"Stopped ({self.stopped_by}): {saved_brief(self.saved)}. q leaves.")
         elif self._leave_when_done:
             seconds = ("Stopping: fitting what arrived and saving…",)
         else:
