@@ -31,6 +31,7 @@ from .alignment import TopicAligner
 from .reading import LiveReading
 from .received import Received
 from .stretches import StretchClock
+from .integration import VelocityIntegral
 from .unwrapping import LiveUnwrap
 
 DEFAULT_PORT = 5810
@@ -143,6 +144,10 @@ class NetworkTablesSource:
         self.aligner = TopicAligner(self.numeric, "q" if "q" in self.pairs else "qd", "state" in self.pairs)
         self.clock = StretchClock()
         self.unwrapping = LiveUnwrap()
+        self.integral = VelocityIntegral()
+        if "q" not in self.pairs:
+            self.events.append(f"No position topic: q is the velocity {self.pairs['qd']!r} integrated (trapezoids), "
+                               "so it is no absolute angle, and its derivatives are that velocity smoothed.")
         self.first_t: float | None = None
         self.ended = False
         self.last_seen: dict[str, tuple[int, object]] = {}
@@ -300,7 +305,11 @@ class NetworkTablesSource:
             if self.clock.starting:
                 breaks.append(sum(len(part["t"]) for part in parts))
                 self.unwrapping.restart()
+                self.integral.restart()
             columns = self.reading.convert(columns, self.factors)
+            if "q" not in columns:
+                columns = {"t": columns["t"], "q": self.integral.position(columns["t"], columns["qd"]),
+                           **{name: column for name, column in columns.items() if name != "t"}}
             if "q" in columns and not self.linear:
                 columns["q"], wrapped = self.unwrapping.unwrap(columns["t"], columns["q"])
                 if wrapped:
