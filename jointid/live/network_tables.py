@@ -57,8 +57,11 @@ class NetworkTablesError(ValueError):
     """A NetworkTables source that cannot be watched; str() is one line."""
 
 
-def parse_address(text: str) -> tuple[str, int]:
-    """(host, port) of 'HOST[:PORT]' (port 5810 when not given; '[::1]:5810' for IPv6); NetworkTablesError."""
+def parse_address(text) -> tuple[str, int]:
+    """(host, port) of 'HOST[:PORT]' (port 5810 when not given; '[::1]:5810' for IPv6), or of a (host, port) pair
+    already parsed; NetworkTablesError."""
+    if isinstance(text, tuple) and len(text) == 2:
+        text = f"[{text[0]}]:{text[1]}" if ":" in str(text[0]) else f"{text[0]}:{text[1]}"
     given = str(text).strip()
     host, port = given, DEFAULT_PORT
     if given.startswith("["):
@@ -97,7 +100,7 @@ class NetworkTablesSource:
                  connect_timeout: float = 5.0, topic_timeout: float = 2.0, duration: float | None = None,
                  gone_timeout: float | None = None, buffered_values: int = BUFFERED_VALUES,
                  client_name: str = "jointid watch"):
-        """Connect to the server at `address` ('HOST[:PORT]') and subscribe to the topics `entries` names (an
+        """Connect to the server at `address` ('HOST[:PORT]', or a (host, port) pair) and subscribe to the topics `entries` names (an
         EntryMap, 'q=/Arm/Position,tau=/Arm/Voltage' or a mapping); NetworkTablesError when the server does not
         answer within `connect_timeout` s, a topic is not published within `topic_timeout` s after that, or one
         has the wrong type. `units` reads every angle topic in that unit over its properties ('rotations',
