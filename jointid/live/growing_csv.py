@@ -139,8 +139,6 @@ class GrowingCsv:
 
     def _read_header(self, text: str) -> None:
         """Take the header's names and find the columns; LogError as the CSV reader's."""
-        if self.line == 1 and text.startswith("\ufeff"):
-            text = text[1:]
         names = [cell.strip().strip('"').strip() for cell in text.split(",")]
         positions = _check_header(self.path, self.line, names, self.column_map)
         if "t" not in positions:
@@ -203,6 +201,8 @@ class GrowingCsv:
                 raise LogError(self.path, "holds NUL bytes: binary data or UTF-16/32 text; save it as UTF-8 or "
                                "ASCII text", self.line)
             text = raw.decode("utf-8", errors="replace").rstrip("\r")
+            if self.line == 1:
+                text = text.removeprefix("\ufeff")  # a UTF-8 byte order mark
             stripped = text.strip()
             if not stripped or stripped.startswith("#"):
                 continue
@@ -298,8 +298,13 @@ class GrowingCsv:
         return self._take_events(Received(columns=columns, breaks=breaks, ended=ended))
 
     def _end(self, why: str) -> Received:
-        """The block that ends the source: why, and any last line left without its newline."""
+        """The block that ends the source: why, and any last line left without its newline; LogError when no
+        header ever came (it is no log being written)."""
         rest = self._peek_rest()
+        if self.header is None:
+            self.ended = True
+            what = "is empty" if not rest.strip() and self.line == 0 else "has no complete header row"
+            raise LogError(self.path, f"{what}: no header row came ({why})")
         if rest.strip():
             self.pending_events.append(f"{shown_path(self.path)}: line {self.line + 1} has no line end: left out "
                                        "(it may be cut short)")
