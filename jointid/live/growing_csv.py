@@ -229,8 +229,9 @@ class GrowingCsv:
                 row.append(value)
             t = row[0]
             if self.last_t is not None and t < self.last_t:
+                time_label = f"{self.positions['t']} ({self.header[self.positions['t'] - 1]})"
                 raise LogError(self.path, f"time runs backwards: t = {t:.9g} s after {self.last_t:.9g} s on the "
-                               "previous row", self.line, f"{self.positions['t']} ({self.header[self.positions['t'] - 1]})")
+                               "previous row", self.line, time_label)
             self.last_t = t
             for key, value in zip(wanted, row):
                 values[key].append(value)

@@ -100,11 +100,11 @@ class NetworkTablesSource:
                  connect_timeout: float = 5.0, topic_timeout: float = 2.0, duration: float | None = None,
                  gone_timeout: float | None = None, buffered_values: int = BUFFERED_VALUES,
                  client_name: str = "jointid watch"):
-        """Connect to the server at `address` ('HOST[:PORT]', or a (host, port) pair) and subscribe to the topics `entries` names (an
-        EntryMap, 'q=/Arm/Position,tau=/Arm/Voltage' or a mapping); NetworkTablesError when the server does not
-        answer within `connect_timeout` s, a topic is not published within `topic_timeout` s after that, or one
-        has the wrong type. `units` reads every angle topic in that unit over its properties ('rotations',
-        'radians', 'degrees', 'meters'); `duration` ends the source after that many seconds of samples,
+        """Connect to the server at `address` ('HOST[:PORT]', or a (host, port) pair) and subscribe to the topics
+        `entries` names (an EntryMap, 'q=/Arm/Position,tau=/Arm/Voltage' or a mapping); NetworkTablesError when
+        the server does not answer within `connect_timeout` s, a topic is not published within `topic_timeout` s
+        after that, or one has the wrong type. `units` reads every angle topic in that unit over its properties
+        ('rotations', 'radians', 'degrees', 'meters'); `duration` ends the source after that many seconds of samples,
         `gone_timeout` after the server has been gone that many seconds (None: it is waited for)."""
         self.host, self.port = parse_address(address)
         self.where = f"NetworkTables {self.host}:{self.port}"
@@ -253,7 +253,8 @@ class NetworkTablesSource:
                                          "with --units")
             self.linear = kinds == {True}
         reading = self.reading
-        if reading.effort.kind == "torque" and ("state" in self.pairs or (units.get("tau") or "").lower() in VOLT_WORDS):
+        volts = (units.get("tau") or "").lower() in VOLT_WORDS
+        if reading.effort.kind == "torque" and ("state" in self.pairs or volts):
             why = "a SysId test-state topic is named" if "state" in self.pairs else "its unit is volts"
             self.events.append(f"tau ({self.pairs['tau']}) is read as motor voltage: {why}.")
             reading = reading.with_effort_kind("voltage")

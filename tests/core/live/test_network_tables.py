@@ -211,9 +211,10 @@ def test_a_dead_host_is_one_line():
         NetworkTablesSource(f"127.0.0.1:{free_port()}", ARM_ENTRIES, connect_timeout=0.3)
 
 
-@pytest.mark.parametrize("text, expected", [("10.12.34.2", ("10.12.34.2", 5810)), ("localhost:5811", ("localhost", 5811)),
-                                            ("[::1]:5812", ("::1", 5812)), ("[::1]", ("::1", 5810)),
-                                            (("robot", 5813), ("robot", 5813)), (("::1", 5814), ("::1", 5814))])
+@pytest.mark.parametrize("text, expected", [
+    ("10.12.34.2", ("10.12.34.2", 5810)), ("localhost:5811", ("localhost", 5811)), ("[::1]:5812", ("::1", 5812)),
+    ("[::1]", ("::1", 5810)), (("robot", 5813), ("robot", 5813)), (("::1", 5814), ("::1", 5814)),
+])
 def test_an_address_is_host_and_port_5810_by_default(text, expected):
     assert parse_address(text) == expected
 
