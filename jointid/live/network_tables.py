@@ -31,6 +31,7 @@ from .alignment import TopicAligner
 from .reading import LiveReading
 from .received import Received
 from .stretches import StretchClock
+from .integration import VelocityIntegral
 from .unwrapping import LiveUnwrap
 
 DEFAULT_PORT = 5810
@@ -56,8 +57,11 @@ class NetworkTablesError(ValueError):
     """A NetworkTables source that cannot be watched; str() is one line."""
 
 
-def parse_address(text: str) -> tuple[str, int]:
-    """(host, port) of 'HOST[:PORT]' (port 5810 when not given; '[::1]:5810' for IPv6); NetworkTablesError."""
+def parse_address(text) -> tuple[str, int]:
+    """(host, port) of 'HOST[:PORT]' (port 5810 when not given; '[::1]:5810' for IPv6), or of a (host, port) pair
+    already parsed; NetworkTablesError."""
+    if isinstance(text, tuple) and len(text) == 2:
+        text = f"[{text[0]}]:{text[1]}" if ":" in str(text[0]) else f"{text[0]}:{text[1]}"
     given = str(text).strip()
     host, port = given, DEFAULT_PORT
     if given.startswith("["):
@@ -96,11 +100,11 @@ class NetworkTablesSource:
                  connect_timeout: float = 5.0, topic_timeout: float = 2.0, duration: float | None = None,
                  gone_timeout: float | None = None, buffered_values: int = BUFFERED_VALUES,
                  client_name: str = "jointid watch"):
-        """Connect to the server at `address` ('HOST[:PORT]') and subscribe to the topics `entries` names (an
-        EntryMap, 'q=/Arm/Position,tau=/Arm/Voltage' or a mapping); NetworkTablesError when the server does not
-        answer within `connect_timeout` s, a topic is not published within `topic_timeout` s after that, or one
-        has the wrong type. `units` reads every angle topic in that unit over its properties ('rotations',
-        'radians', 'degrees', 'meters'); `duration` ends the source after that many seconds of samples,
+        """Connect to the server at `address` ('HOST[:PORT]', or a (host, port) pair) and subscribe to the topics
+        `entries` names (an EntryMap, 'q=/Arm/Position,tau=/Arm/Voltage' or a mapping); NetworkTablesError when
+        the server does not answer within `connect_timeout` s, a topic is not published within `topic_timeout` s
+        after that, or one has the wrong type. `units` reads every angle topic in that unit over its properties
+        ('rotations', 'radians', 'degrees', 'meters'); `duration` ends the source after that many seconds of samples,
         `gone_timeout` after the server has been gone that many seconds (None: it is waited for)."""
         self.host, self.port = parse_address(address)
         self.where = f"NetworkTables {self.host}:{self.port}"
@@ -143,6 +147,10 @@ class NetworkTablesSource:
         self.aligner = TopicAligner(self.numeric, "q" if "q" in self.pairs else "qd", "state" in self.pairs)
         self.clock = StretchClock()
         self.unwrapping = LiveUnwrap()
+        self.integral = VelocityIntegral()
+        if "q" not in self.pairs:
+            self.events.append(f"No position topic: q is the velocity {self.pairs['qd']!r} integrated (trapezoids), "
+                               "so it is no absolute angle, and its derivatives are that velocity smoothed.")
         self.first_t: float | None = None
         self.ended = False
         self.last_seen: dict[str, tuple[int, object]] = {}
@@ -245,7 +253,8 @@ class NetworkTablesSource:
                                          "with --units")
             self.linear = kinds == {True}
         reading = self.reading
-        if reading.effort.kind == "torque" and ("state" in self.pairs or (units.get("tau") or "").lower() in VOLT_WORDS):
+        volts = (units.get("tau") or "").lower() in VOLT_WORDS
+        if reading.effort.kind == "torque" and ("state" in self.pairs or volts):
             why = "a SysId test-state topic is named" if "state" in self.pairs else "its unit is volts"
             self.events.append(f"tau ({self.pairs['tau']}) is read as motor voltage: {why}.")
             reading = reading.with_effort_kind("voltage")
@@ -300,7 +309,11 @@ class NetworkTablesSource:
             if self.clock.starting:
                 breaks.append(sum(len(part["t"]) for part in parts))
                 self.unwrapping.restart()
+                self.integral.restart()
             columns = self.reading.convert(columns, self.factors)
+            if "q" not in columns:
+                columns = {"t": columns["t"], "q": self.integral.position(columns["t"], columns["qd"]),
+                           **{name: column for name, column in columns.items() if name != "t"}}
             if "q" in columns and not self.linear:
                 columns["q"], wrapped = self.unwrapping.unwrap(columns["t"], columns["q"])
                 if wrapped:

@@ -11,9 +11,10 @@ It runs a recorded log's pipeline as far as it can be run on samples as they arr
    jointid.studies.watch_streams, equal to the offline values away from the stretch's ends, which are not fitted;
 3. the rows are judged in blocks of ROBUST_SECONDS: standstill (models with Coulomb friction) and outside torques
    (jointid.estimation.exclusion.outside_torques, from the current estimate) are left out;
-4. the rows kept are added to bounded least-squares statistics (studies.watch_streams.BatchStatistics): the
-   estimate is jointid's column-scaled least squares of every row kept, its errors the batch-means covariance
-   (the residuals of a low-passed log are correlated, as the Newey-West errors of a log fit allow for);
+4. the rows kept are added to bounded least-squares statistics (studies.watch_streams): the estimate is jointid's
+   column-scaled least squares of every row kept (from the QR-updated triangle of [X | y]), its errors a log fit's
+   Newey-West errors of the same rows (from sums over lags that hold for any estimate: NeweyWestSums), with the
+   rows left out as gaps in the grid, as a log fit's positions;
 5. the sensitivity check's refits (derivative window and cutoff halved and doubled) run as parallel pipelines,
    their estimates compared as studies.sensitivity does; the halves of the run are compared as
    studies.refits.stretch_scatter does; and the verdicts come from estimation.judgement.judge, as a log fit's.
@@ -31,11 +32,11 @@ from ..estimation.exclusion import commanded_changes, explained_transients, outs
 from ..estimation.fit import FitResult, with_judgement
 from ..estimation.judgement import Finding, judge, noise_judgement
 from ..estimation.low_pass import FilterRequest, FilterRequestError, ParallelFilter, automatic_cutoff, choose_filter
-from .watch_streams import BatchStatistics, DerivativeStream, LowPassStream
+from .watch_streams import BatchStatistics, DerivativeStream, LowPassStream, NeweyWestSums, SplineResampler
 from ..estimation.uncertainty import WELL_DETERMINED, parameter_uncertainty
 from ..logs.conventions import AngleConvention
 from ..logs.derivatives import WindowChoice, check_filter, smoothing_window
-from ..logs.timing import GAP_FACTOR
+from ..logs.timing import GAP_FACTOR, UNIFORM_TOLERANCE
 from ..model.effort import effort_named
 from ..model.terms import SIMPLE_MOTOR, JointModel, model_named
 from ..options import DEFAULT_ORDER, default_log_model
@@ -53,8 +54,8 @@ ROBUST_SECONDS = 5.0
 RECENT_SECONDS = 10.0
 """Seconds of fitted rows kept for the charts and the prediction."""
 MIN_BATCHES = 8
-"""Batches (stretches longer than the residuals' correlation) needed before an error is judged: fewer give a
-batch-means error too rough to call anything well determined."""
+"""Batches (stretches longer than the residuals' correlation) each half of the run needs before the halves'
+scatter is judged: fewer give batch-means errors too rough to call a scatter significant."""
 HISTORY = 120
 """A trace's history is thinned to half when it reaches twice this many points."""
 EVENTS = 50
@@ -63,6 +64,8 @@ IDLE_STATES = ("", "none")
 """SysId test states that are no test (the routine is idle): their samples are received, not fitted."""
 STANDSTILL_SHARE = 0.1
 """Speeds below this share of the RMS filtered speed so far count as standstill (as estimation.exclusion)."""
+TOO_SHORT = "too few samples yet to compare the run's halves"
+"""Why nothing is well determined before the halves' scatter can be judged."""
 SETTINGS_MOVED = "moved by the derivative settings"
 """The log fit's reason for a sensitivity flag (studies.log_fit.SETTINGS_MOVED)."""
 
@@ -92,9 +95,23 @@ class _Segment:
             self.filters[pipeline] = LowPassStream(pipeline.chosen)
         self.outputs = {pipeline: [] for pipeline in watcher.pipelines}
         self.watcher = watcher
+        self.resampler = SplineResampler(watcher.step) if watcher.resampled else None
+
+    @property
+    def size(self) -> int:
+        """Numbers its buffers hold."""
+        total = sum(values.size for stream in self.derivatives.values() for values in stream._raw.values())
+        total += sum(0 if stream._columns is None else stream._columns.size for stream in self.filters.values())
+        if self.resampler is not None:
+            total += sum(values.size for values in self.resampler._raw.values())
+        return total
 
     def add(self, columns: dict[str, np.ndarray]) -> dict | None:
         """Feed raw samples; return the rows every pipeline has produced since (aligned), or None."""
+        if self.resampler is not None:
+            columns = self.resampler.add(columns)
+            if columns is None:
+                return None
         produced = {window: stream.add(columns) for window, stream in self.derivatives.items()}
         for pipeline, stream in self.filters.items():
             out = produced[pipeline.window]
@@ -168,6 +185,8 @@ class Watcher:
             self.model = self._model_for(sysid=False)
         # What the warm-up fixes.
         self.step: float | None = None
+        self.resampled = False
+        """True when the source's jitter is resampled onto a uniform grid (as a log's, logs.timing)."""
         self.window: int | None = None
         self.window_choice: WindowChoice | None = None
         self.filter: ParallelFilter | None = None
@@ -188,6 +207,8 @@ class Watcher:
         # Fitted statistics.
         self.statistics: BatchStatistics | None = None
         self.variant_statistics: dict[Pipeline, BatchStatistics] = {}
+        self.newey_west: NeweyWestSums | None = None
+        """The filtered fit's Newey-West sums (None unfiltered: a log fit's errors are then independent's)."""
         self.all_moving: BatchStatistics | None = None
         """Every moving row, outside torques kept in: the --no-robust refit's statistics."""
         self._pending: list[dict] = []
@@ -233,13 +254,17 @@ class Watcher:
         t, q = warm["t"], warm["q"]
         steps = np.diff(t)
         self.step = float(np.median(steps[steps > 0]))
+        missing = not {"qd", "qdd"} <= set(warm)
+        jitter = float(np.max(np.abs(steps[steps <= GAP_FACTOR * self.step] / self.step - 1)))
+        uniform = jitter <= UNIFORM_TOLERANCE
+        # As a log: jitter is resampled when derivatives are estimated; given ones keep their times, unfiltered.
+        self.resampled = missing and not uniform
         self._sysid = "state" in warm
         if self.model is None or (self._sysid and self._asked_model is None and self._asked_mechanism is None):
             self.model = self._model_for(self._sysid)
         request = self.request
         if self._sysid and request.cutoff is None:
             request = FilterRequest(0.0, request.decimate)  # as studies.sysid.sysid_filtering
-        missing = not {"qd", "qdd"} <= set(warm)
         automatic = None
         if missing:
             window = self.window_asked
@@ -254,7 +279,7 @@ class Watcher:
         # Decimation as for a long log (a warm-up's count would cap it); the cutoff from the warm-up's motion.
         long = max(len(q), int(3600 / self.step))
         try:
-            self.filter = choose_filter(request, self.step, True, q, long, automatic)
+            self.filter = choose_filter(request, self.step, uniform or self.resampled, q, long, automatic)
         except FilterRequestError as error:
             raise ValueError(f"the low-pass cannot apply: {error}") from None
         pipelines = [Pipeline("", 1.0, self.window, self.filter)]
@@ -280,6 +305,10 @@ class Watcher:
         self.variant_statistics = {pipeline: BatchStatistics(p, 10 ** 12) for pipeline in self.pipelines[1:]}
         self.all_moving = BatchStatistics(p, 10 ** 12)
         if self.filter.active:
+            # Lags for up to ten hours of rows: a log fit's lag grows with its rows (the Newey-West rule).
+            from .log_fit import correlation_lag
+
+            self.newey_west = NeweyWestSums(p, correlation_lag(int(36000 * self.fitted_rate), self.filter))
             counts = np.abs(np.diff(q))
             counts = counts[counts > 1e-9 * max(1.0, float(np.max(np.abs(q))))]
             if len(counts):  # one encoder count over half a cutoff period (estimation.exclusion's resolution)
@@ -387,6 +416,8 @@ class Watcher:
         """Close the current stretch: its unfinished ends are not fitted; what waits is judged."""
         self._segment = None
         self._judge_pending(final=True)
+        if self.newey_west is not None:
+            self.newey_west.gap()
 
     # -- rows judged and fitted -----------------------------------------------------------------------------------
 
@@ -409,6 +440,8 @@ class Watcher:
         when = self.elapsed
         self.statistics.add(block["X"][kept], block["tau"][kept], when)
         self.all_moving.add(block["X"][~still], block["tau"][~still], when)
+        if self.newey_west is not None:  # the rows left out are gaps in the grid, as a log fit's positions
+            self.newey_west.add(block["X"] * kept[:, None], np.where(kept, block["tau"], 0.0))
         for pipeline, (X, tau) in variants.items():
             self.variant_statistics[pipeline].add(X[kept], tau[kept], when)
         self._remember(block, kept)
@@ -487,6 +520,25 @@ class Watcher:
             ended=self.ended,
         )
 
+    def gains(self, refresh: WatchRefresh, drive=None):
+        """The mechanism's WPILib feedforward gains from a refresh's fit, as for a recorded SysId log
+        (studies.gains.arm_gains: a voltage fit's own, a torque fit's through the motor `drive`), or None without a
+        unique fit (or, for torque, without a drive)."""
+        from types import SimpleNamespace
+
+        from .gains import GainsError, arm_gains
+
+        if refresh.result is None:
+            return None
+        unit = "meters" if self.linear else "radians"
+        # What arm_gains reads of a log fit: its result, verdicts and the position's unit.
+        log = SimpleNamespace(source=SimpleNamespace(table=SimpleNamespace(units=(("q", unit),))))
+        fit = SimpleNamespace(result=refresh.result, verdicts=refresh.result.verdicts, training=log)
+        try:
+            return arm_gains(fit, drive)
+        except GainsError:
+            return None
+
     def _fit(self) -> FitResult | None:
         """The current fit as a FitResult carrying the whole run's statistics and the judged verdicts."""
         statistics = self.statistics
@@ -498,8 +550,10 @@ class Watcher:
         result = FitResult(training=training, heldout=None, heldout_is_noiseless=False, solution=solution,
                            training_regressor=recent["X"], model=self.model)
         correlated = None
-        if self.filter.active and solution.estimate is not None:
-            correlated = statistics.batch_covariance(solution)
+        if self.newey_west is not None and solution.estimate is not None:
+            from .log_fit import correlation_lag
+
+            correlated = self.newey_west.covariance(solution, correlation_lag(solution.row_count, self.filter))
         uncertainty = parameter_uncertainty(solution, None, self.model, None, correlated)
         # The whole run's statistics, not the recent rows' the result carries for its charts.
         vars(result)["uncertainty"] = uncertainty
@@ -512,10 +566,12 @@ class Watcher:
         uncertainty = result.uncertainty
         if uncertainty is None or uncertainty.relative_std_pct is None:
             return noise_judgement(names, None)
-        if self.filter.active and len(statistics.batches) < MIN_BATCHES:
-            return noise_judgement(names, None)
         findings = list(self._sensitivity_findings(result))
         findings += self._robust_findings(result)
+        if self.filter.active and len(statistics.batches) < 2 * MIN_BATCHES:
+            # A log fit compares its halves; until the run is long enough for that, nothing is called well
+            # determined (early refreshes would otherwise judge a few seconds on the noise alone).
+            findings += [Finding(name, TOO_SHORT) for name in names]
         return judge(names, uncertainty.relative_std_pct, None, findings, self._halves_scatter(result))
 
     def _sensitivity_findings(self, result: FitResult) -> tuple[Finding, ...]:
@@ -662,14 +718,11 @@ class Watcher:
     def state_size(self) -> int:
         """Numbers the watcher holds (statistics, buffers, recent rows, histories): bounded however long it runs."""
         total = 0
+        total += 0 if self.newey_west is None else self.newey_west.size
         for statistics in (self.statistics, self.all_moving, *self.variant_statistics.values()):
             total += 0 if statistics is None else statistics.size
         total += sum(values.size for rows in self._recent for values in rows.values())
         total += sum(len(history) * 3 for history in self._history.values())
-        if self._segment is not None:
-            for stream in self._segment.derivatives.values():
-                total += sum(values.size for values in stream._raw.values())
-            for stream in self._segment.filters.values():
-                total += 0 if stream._columns is None else stream._columns.size
+        total += 0 if self._segment is None else self._segment.size
         total += sum(rows["X"].size for rows in self._pending)
         return total

@@ -12,7 +12,9 @@ grow with the time watched:
 - `BatchStatistics`: the upper triangle of [X | y] of every row so far (its QR update), and the same for contiguous
   batches of rows, merged pairwise so their number stays bounded: the estimate and its covariance factor come from
   the whole triangle; each batch's score s_b - S_b theta is linear in theta, so the batch-means (cluster) covariance
-  of the estimate, which holds for residuals correlated over less than a batch, needs only the batches' triangles.
+  of a part of the run (a half, for the halves' scatter) needs only its batches' triangles;
+- `NeweyWestSums`: the lagged fourth-order sums from which a log fit's Newey-West covariance of every row so far
+  follows for any estimate, in memory bounded by the longest lag.
 """
 
 from __future__ import annotations
@@ -222,9 +224,7 @@ class BatchStatistics:
                 return None
             triangle, count = self.triangle, self.count
         else:
-            triangle = None
-            for batch in subset:
-                triangle = triangle_update(triangle, batch.triangle)
+            triangle = triangle_update(None, np.vstack([batch.triangle for batch in subset]))
             count = sum(batch.count for batch in subset)
         p = self.columns
         # ||y - X theta|| = ||T_y - T_X theta|| for every theta: the same problem in p + 1 rows.
@@ -239,13 +239,13 @@ class BatchStatistics:
         if theta is None or len(batches) < 2:
             return None
         p, count = self.columns, solution.row_count
-        meat = np.zeros((p, p))
-        shared = 0.0
-        for batch in batches:
-            gram = batch.triangle.T @ batch.triangle
-            score = gram[:p, p] - gram[:p, :p] @ theta
-            meat += np.outer(score, score)
-            shared += float(batch.sums[p] - batch.sums[:p] @ theta) ** 2
+        # Each batch's score X_b^T (y_b - X_b theta) = R_b^T (R_b [-theta; 1])[:p], all batches at once.
+        triangles = np.stack([batch.triangle for batch in batches])
+        residual_rows = triangles @ np.append(-theta, 1.0)
+        scores = np.einsum("bij,bi->bj", triangles[:, :, :p], residual_rows)
+        meat = scores.T @ scores
+        sums = np.stack([batch.sums for batch in batches])
+        shared = float(np.sum((sums[:, p] - sums[:, :p] @ theta) ** 2))
         factor = covariance_factor(solution)
         size = len(batches)
         correction = size / (size - 1) * count / max(count - p, 1)
@@ -260,3 +260,129 @@ class BatchStatistics:
         """Numbers held (the state's size, for memory checks)."""
         return sum(batch.triangle.size + batch.sums.size for batch in self.batches) + (
             0 if self.triangle is None else self.triangle.size)
+
+
+class NeweyWestSums:
+    """The sums from which the Newey-West covariance of a log fit (estimation.uncertainty.newey_west) follows for
+    any estimate theta and any lag up to `lags`, kept as rows arrive on their evenly spaced grid.
+
+    With z_i = [x_i, y_i] and V_i = x_i z_i^T, the score is u_i = x_i e_i = V_i a for a = [-theta, 1], so
+    sum_i u_i u_{i+k}^T = sum_cd A_k[:, c, :, d] a_c a_d with A_k = sum_i V_i (x) V_{i+k}: a fourth-order sum per
+    lag, linear in the rows; and the residuals' autocorrelation sum_i e_i e_{i+k} = a^T C_k a, C_k = sum z_i z_{i+k}^T.
+    """
+
+    def __init__(self, columns: int, lags: int):
+        """`columns`: p; `lags`: the longest lag a refresh may ask for."""
+        self.columns, self.lags = columns, lags
+        width = columns * (columns + 1)
+        self.fourth = np.zeros((lags + 1, width, width))
+        self.second = np.zeros((lags + 1, columns + 1, columns + 1))
+        self._tail_v = np.zeros((lags, width))
+        self._tail_z = np.zeros((lags, columns + 1))
+
+    def add(self, X: np.ndarray, y: np.ndarray) -> None:
+        """Rows on the grid, next to the last ones; a row left out is given as zeros (a gap in the grid)."""
+        n = len(y)
+        if not n:
+            return
+        Z = np.column_stack([X, y])
+        V = (X[:, :, None] * Z[:, None, :]).reshape(n, -1)
+        every_v = np.vstack([self._tail_v, V])
+        every_z = np.vstack([self._tail_z, Z])
+        lags = self.lags
+        for k in range(lags + 1):
+            # Pairs (i, i + k) whose later row is new: each pair counted once over all blocks.
+            self.fourth[k] += every_v[lags - k: lags - k + n].T @ V
+            self.second[k] += every_z[lags - k: lags - k + n].T @ Z
+        self._tail_v, self._tail_z = every_v[-lags:] if lags else every_v[:0], every_z[-lags:] if lags else every_z[:0]
+
+    def gap(self) -> None:
+        """A break in the grid (another stretch of samples): no pair spans it."""
+        self._tail_v[:] = 0.0
+        self._tail_z[:] = 0.0
+
+    def covariance(self, solution: LeastSquaresSolution, lag: int) -> tuple[np.ndarray, float] | None:
+        """(The Newey-West covariance of the column estimate, the effective count), as estimation.uncertainty's
+        newey_west of the same rows with Bartlett weights over `lag` (at most `lags`) steps; None without a unique
+        fit."""
+        theta = solution.estimate
+        if theta is None:
+            return None
+        p, count = self.columns, solution.row_count
+        lag = min(lag, self.lags)
+        a = np.append(-theta, 1.0)
+        meat = np.zeros((p, p))
+        shared = 0.0
+        for k in range(lag + 1):
+            weight = 1.0 - k / (lag + 1)
+            moment = np.einsum("acbd,c,d->ab", self.fourth[k].reshape(p, p + 1, p, p + 1), a, a)
+            products = float(a @ self.second[k] @ a)
+            if k == 0:
+                meat += moment
+                c0 = products
+            else:
+                meat += weight * (moment + moment.T)
+                shared += 2 * weight * products
+        meat = (meat + meat.T) / 2
+        factor = covariance_factor(solution)
+        autocorrelation = max((c0 + shared) / c0, 1.0) if c0 > 0 else 1.0
+        return factor @ meat @ factor * count / max(count - p, 1), count / autocorrelation
+
+    @property
+    def size(self) -> int:
+        """Numbers held."""
+        return self.fourth.size + self.second.size + self._tail_v.size + self._tail_z.size
+
+
+class SplineResampler:
+    """Jittered samples onto a uniform grid as they arrive, as jointid.logs.timing.resample does a whole log: a
+    not-a-knot cubic spline, here through the samples around each grid time (MARGIN either side), whose value
+    there differs from the whole log's spline by far less than the spline's own error (a spline's dependence on
+    a far sample decays about 3.7 times per sample)."""
+
+    MARGIN = 12
+    """Samples either side of a grid time the spline is fitted through."""
+
+    def __init__(self, step: float):
+        """`step`: the grid's step (s), the median step of the warm-up."""
+        self.step = step
+        self._raw: dict[str, np.ndarray] = {}
+        self._origin: float | None = None
+        self._next = 0
+        """The next grid time's index: origin + index x step."""
+
+    def add(self, columns: dict[str, np.ndarray]) -> dict[str, np.ndarray] | None:
+        """Append samples (t and other columns); return the grid times now surrounded by MARGIN samples and every
+        column there, or None."""
+        from scipy.interpolate import CubicSpline  # lazily, as the offline resampling: only jittered sources
+
+        for name, values in columns.items():
+            old = self._raw.get(name)
+            self._raw[name] = values if old is None else np.concatenate([old, values])
+        t = self._raw["t"]
+        increasing = np.concatenate([[True], np.diff(t) > 0])
+        if not increasing.all():  # a repeated stamp cannot be placed: dropped, as a log's exact repeats
+            self._raw = {name: values[increasing] for name, values in self._raw.items()}
+            t = self._raw["t"]
+        if self._origin is None:
+            self._origin = float(t[0])
+        margin = self.MARGIN
+        if len(t) < 2 * margin + 2:
+            return None
+        low, high = t[margin], t[len(t) - 1 - margin]
+        first = max(self._next, int(np.ceil((low - self._origin) / self.step - 1e-9)))
+        last = int(np.floor((high - self._origin) / self.step + 1e-9))
+        if last < first:
+            return None
+        grid = self._origin + self.step * np.arange(first, last + 1)
+        names = [name for name in self._raw if name != "t"]
+        spline = CubicSpline(t, np.column_stack([self._raw[name] for name in names]), axis=0)
+        values = spline(grid)
+        self._next = last + 1
+        # Keep the samples the next grid time's spline reads.
+        upcoming = self._origin + self._next * self.step
+        keep = max(0, int(np.searchsorted(t, upcoming)) - 1 - margin)
+        self._raw = {name: values_[keep:] for name, values_ in self._raw.items()}
+        out = {"t": grid}
+        out.update({name: np.ascontiguousarray(values[:, j]) for j, name in enumerate(names)})
+        return out

@@ -5,6 +5,7 @@ over, in blocks."""
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -33,10 +34,13 @@ class Samples:
                    "tau": self.tau[first:first + size]}
 
 
-def arm(rate: float, seconds: float, noise: float = 0.05, seed: int = 1) -> Samples:
-    """An arm swung by a sum of three sines (0.3, 0.7, 1.3 Hz) with its torque measured with Gaussian noise."""
+def arm(rate: float, seconds: float, noise: float = 0.05, seed: int = 1, jitter: float = 0.0) -> Samples:
+    """An arm swung by a sum of three sines (0.3, 0.7, 1.3 Hz) with its torque measured with Gaussian noise; each
+    sample taken up to `jitter` periods early or late (uniformly), as a robot loop's."""
     rng = np.random.default_rng(seed)
     t = np.arange(int(round(seconds * rate))) / rate
+    if jitter:
+        t = t + jitter / rate * rng.uniform(-1, 1, len(t))
     motion = [(0.8, 0.3, 0.0), (0.4, 0.7, 1.0), (0.2, 1.3, 2.0)]
     q = sum(a * np.sin(2 * np.pi * f * t + phase) for a, f, phase in motion)
     qd = sum(a * 2 * np.pi * f * np.cos(2 * np.pi * f * t + phase) for a, f, phase in motion)
@@ -47,6 +51,7 @@ def arm(rate: float, seconds: float, noise: float = 0.05, seed: int = 1) -> Samp
     return Samples(t, q, tau, dict(k))
 
 
+@lru_cache(maxsize=8)
 def flywheel(rate: float, seconds: float, noise: float = 0.02, seed: int = 2) -> Samples:
     """A flywheel driven by a varied voltage (two sines and a square wave), kA a = V - kS sgn v - kV v integrated by
     fourth-order Runge-Kutta at 1 ms, its angle read at `rate` and its voltage logged with Gaussian noise."""

@@ -209,3 +209,47 @@ def test_a_wrapped_angle_is_unwrapped_across_blocks_and_said_once(tmp_path):
     columns, blocks = collect(source, len(t))
     np.testing.assert_allclose(columns["q"], wrapped[0] + (turning - turning[0]), rtol=0, atol=1e-12)
     assert sum("the angle is wrapped" in event for event in events_of(blocks)) == 1
+
+
+@pytest.mark.parametrize("text, message", [
+    ("", "capture.csv: is empty: no header row came (no new line in 0.1 s: the writer seems done)"),
+    ("# rig 3\nt,q,ta", "capture.csv: has no complete header row: no header row came"),
+])
+def test_a_file_that_ends_without_a_header_is_one_line(tmp_path, text, message):
+    path = tmp_path / "capture.csv"
+    path.write_text(text)
+    source = GrowingCsv(path, idle_timeout=0.1)
+    with pytest.raises(LogError) as raised:
+        while not source.poll(0.5).ended:
+            pass
+    assert message in str(raised.value)
+
+
+def test_crlf_lines_a_byte_order_mark_and_comments_read_as_the_csv_reader_reads_them(tmp_path):
+    path = tmp_path / "capture.csv"
+    path.write_bytes("\ufeff# rig 3\r\nt,q,qd,qdd,tau\r\n0,0.1,0.2,0.3,1\r\n# note\r\n\r\n0.5,0.2,0.3,0.4,2\r\n"
+                     "1,0.3,0.4,0.5,3\r\n".encode())
+    columns, _ = collect(GrowingCsv(path), 3)
+    assert columns["q"].tolist() == [0.1, 0.2, 0.3] and columns["tau"].tolist() == [1, 2, 3]
+    more = tmp_path / "more.csv"
+    more.write_bytes(b"t,q,tau\r\n")
+    source = GrowingCsv(more)
+    assert source.poll(0.5).count == 0  # the header alone: the rows below come in a chunk of their own
+    with open(more, "ab") as handle:  # read by numpy's reader, with CRLF and a blank line
+        handle.write(b"".join(b"%d,0.%d,1\r\n" % (k, k) for k in range(1, 9)) + b"\r\n9,0.9,1\r\n")
+    columns, _ = collect(source, 9)
+    assert columns["q"].tolist() == [k / 10 for k in range(1, 10)]
+
+
+def test_a_bad_cell_after_rows_read_in_bulk_is_named_at_its_own_line(tmp_path):
+    path = tmp_path / "capture.csv"
+    path.write_text("t,q,tau\n")
+    source = GrowingCsv(path)
+    source.poll(0.5)
+    with open(path, "a") as handle:
+        handle.write("".join(f"{k},0.{k},1\n" for k in range(9)) + "\n")
+    assert collect(source, 9)[0]["q"].tolist()[-1] == 0.8
+    with open(path, "a") as handle:
+        handle.write("9,0.9,1\n10,x,1\n")
+    with pytest.raises(LogError, match=r"capture.csv, row 13, column 2 \(q\): 'x' is not a number"):
+        source.poll(0.5)

@@ -98,6 +98,21 @@ def test_a_1_khz_flywheel_in_rotations_with_a_sysid_state_is_read_in_radians_as_
     assert sum(block.dropped for block in blocks) == 0
 
 
+def test_a_velocity_without_a_position_is_integrated_into_q(server, sources):
+    run = flywheel(rate=200, duration=2.0)
+    topics = {"/Fly/Velocity": "double", "/Fly/Voltage": "double"}
+    server.publish_topics(topics)
+    source = NetworkTablesSource(server.address, "qd=/Fly/Velocity,tau=/Fly/Voltage")
+    sources.append(source)
+    wait_until(lambda: all(server.subscribed(name) for name in topics), what="the subscriptions")
+    server.stream(dict(zip(topics, (run.qd, run.tau))), run.t)
+    columns, events, _ = collect(source, len(run.t))
+    trapezoids = np.concatenate(([0.0], np.cumsum(0.5 * (run.qd[1:] + run.qd[:-1]) * np.diff(run.t))))
+    np.testing.assert_allclose(columns["q"], trapezoids, rtol=1e-12, atol=1e-12)
+    np.testing.assert_array_equal(columns["qd"], run.qd)
+    assert any("No position topic" in event for event in events)
+
+
 def test_a_server_restart_is_reconnected_and_the_gap_said_not_bridged(server, sources, tmp_path):
     first, second = arm(rate=50, duration=4.0), arm(rate=50, duration=4.0, start=6.0)
     server.publish_topics(ARM_TOPICS)
@@ -196,8 +211,10 @@ def test_a_dead_host_is_one_line():
         NetworkTablesSource(f"127.0.0.1:{free_port()}", ARM_ENTRIES, connect_timeout=0.3)
 
 
-@pytest.mark.parametrize("text, expected", [("10.12.34.2", ("10.12.34.2", 5810)), ("localhost:5811", ("localhost", 5811)),
-                                            ("[::1]:5812", ("::1", 5812)), ("[::1]", ("::1", 5810))])
+@pytest.mark.parametrize("text, expected", [
+    ("10.12.34.2", ("10.12.34.2", 5810)), ("localhost:5811", ("localhost", 5811)), ("[::1]:5812", ("::1", 5812)),
+    ("[::1]", ("::1", 5810)), (("robot", 5813), ("robot", 5813)), (("::1", 5814), ("::1", 5814)),
+])
 def test_an_address_is_host_and_port_5810_by_default(text, expected):
     assert parse_address(text) == expected
 

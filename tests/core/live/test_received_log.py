@@ -122,3 +122,28 @@ def test_a_growing_csv_watched_to_its_end_is_written_back_as_it_was(tmp_path):
     read = load_log(tmp_path / "watched.csv")
     for name in ("t", "q", "qd", "qdd", "tau"):
         np.testing.assert_array_equal(getattr(read.data, name), getattr(run, name))
+
+
+def test_memory_stays_flat_however_many_rows_are_written(tmp_path):
+    import tracemalloc
+
+    run = arm(rate=1000, duration=0.1)
+    columns = {name: getattr(run, name) for name in ("q", "qd", "qdd", "tau")}
+
+    def block(k):
+        return Received(columns={"t": run.t + 0.1 * k, **columns})
+
+    log = ReceivedLog(tmp_path / "long.csv", description="arm")
+    tracemalloc.start()
+    try:
+        for k in range(50):
+            log.write(block(k))
+        early = tracemalloc.get_traced_memory()[0]
+        for k in range(50, 550):  # 50,000 rows more: kept in the file, not in memory
+            log.write(block(k))
+        late = tracemalloc.get_traced_memory()[0]
+    finally:
+        tracemalloc.stop()
+    log.finish()
+    assert late - early < 64 * 1024
+    assert load_log(tmp_path / "long.csv").data.count == 55_000

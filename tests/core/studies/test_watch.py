@@ -7,29 +7,40 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from jointid.estimation.solver import solve_least_squares
 from jointid.live.received import Received
+from jointid.studies.log_fit import fit_log
 from jointid.studies.watch import Watcher
+from jointid.studies.watch_streams import NeweyWestSums
 from tests.support.watched_joints import arm, flywheel
 
 
 def watched(samples, size: int, **settings) -> tuple[Watcher, list]:
-    """A Watcher fed the samples in blocks of `size`, and its refresh after each second of them."""
+    """A Watcher fed the samples in blocks of `size`, and (samples received, refresh) after each second of them."""
     watcher = Watcher(**settings)
     refreshes = []
     per_second = max(1, int(round(1 / (samples.t[1] - samples.t[0]) / size)))
     for k, block in enumerate(samples.blocks(size)):
         watcher.add(Received(block))
         if (k + 1) % per_second == 0:
-            refreshes.append(watcher.refresh())
-    refreshes.append(watcher.refresh())
+            refreshes.append((min((k + 1) * size, len(samples.t)), watcher.refresh()))
+    refreshes.append((len(samples.t), watcher.refresh()))
     return watcher, refreshes
+
+
+def offline(samples, count: int, watcher: Watcher, **settings):
+    """jointid's log fit of the first `count` samples, with the low-pass, decimation and window the watcher chose
+    (a log fit would choose them from the whole log, the watcher from its warm-up)."""
+    columns = {"t": samples.t[:count], "q": samples.q[:count], "tau": samples.tau[:count]}
+    return fit_log(columns, cutoff=watcher.filter.cutoff or 0.0, decimate=watcher.filter.decimation,
+                   window=watcher.window, **settings)
 
 
 @pytest.mark.parametrize("rate, size", [(50.0, 1), (1000.0, 50)])
 def test_an_arm_converges_to_its_truth(rate, size):
     samples = arm(rate, 60.0)
     _, refreshes = watched(samples, size)
-    final = refreshes[-1]
+    final = refreshes[-1][1]
     for trace in final.parameters:
         truth = samples.truth[trace.name]
         assert abs(trace.value - truth) <= 0.05 * abs(truth), trace
@@ -38,24 +49,76 @@ def test_an_arm_converges_to_its_truth(rate, size):
         assert len(trace.history) >= 2
 
 
-@pytest.mark.parametrize("rate, size", [(50.0, 1), (1000.0, 50)])
+@pytest.mark.parametrize("rate, size", [(50.0, 5), (1000.0, 50)])
 def test_a_flywheel_converges_to_its_gains(rate, size):
     samples = flywheel(rate, 60.0)
     _, refreshes = watched(samples, size, effort="voltage", mechanism="simple")
-    final = refreshes[-1]
+    final = refreshes[-1][1]
     assert [trace.name for trace in final.parameters] == ["kA", "kV", "kS"]
     for trace in final.parameters:
         truth = samples.truth[trace.name]
         assert abs(trace.value - truth) <= 0.05 * abs(truth), trace
 
 
+CASES = [
+    pytest.param(lambda: arm(1000.0, 60.0, noise=6.0), 50, {}, {}, id="arm-1kHz"),
+    pytest.param(lambda: arm(50.0, 60.0, noise=3.0), 5, {}, {}, id="arm-50Hz"),
+    pytest.param(lambda: flywheel(50.0, 60.0, noise=0.6), 5, {"effort": "voltage", "mechanism": "simple"},
+                 {"effort": "voltage", "model": "simple"}, id="flywheel-50Hz"),
+]
+
+
+@pytest.mark.parametrize("make, size, settings, fitted_as", CASES)
+def test_determination_is_no_earlier_than_an_offline_fit_allows(make, size, settings, fitted_as):
+    # Noisy enough that the parameters become determined while the joint moves, not at the first refresh.
+    samples = make()
+    watcher, refreshes = watched(samples, size, **settings)
+    moments = {}
+    for count, refresh in refreshes:
+        for trace in refresh.parameters:
+            if trace.determined_at is not None and trace.name not in moments:
+                moments[trace.name] = (count, trace.determined_pct)
+    assert moments, "nothing became well determined"
+    for name, (count, percent) in moments.items():
+        fit = offline(samples, count, watcher, **fitted_as)
+        relative = 100 * fit.bse[name] / abs(fit.params[name])
+        # The same samples fitted offline determine it too, to the precision the watcher said: the same Newey-West
+        # errors, of a few percent fewer rows (a stream does not fit each stretch's ends).
+        assert relative <= 1.1 * percent, (name, count, relative, percent)
+
+
+@pytest.mark.parametrize("make, size, settings, fitted_as", [
+    pytest.param(lambda: arm(1000.0, 60.0), 50, {}, {}, id="arm-1kHz"),
+    pytest.param(lambda: arm(50.0, 60.0), 5, {}, {}, id="arm-50Hz"),
+    pytest.param(lambda: arm(50.0, 60.0, jitter=0.05), 5, {}, {}, id="arm-50Hz-jittered"),
+    pytest.param(lambda: flywheel(50.0, 60.0), 5, {"effort": "voltage", "mechanism": "simple"},
+                 {"effort": "voltage", "model": "simple"}, id="flywheel-50Hz"),
+])
+def test_the_last_refresh_matches_an_offline_fit_of_the_same_samples(make, size, settings, fitted_as):
+    samples = make()
+    watcher, refreshes = watched(samples, size, **settings)
+    final = refreshes[-1][1]
+    fit = offline(samples, len(samples.t), watcher, **fitted_as)
+    # The live fit leaves out each stretch's ends (a stream cannot know the end polynomials) and judges standstill
+    # and outside torques block by block: a few percent of the rows differ, so the estimates agree within their
+    # standard error and the errors to the precision a standard error has.
+    assert final.fitted >= 0.8 * fit.result.training.count
+    for trace in final.parameters:
+        error = fit.bse[trace.name]
+        assert abs(trace.value - fit.params[trace.name]) <= 1.5 * error, (trace, fit.params[trace.name], error)
+        assert 0.8 <= trace.error / error <= 1.25, (trace.name, trace.error, error)
+    assert final.result.params.keys() == fit.params.keys()
+    assert dict(final.result.bse) == {trace.name: trace.error for trace in final.parameters}
+
+
 def test_state_stays_bounded_over_ten_times_the_samples():
-    # Ten minutes at 50 Hz, a refresh a second: the state's size cycles (batches merge, histories thin, rows wait
-    # for the robust step) but does not grow; a state that kept its rows would double from one half to the next.
+    # Ten minutes at 50 Hz, a refresh every two seconds: the state's size cycles (batches merge, histories thin,
+    # rows wait for the robust step) but does not grow; a state that kept its rows would double from one half of
+    # the run to the next.
     samples = arm(50.0, 600.0)
     watcher = Watcher()
     sizes = []
-    for block in samples.blocks(50):
+    for block in samples.blocks(100):
         watcher.add(Received(block))
         watcher.refresh()
         sizes.append(watcher.state_size)
@@ -63,3 +126,77 @@ def test_state_stays_bounded_over_ten_times_the_samples():
     middle = (minute + len(sizes)) // 2
     first, second = max(sizes[minute:middle]), max(sizes[middle:])
     assert second <= 1.25 * first, (first, second)
+
+
+def test_a_sysid_routine_watched_lists_its_tests_and_gives_its_gains():
+    # A flywheel's routine as a state column: 10 s of one test, 1 s idle ('none': received, not fitted), then
+    # another; the watcher counts each test's seconds and gives the feedforward's gains from its fit.
+    samples = flywheel(50.0, 40.0)
+    count = len(samples.t)
+    state = np.array(["quasistatic-forward"] * 500 + ["none"] * 50 + ["dynamic-forward"] * (count - 550))
+    watcher = Watcher(effort="voltage", mechanism="simple")
+    for first in range(0, count, 5):
+        block = {"t": samples.t[first:first + 5], "q": samples.q[first:first + 5],
+                 "tau": samples.tau[first:first + 5], "state": state[first:first + 5]}
+        watcher.add(Received(block))
+    refresh = watcher.refresh()
+    assert [name for name, _ in refresh.tests] == ["quasistatic-forward", "dynamic-forward"]
+    seconds = dict(refresh.tests)
+    assert seconds["quasistatic-forward"] == pytest.approx(500 * 0.02, rel=1e-9)
+    assert seconds["dynamic-forward"] == pytest.approx((count - 550) * 0.02, rel=1e-9)
+    assert refresh.received == count
+    assert refresh.fitted < count - 50  # the idle second and each test's ends are not fitted
+    gains = watcher.gains(refresh)
+    assert gains.feedforward == "SimpleMotorFeedforward"
+    for gain in ("kS", "kV", "kA"):
+        assert gains[gain].value == pytest.approx(samples.truth[gain], rel=0.05)
+        assert gains[gain].value == pytest.approx(dict(zip(refresh.result.model.names, refresh.result.estimate))[gain])
+
+
+def test_advice_names_what_the_motion_lacks():
+    # An arm that only swings one way slowly about a small angle: its inertia is not determined, and the advice
+    # says which motion would determine it.
+    t = np.arange(0, 30, 0.001)
+    q = 0.05 * np.sin(2 * np.pi * 0.1 * t)
+    qd = 0.05 * 2 * np.pi * 0.1 * np.cos(2 * np.pi * 0.1 * t)
+    tau = 0.3 * 9.81 * np.cos(q) + 0.1 * qd + np.random.default_rng(4).normal(0, 0.2, len(t))
+    watcher = Watcher(model="plain")
+    for first in range(0, len(t), 100):
+        watcher.add(Received({"t": t[first:first + 100], "q": q[first:first + 100], "tau": tau[first:first + 100]}))
+    refresh = watcher.refresh()
+    inertia = next(trace for trace in refresh.parameters if trace.name == "I")
+    assert inertia.verdict != "well determined"
+    assert any(line.startswith("I (inertia)") and "accelerate" in line for line in refresh.advice), refresh.advice
+
+
+def test_newey_west_sums_give_the_direct_double_sum():
+    # Rows arriving in uneven blocks, some left out (zeros: gaps in the grid) and one break between stretches;
+    # the covariance from the sums equals the Newey-West double sum over pairs within the lag, computed directly.
+    rng = np.random.default_rng(5)
+    X = rng.normal(size=(300, 3))
+    y = X @ np.array([1.0, -2.0, 0.5]) + np.convolve(rng.normal(size=304), np.ones(5) / 5, mode="valid")
+    kept = rng.random(300) > 0.1
+    sums = NeweyWestSums(3, 12)
+    for first, last in ((0, 7), (7, 150), (150, 151), (151, 300)):
+        if first == 150:
+            sums.gap()
+        rows = slice(first, last)
+        sums.add(X[rows] * kept[rows, None], np.where(kept[rows], y[rows], 0.0))
+    solution = solve_least_squares(X[kept], y[kept])
+    covariance, effective = sums.covariance(solution, 6)
+    theta = solution.estimate
+    scores = X * (y - X @ theta)[:, None] * kept[:, None]
+    stretch = np.arange(300) >= 150
+    meat = np.zeros((3, 3))
+    products = 0.0
+    residuals = (y - X @ theta) * kept
+    for i in range(300):
+        for j in range(300):
+            if abs(i - j) <= 6 and stretch[i] == stretch[j]:
+                meat += (1 - abs(i - j) / 7) * np.outer(scores[i], scores[j])
+                products += (1 - abs(i - j) / 7) * residuals[i] * residuals[j]
+    inverse = np.linalg.inv(X[kept].T @ X[kept])
+    count = int(kept.sum())
+    expected = inverse @ meat @ inverse * count / (count - 3)
+    np.testing.assert_allclose(covariance, expected, rtol=1e-9)
+    assert effective == pytest.approx(count / max(products / np.sum(residuals ** 2), 1.0), rel=1e-9)
