@@ -116,29 +116,16 @@ def live_reading(args: argparse.Namespace):
 
 
 def open_source(args: argparse.Namespace) -> LiveSource:
-    """The growing CSV or the NetworkTables subscription of the flags; UserError when it cannot be opened."""
-    from ..logs.table import LogError
-
-    reading = live_reading(args)
-    try:
-        if args.csv is not None:
-            from ..live.growing_csv import GrowingCsv
-
-            return GrowingCsv(args.csv, columns=args.columns, reading=reading, duration=args.duration)
-        return open_network_tables(args, reading)
-    except LogError as error:
-        raise UserError(str(error)) from None
-
-
-def open_network_tables(args: argparse.Namespace, reading) -> LiveSource:
-    """The NetworkTables 4 subscription of --nt and --entry (live.network_tables); UserError (one line) when the
-    host does not answer, a topic is missing or of the wrong type, or pyntcore is not installed."""
-    from ..live.network_tables import NetworkTablesError, NetworkTablesSource
+    """The growing CSV or the NetworkTables subscription of the flags (live.opening); UserError (one line) when it
+    cannot be opened: a file refused, a host that does not answer, a topic missing or of the wrong type, pyntcore
+    not installed."""
+    from ..live.opening import open_live_source
 
     try:
-        return NetworkTablesSource(args.nt, args.entry, reading=reading, units=args.units, duration=args.duration,
-                                   gone_timeout=args.gone)
-    except NetworkTablesError as error:
+        return open_live_source(nt=args.nt, csv=args.csv, entries=args.entry, columns=args.columns,
+                                reading=live_reading(args), units=args.units, duration=args.duration,
+                                gone_timeout=args.gone)
+    except ValueError as error:  # LogError, NetworkTablesError: one line each
         raise UserError(str(error)) from None
 
 
