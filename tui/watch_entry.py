@@ -5,7 +5,7 @@ from __future__ import annotations
 from jointid.cli.arguments import UserError
 from jointid.cli.exit_status import ExitStatus
 
-from jointid.cli.watch_command import watch_status
+from jointid.cli.watch_command import print_closing, watch_status
 
 from .entry import Interrupt, exit_status
 
@@ -47,12 +47,7 @@ def watch(plan) -> int:
     finally:
         plan.stop()  # the app may have ended by a crash: the watch thread must not outlive it
     saved = plan.save()  # the view saved already unless it crashed first; the first answer either way
-    from jointid.present.watch import closing_lines, saved_sentence
-
-    last = plan.session.last
-    for line in (closing_lines(last) if last is not None else ()):
-        print(line)
-    print(saved_sentence(saved))
+    print_closing(plan, saved, plan.final_gains())
     status = exit_status(app, interrupted=interrupt.received)
     if status == ExitStatus.ERROR:
         return status

@@ -25,8 +25,12 @@ class WatchPlan:
     """A watch ready to run: `watch(on_refresh)` until it stops, then `save()` once."""
 
     def __init__(self, source: LiveSource, session: WatchSession, recorder, save_path: str | None,
-                 force: bool) -> None:
+                 force: bool, gains_asked: bool = False, drive=None) -> None:
         self.source = source
+        self.gains_asked = gains_asked
+        """Whether --gains wpilib asked for the feedforward gains when the watch stops."""
+        self.drive = drive
+        """The motor (model.motors.MotorDrive) turning a torque fit into gains, or None."""
         self.session = session
         self.recorder = recorder
         """Takes every block received: live.received_log.ReceivedLog with --save, else a ReceivedCount."""
@@ -55,6 +59,14 @@ class WatchPlan:
         finally:
             self.source.close()
             self._watched.set()
+
+    def final_gains(self):
+        """The WPILib feedforward gains of the last refresh's fit (studies.gains.ArmGains), or None when they were
+        not asked for or there is no unique fit."""
+        last = self.session.last
+        if not self.gains_asked or last is None:
+            return None
+        return self.session.refitter.gains(last, self.drive)
 
     def stop(self) -> None:
         """Ask the watch to stop (from any thread)."""
@@ -97,7 +109,13 @@ def open_watch(args: argparse.Namespace, refresh_hz: float) -> WatchPlan:
         source.close()
         raise
     session = WatchSession(source, refitter, refresh_hz=refresh_hz, duration=args.duration, record=recorder.write)
-    return WatchPlan(source, session, recorder, args.save, args.force)
+    drive = None
+    if args.gains is not None:
+        from .effort_arguments import motor_drive
+
+        drive = motor_drive(args)
+    return WatchPlan(source, session, recorder, args.save, args.force, gains_asked=args.gains is not None,
+                     drive=drive)
 
 
 def live_reading(args: argparse.Namespace):

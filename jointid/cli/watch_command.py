@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 
 from .arguments import UserError, add_model_argument, positive_number, whole_number
 from .commands import SUBCOMMANDS
-from .effort_arguments import add_effort_arguments
+from .effort_arguments import add_effort_arguments, check_gains_request
 from .exit_status import ExitStatus
 from .log_arguments import (
     UNIT_CHOICES,
@@ -123,13 +123,18 @@ def check_flags(args: argparse.Namespace) -> None:
                  if value]
         if stray:
             raise UserError(f"{', '.join(stray)}: only for --nt; name a CSV's columns with --columns")
-    offline = [flag for flag, value in (("--constrained", args.constrained), ("--motor", args.motor),
-                                         ("--motor-r", args.motor_r), ("--motor-kt", args.motor_kt),
-                                         ("--motor-kv", args.motor_kv), ("--motor-count", args.motor_count),
-                                         ("--motor-inertia", args.motor_inertia), ("--gains", args.gains)) if value]
-    if offline:  # the live fit has no constraint and no motor: refused rather than silently ignored
+    offline = [flag for flag, value in (("--constrained", args.constrained), ("--motor-inertia", args.motor_inertia))
+               if value]
+    if offline:  # the live fit has no constraint and no rotor split: refused rather than silently ignored
         raise UserError(f"{', '.join(offline)}: not while watching; --save PATH, then jointid fit --csv PATH "
                         f"{' '.join(offline)} ...")
+    motor = [flag for flag, value in (("--motor", args.motor), ("--motor-r", args.motor_r), ("--motor-kt",
+                                      args.motor_kt), ("--motor-kv", args.motor_kv),
+                                      ("--motor-count", args.motor_count)) if value is not None]
+    if motor and args.gains is None:  # a watch uses the motor only to turn a torque fit into gains
+        raise UserError(f"{', '.join(motor)}: while watching, only to turn the fit into --gains wpilib; add it, or "
+                        "fit the saved log (--save PATH) with jointid fit --csv PATH")
+    check_gains_request(args)
     if args.mechanism is not None and args.model is not None:
         raise UserError(f"--mechanism {args.mechanism} and --model {args.model}: a mechanism is a model; give one")
     if args.force and args.save is None:
@@ -180,7 +185,7 @@ def _on_terminal() -> bool:
 def watch_in_text(plan, json_lines: bool) -> int:
     """Print one line (or JSON object) per refresh until the watch stops; then what was saved. Ctrl+C stops it as
     q would, and what was received is still saved (exit status 130)."""
-    from ..present.watch import closing_lines, refresh_line, refresh_object, saved_object, saved_sentence
+    from ..present.watch import refresh_line, refresh_object, saved_object
 
     def show(refresh: WatchRefresh) -> None:
         print(_json_line(refresh_object(refresh)) if json_lines else refresh_line(refresh), flush=True)
@@ -190,14 +195,32 @@ def watch_in_text(plan, json_lines: bool) -> int:
     saved = plan.save()
     if plan.session.last is None and plan.session.failure is not None:
         return watch_status(plan, saved, bool(interrupted))  # the source failed before anything: its line alone
+    gains = plan.final_gains()
     if json_lines:
-        print(_json_line(saved_object(saved, "interrupt" if interrupted else stopped_by)), flush=True)
+        closing = saved_object(saved, "interrupt" if interrupted else stopped_by)
+        if plan.gains_asked:
+            from ..present.gains import gains_object
+
+            closing["gains"] = None if gains is None else gains_object(gains)
+        print(_json_line(closing), flush=True)
     else:
-        last = plan.session.last
-        for line in (closing_lines(last) if last is not None else ()):
-            print(line)
-        print(saved_sentence(saved), flush=True)
+        print_closing(plan, saved, gains)
     return watch_status(plan, saved, bool(interrupted))
+
+
+def print_closing(plan, saved: Saved, gains) -> None:
+    """What a text watch (and the watch view, once the terminal is back) prints when it stops: the determinations,
+    the advice, the gains asked for, and what was saved."""
+    from ..present.watch import closing_lines, saved_sentence
+
+    last = plan.session.last
+    for line in (closing_lines(last) if last is not None else ()):
+        print(line)
+    if plan.gains_asked:
+        from ..present.gains import gains_text
+
+        print(gains_text(gains) if gains is not None else "No gains: the watch ended before a unique fit.")
+    print(saved_sentence(saved), flush=True)
 
 
 def watch_status(plan, saved: Saved, interrupted: bool) -> int:

@@ -54,8 +54,11 @@ def run_ok(argv) -> bool:
     (["--csv", "done.csv", "--effort", "current"], "--effort current needs --kt"),
     (["--csv", "done.csv", "--mechanism", "arm", "--model", "plain"], "a mechanism is a model"),
     (["--csv", "missing.csv"], "missing.csv"),
-    (["--csv", "done.csv", "--gains", "wpilib", "--motor", "NEO"], "--motor, --gains: not while watching; --save"),
+    (["--csv", "done.csv", "--motor", "NEO"], "--motor: while watching, only to turn the fit into --gains wpilib"),
+    (["--csv", "done.csv", "--gains", "wpilib"], "--gains wpilib needs volts"),
+    (["--csv", "done.csv", "--gains", "wpilib", "--motor", "NoSuchMotor"], "--motor:"),
     (["--csv", "done.csv", "--constrained"], "--constrained: not while watching"),
+    (["--csv", "done.csv", "--motor-inertia", "1e-4"], "--motor-inertia: not while watching"),
 ])
 def test_bad_input_is_one_line_and_status_2(capsys, in_folder, argv, says):
     line = refused(capsys, "watch", *argv)
@@ -276,3 +279,36 @@ def test_a_csv_that_never_grows_ends_at_the_duration_with_nothing_to_save(capsys
     assert refreshes[-1]["received"] == 0 and refreshes[-1]["ended"]
     assert closing == {"stopped_by": "duration", "saved": None, "not_saved": "no sample was received"}
     assert sorted(path.name for path in in_folder.iterdir()) == ["done.csv", "empty.csv"]  # no temporary left
+
+
+def write_sysid_flywheel(folder) -> None:
+    """fly.csv: a flywheel's SysId routine (50 Hz, 40 s, four 10 s tests named in a state column), volts in tau."""
+    from support.watched_joints import flywheel
+
+    run_ = flywheel(50.0, 40.0)
+    tests = ["quasistatic-forward", "quasistatic-reverse", "dynamic-forward", "dynamic-reverse"]
+    rows = (f"{t!r},{q!r},{v!r},{tests[min(int(t // 10), 3)]}"
+            for t, q, v in zip(run_.t.tolist(), run_.q.tolist(), run_.tau.tolist()))
+    (folder / "fly.csv").write_text("t,q,tau,state\n" + "\n".join(rows) + "\n")
+
+
+def test_gains_wpilib_end_a_sysid_watch_with_the_last_fit_as_a_controller_takes_it(capsys, tmp_path, monkeypatch):
+    needs_watcher()
+    monkeypatch.chdir(tmp_path)
+    write_sysid_flywheel(tmp_path)
+    argv = ["watch", "--csv", "fly.csv", "--effort", "voltage", "--mechanism", "simple", "--duration", "39.9",
+            "--gains", "wpilib"]
+    status, out, err = run(capsys, *argv, "--json-lines")
+    assert (status, err) == (0, "")
+    *objects, closing = [json.loads(line) for line in out.splitlines()]
+    last = objects[-1]
+    assert dict(last["tests"]) == pytest.approx({"quasistatic-forward": 10.0, "quasistatic-reverse": 10.0,
+                                                 "dynamic-forward": 10.0, "dynamic-reverse": 9.9}, abs=0.05)
+    gains = closing["gains"]
+    assert gains["feedforward"] == "SimpleMotorFeedforward"
+    for name in ("kS", "kV", "kA"):  # a voltage fit's gains are its own parameters, per radian
+        assert gains["gains"][name]["value"] == last["estimate"][name]
+        assert gains["gains"][name]["verdict"] == last["verdicts"][name]
+    status, out, err = run(capsys, *argv)
+    assert status == 0 and "Java:   new SimpleMotorFeedforward(" in out
+    assert out.splitlines()[-1] == "Nothing saved: no --save PATH given."
