@@ -61,7 +61,8 @@ def run_ok(argv) -> bool:
     (["--csv", "done.csv", "--motor-inertia", "1e-4"], "--motor-inertia: not while watching"),
 ])
 def test_bad_input_is_one_line_and_status_2(capsys, in_folder, argv, says):
-    line = refused(capsys, "watch", *argv)
+    # A --duration first (the case's own comes later and wins), so a case that were not refused would end.
+    line = refused(capsys, "watch", "--duration", "5", *argv)
     assert says in line, line
 
 
