@@ -249,7 +249,10 @@ class NetworkTablesSource:
                                              ) from None
                 self.factors[key] = factor
                 kinds.add(unit == LINEAR_UNIT)
-                self.events.append(note or f"{self.pairs[key]} is in {unit} ({key}).")
+                if note is None:
+                    how = f"--units {self.units}" if self.units else "its unit property"
+                    note = f"{self.pairs[key]!r} is read in {unit} ({how})."
+                self.events.append(note.replace("(its metadata)", "(its unit property)"))
             if len(kinds) > 1:
                 raise NetworkTablesError(f"{self.where}: the topics mix a length and an angle; give them one unit "
                                          "with --units")
