@@ -97,9 +97,8 @@ class GrowingCsv:
         return False
 
     def _restart(self, what: str) -> bool:
-        """Read the file again from its start, as a new stretch, saying `what` happened to it; True."""
-        self.pending_events.append(f"{shown_path(self.path)} {what}: reading it again from its start (a new "
-                                   "stretch)")
+        """Read the (open) file from its start, as a new stretch, saying `what` happened to it; True."""
+        self.pending_events.append(f"{shown_path(self.path)} {what}: reading it from its start (a new stretch)")
         self._reset_file()
         self.clock.new_stretch()
         return True
@@ -107,8 +106,6 @@ class GrowingCsv:
     def _check_file(self) -> bool:
         """Notice a file truncated (read again) or replaced (the new one read from its start); called when the
         open file has no complete line left, so the old one is read out first. True when reading starts again."""
-        if self._truncated():
-            return True
         try:
             stat = os.stat(self.path)
         except OSError:
@@ -120,11 +117,7 @@ class GrowingCsv:
                                        "line end: left out (it may be cut short)")
         self.handle.close()
         self.handle = self._open()
-        self.pending_events.append(f"{shown_path(self.path)} was replaced by a new file: reading it from its "
-                                   "start (a new stretch)")
-        self._reset_file()
-        self.clock.new_stretch()
-        return True
+        return self._restart("was replaced by a new file")
 
     def _peek_rest(self) -> bytes:
         """The bytes after the last complete line already read (a partial line), without consuming them."""
