@@ -86,16 +86,26 @@ class GrowingCsv:
         stat = os.fstat(self.handle.fileno())
         self.identity = (stat.st_dev, stat.st_ino)
 
+    def _truncated(self) -> bool:
+        """Notice a file truncated, or truncated and written again past where reading was (the line read last no
+        longer ends there): read it again from its start, as a new stretch. True when it was."""
+        size = os.fstat(self.handle.fileno()).st_size
+        if size < self.offset:
+            return self._restart(f"was truncated to {size} bytes")
+        if self.offset and os.pread(self.handle.fileno(), 1, self.offset - 1) != b"\n":
+            return self._restart("was written again from its start")
+        return False
+
+    def _restart(self, what: str) -> bool:
+        """Read the (open) file from its start, as a new stretch, saying `what` happened to it; True."""
+        self.pending_events.append(f"{shown_path(self.path)} {what}: reading it from its start (a new stretch)")
+        self._reset_file()
+        self.clock.new_stretch()
+        return True
+
     def _check_file(self) -> bool:
         """Notice a file truncated (read again) or replaced (the new one read from its start); called when the
         open file has no complete line left, so the old one is read out first. True when reading starts again."""
-        size = os.fstat(self.handle.fileno()).st_size
-        if size < self.offset:
-            self.pending_events.append(f"{shown_path(self.path)} was truncated to {size} bytes: reading it again "
-                                       "from its start (a new stretch)")
-            self._reset_file()
-            self.clock.new_stretch()
-            return True
         try:
             stat = os.stat(self.path)
         except OSError:
@@ -107,11 +117,7 @@ class GrowingCsv:
                                        "line end: left out (it may be cut short)")
         self.handle.close()
         self.handle = self._open()
-        self.pending_events.append(f"{shown_path(self.path)} was replaced by a new file: reading it from its "
-                                   "start (a new stretch)")
-        self._reset_file()
-        self.clock.new_stretch()
-        return True
+        return self._restart("was replaced by a new file")
 
     def _peek_rest(self) -> bytes:
         """The bytes after the last complete line already read (a partial line), without consuming them."""
@@ -251,6 +257,8 @@ class GrowingCsv:
             return Received(ended=True)
         deadline = time.monotonic() + max(timeout, 0.0)
         while True:
+            if self._truncated():
+                continue
             data = self._complete_lines()
             if not data and self._check_file():
                 continue

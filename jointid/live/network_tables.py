@@ -167,28 +167,30 @@ class NetworkTablesSource:
         options = nt.PubSubOptions(sendAll=True, keepDuplicates=True, periodic=SEND_PERIOD)
         self.topics = {key: self.instance.getTopic(name) for key, name in self.pairs.items()}
         self.subscribers = {key: topic.genericSubscribe(options) for key, topic in self.topics.items()}
-        quantity_of = {subscriber.getTopic().getName(): key for key, subscriber in self.subscribers.items()}
-        self.quantity_of = quantity_of
         # Topics only, for messages that list what the server publishes.
         self.every_topic = nt.MultiSubscriber(self.instance, ["/"], nt.PubSubOptions(topicsOnly=True))
         flags = nt.EventFlags
-        for subscriber in self.subscribers.values():
-            self.listeners.append(self.instance.addListener(subscriber, flags.kValueAll, self._on_value))
+        for key, subscriber in self.subscribers.items():
+            self.listeners.append(self.instance.addListener(subscriber, flags.kValueAll, self._listener(key)))
         self.listeners.append(self.instance.addConnectionListener(True, self._on_connection))
         self.instance.setServer(self.host, self.port)
         self.instance.startClient4(client_name)
 
-    def _on_value(self, event) -> None:
-        """ntcore's listener thread: one value, queued (or counted as dropped when the buffer is full)."""
-        data = event.data
-        value = data.value
-        with self.lock:
-            if len(self.incoming) >= self.buffered_values:
-                self.dropped += 1
-                return
-            self.incoming.append(("value", self.quantity_of.get(data.topic.getName()), value.server_time(),
-                                  value.value()))
-            self.lock.notify_all()
+    def _listener(self, quantity: str):
+        """The callback ntcore's listener thread calls with each value of `quantity`'s topic: queued (or counted as
+        dropped when the buffer is full). It runs once per value, so it does no more than that."""
+        incoming, lock, limit = self.incoming, self.lock, self.buffered_values
+
+        def on_value(event) -> None:
+            value = event.data.value
+            with lock:
+                if len(incoming) >= limit:
+                    self.dropped += 1
+                    return
+                incoming.append(("value", quantity, value.server_time(), value.value()))
+                lock.notify()
+
+        return on_value
 
     def _on_connection(self, event) -> None:
         """ntcore's listener thread: connected or disconnected, queued in order with the values."""
@@ -247,7 +249,10 @@ class NetworkTablesSource:
                                              ) from None
                 self.factors[key] = factor
                 kinds.add(unit == LINEAR_UNIT)
-                self.events.append(note or f"{self.pairs[key]} is in {unit} ({key}).")
+                if note is None:
+                    how = f"--units {self.units}" if self.units else "its unit property"
+                    note = f"{self.pairs[key]!r} is read in {unit} ({how})."
+                self.events.append(note.replace("(its metadata)", "(its unit property)"))
             if len(kinds) > 1:
                 raise NetworkTablesError(f"{self.where}: the topics mix a length and an angle; give them one unit "
                                          "with --units")

@@ -24,7 +24,7 @@ from __future__ import annotations
 
 import math
 from collections import deque
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -41,8 +41,8 @@ from ..model.effort import effort_named
 from ..model.terms import SIMPLE_MOTOR, JointModel, model_named
 from ..options import DEFAULT_ORDER, default_log_model
 from ..samples import JointData
-from .refits import ROBUST_MOVE, scatter_findings, scatter_ratios
-from .sensitivity import FACTORS, Variant, sensitivity_check
+from .refits import ROBUST_CHOICE, beyond_noise, is_exact, scatter_findings, scatter_ratios
+from .sensitivity import FACTORS
 from .watch_refresh import ParameterTrace, WatchRefresh
 
 WARMUP_SECONDS = 5.0
@@ -66,8 +66,6 @@ STANDSTILL_SHARE = 0.1
 """Speeds below this share of the RMS filtered speed so far count as standstill (as estimation.exclusion)."""
 TOO_SHORT = "too few samples yet to compare the run's halves"
 """Why nothing is well determined before the halves' scatter can be judged."""
-SETTINGS_MOVED = "moved by the derivative settings"
-"""The log fit's reason for a sensitivity flag (studies.log_fit.SETTINGS_MOVED)."""
 
 
 @dataclass(frozen=True)
@@ -81,16 +79,29 @@ class Pipeline:
     chosen: ParallelFilter
 
 
+def _candidates(effort, linear: bool) -> JointModel:
+    """One model with every column of the mechanisms a SysId routine may be (simple, elevator, and arm unless q is a
+    length), so each candidate's fit is a choice of its columns."""
+    from .mechanism import ARM, ELEVATOR, SIMPLE, mechanism_model
+
+    terms = {}
+    for name in (SIMPLE, ELEVATOR) + (() if linear else (ARM,)):
+        for term in mechanism_model(name).in_effort(effort).terms:
+            terms.setdefault(term.name, term)
+    return JointModel("mechanisms", tuple(terms.values()), None, effort)
+
+
 class _Segment:
     """The streaming stages of one contiguous stretch of samples (no gap, one SysId test)."""
 
     def __init__(self, watcher: Watcher, state: str):
+        """The stages of every pipeline of `watcher` for a stretch of SysId test `state` ('' without one)."""
         self.state = state
         self.derivatives = {}
         self.filters = {}
         for pipeline in watcher.pipelines:
             if pipeline.window not in self.derivatives:
-                self.derivatives[pipeline.window] = DerivativeStream(watcher.model.terms, watcher.step,
+                self.derivatives[pipeline.window] = DerivativeStream(watcher.union.terms, watcher.step,
                                                                      pipeline.window, watcher.order)
             self.filters[pipeline] = LowPassStream(pipeline.chosen)
         self.outputs = {pipeline: [] for pipeline in watcher.pipelines}
@@ -100,11 +111,8 @@ class _Segment:
     @property
     def size(self) -> int:
         """Numbers its buffers hold."""
-        total = sum(values.size for stream in self.derivatives.values() for values in stream._raw.values())
-        total += sum(0 if stream._columns is None else stream._columns.size for stream in self.filters.values())
-        if self.resampler is not None:
-            total += sum(values.size for values in self.resampler._raw.values())
-        return total
+        stages = [*self.derivatives.values(), *self.filters.values()]
+        return sum(stage.size for stage in stages) + (0 if self.resampler is None else self.resampler.size)
 
     def add(self, columns: dict[str, np.ndarray]) -> dict | None:
         """Feed raw samples; return the rows every pipeline has produced since (aligned), or None."""
@@ -137,7 +145,7 @@ class _Segment:
         last = min(span[1] for span in spans.values())
         if last < first:
             return None
-        p = self.watcher.model.size
+        p = self.watcher.union.size
         aligned = {}
         for pipeline, pieces in self.outputs.items():
             rows = np.concatenate([piece[0] for piece in pieces])
@@ -148,7 +156,7 @@ class _Segment:
             self.outputs[pipeline] = [(rows[later], values[later])] if later.any() else []
         main = aligned[self.watcher.pipelines[0]]
         return {"X": main[:, :p], "tau": main[:, p], "q": main[:, p + 1], "qd": main[:, p + 2],
-                "qdd": main[:, p + 3], "t": main[:, p + 4],
+                "qdd": main[:, p + 3], "t": main[:, p + 4], "state": self.state,
                 "variants": {pipeline: (aligned[pipeline][:, :p], aligned[pipeline][:, p])
                              for pipeline in self.watcher.pipelines[1:]}}
 
@@ -172,6 +180,10 @@ class Watcher:
             raise ValueError(f"cutoff must be at least 0 Hz; got {cutoff}")
         if decimate is not None and decimate < 1:
             raise ValueError(f"decimate must be at least 1; got {decimate}")
+        from ..options import MECHANISMS
+
+        if mechanism is not None and mechanism not in MECHANISMS:
+            raise ValueError(f"mechanism must be one of {', '.join(MECHANISMS)}; got {mechanism!r}")
         self.effort = effort_named(effort)
         self.convention = AngleConvention(zero, bool(clockwise))
         self.linear = bool(linear)
@@ -201,6 +213,11 @@ class Watcher:
         self.tests: dict[str, float] = {}
         self._last_t: float | None = None
         self._segment: _Segment | None = None
+        self._last_angle: float | None = None
+        self._turns = 0.0
+        """Whole turns added to a wrapped source's angle so far."""
+        self._unwraps = 0
+        """Wraps undone so far."""
         self._fed: tuple[float, str | None] | None = None
         """The last sample streamed: its time and SysId state."""
         self._sysid = False
@@ -209,9 +226,22 @@ class Watcher:
         self.variant_statistics: dict[Pipeline, BatchStatistics] = {}
         self.newey_west: NeweyWestSums | None = None
         """The filtered fit's Newey-West sums (None unfiltered: a log fit's errors are then independent's)."""
+        self.union: JointModel | None = None
+        """The model whose columns are streamed: the fitted model's, or every candidate mechanism's while the
+        mechanism is chosen from the data."""
+        self.columns: list[int] = []
+        """The fitted model's columns among the union's."""
+        self.choosing = False
+        """True while a SysId routine's mechanism is chosen from its data at each refresh."""
+        self.mechanism_choice = None
+        """The studies.mechanism.MechanismChoice of a SysId routine, or None."""
+        self.alternative: tuple[JointModel, str] | None = None
+        """The model with the torque offset explained the other way and what that is (a log fit's refit)."""
+        self.test_statistics: dict[str, BatchStatistics] = {}
         self.all_moving: BatchStatistics | None = None
         """Every moving row, outside torques kept in: the --no-robust refit's statistics."""
         self._pending: list[dict] = []
+        self._pending_rows = 0
         self._speed_squares = 0.0
         self._speed_count = 0
         self._resolution = 0.0
@@ -262,6 +292,31 @@ class Watcher:
         self._sysid = "state" in warm
         if self.model is None or (self._sysid and self._asked_model is None and self._asked_mechanism is None):
             self.model = self._model_for(self._sysid)
+        self.union, self.columns = self.model, list(range(self.model.size))
+        self.alternative = None
+        if not self._sysid:
+            from .log_fit import offset_alternative
+
+            alternative = offset_alternative(self.model)
+            kinds = set() if alternative is None else {term.kind for term in alternative[0].terms}
+            if alternative is not None and not (self.linear and kinds & {"h", "h_c", "h_s"}):
+                # A log fit refits with its torque offset explained the other way: those columns are streamed too.
+                self.alternative = alternative
+                extra = tuple(term for term in alternative[0].terms if term.name not in self.model.column_names)
+                self.union = JointModel(self.model.name, self.model.terms + extra, None, self.effort)
+        if self._sysid and self.effort.name == "voltage" and self._asked_model is None \
+                and self._asked_mechanism is None:
+            # As a recorded SysId log: the mechanism is chosen from the data at each refresh, so every candidate's
+            # columns are streamed.
+            self.union, self.choosing = _candidates(self.effort, self.linear), True
+            self._choose_mechanism()
+        elif self._sysid:
+            from .mechanism import MechanismChoice, mechanism_of
+
+            given = "--model" if self._asked_model is not None else "--mechanism"
+            self.mechanism_choice = MechanismChoice(mechanism_of(self.model), given if self._asked_model or
+                                                    self._asked_mechanism else "the default",
+                                                    "meters" if self.linear else "radians")
         request = self.request
         if self._sysid and request.cutoff is None:
             request = FilterRequest(0.0, request.decimate)  # as studies.sysid.sysid_filtering
@@ -300,7 +355,7 @@ class Watcher:
                         continue
                     pipelines.append(Pipeline("cutoff", factor, self.window, other))
         self.pipelines = tuple(pipelines)
-        p = self.model.size
+        p = self.union.size
         self.statistics = BatchStatistics(p, self._batch_rows())
         self.variant_statistics = {pipeline: BatchStatistics(p, 10 ** 12) for pipeline in self.pipelines[1:]}
         self.all_moving = BatchStatistics(p, 10 ** 12)
@@ -316,13 +371,63 @@ class Watcher:
         self._warm = []
         self._feed(warm)
 
+    def _choose_mechanism(self) -> None:
+        """The mechanism a SysId routine's samples so far support, as studies.mechanism.choose_mechanism decides it:
+        gravity gains SUPPORT standard errors clear of zero, BIC (each test with its own residual variance) lower by
+        DECISIVE; the fitted model and its columns follow."""
+        from .mechanism import (ARM, DECISIVE, ELEVATOR, MANY_TURNS, SIMPLE, SUPPORT, MechanismChoice,
+                                mechanism_model)
+
+        unit = "meters" if self.linear else "radians"
+        candidates = {name: mechanism_model(name).in_effort(self.effort)
+                      for name in (SIMPLE, ELEVATOR, ARM) if not (name == ARM and self.linear)}
+        ruled_out = [(ARM, f"the source's position is in {unit}, a length")] if self.linear else []
+        span = self._range[1] - self._range[0]
+        revolutions = span / (2 * math.pi) if math.isfinite(span) and not self.linear else None
+        statistics = self.statistics
+        fits, gravity = {}, []
+        for name, model in candidates.items():
+            columns = [self.union.column_names.index(column) for column in model.column_names]
+            solution = None if statistics is None or not statistics.count else statistics.solution(columns=columns)
+            if solution is None or solution.estimate is None:
+                continue
+            fits[name] = (model, columns, solution)
+            if "kG" in model.names:
+                uncertainty = parameter_uncertainty(solution, None, model, None, None)
+                k = model.names.index("kG")
+                if uncertainty.residual_std_error is not None:
+                    gravity.append((name, float(uncertainty.estimate[k]), float(uncertainty.residual_std_error[k])))
+        supported = {name: abs(value) > SUPPORT * error for name, value, error in gravity}
+        if ARM in fits and revolutions is not None and revolutions > MANY_TURNS and not supported.get(ARM, False):
+            ruled_out.append((ARM, f"the wheel turned {revolutions:.3g} revolutions with no voltage following the "
+                              "cosine of its angle"))
+            del fits[ARM]
+        total = sum(test.count for test in self.test_statistics.values())
+        bic = {}
+        for name, (model, columns, solution) in fits.items():
+            value = 0.0
+            a = np.append(-solution.estimate, 1.0)
+            for test in self.test_statistics.values():
+                if test.count:
+                    residuals = test.triangle[:, [*columns, self.union.size]] @ a
+                    value += test.count * math.log(max(float(residuals @ residuals) / test.count, 1e-300))
+            bic[name] = value + model.size * math.log(max(total, 1))
+        chosen = SIMPLE
+        for name in (ELEVATOR, ARM):
+            if name in bic and SIMPLE in bic and bic[name] < bic[chosen] - DECISIVE and supported.get(name, False):
+                chosen = name
+        self.model = candidates[chosen]
+        self.columns = [self.union.column_names.index(column) for column in self.model.column_names]
+        self.mechanism_choice = MechanismChoice(chosen, None, unit, tuple(bic.items()), total, tuple(ruled_out),
+                                                tuple(gravity), revolutions)
+
     def _batch_rows(self) -> int:
         """The shortest batch: several times the rows over which a filtered fit's residuals correlate."""
         chosen = self.filter
         if not chosen.active:
-            return max(4 * self.model.size, 16)
+            return max(4 * self.union.size, 16)
         support = max(1, math.ceil(chosen.support * chosen.rate / chosen.decimation))
-        return max(4 * support, 4 * self.model.size, 16)
+        return max(4 * support, 4 * self.union.size, 16)
 
     @property
     def support(self) -> int:
@@ -350,15 +455,36 @@ class Watcher:
         for name in columns:
             if name != "state":
                 columns[name] = np.asarray(columns[name], dtype=float)
-        if "q" not in columns or "tau" not in columns:
-            raise ValueError("a live source must give q and tau (and t) to be watched")
+        if "t" not in columns or "q" not in columns or "tau" not in columns:
+            raise ValueError("a live source must give t, q and tau to be watched")
+        finite = np.ones(received.count, dtype=bool)
+        for name, values in columns.items():
+            if name != "state":
+                finite &= np.isfinite(values)
+        if not finite.all():  # a sample that is no number is a gap: the stretches either side are not bridged
+            self.received += int((~finite).sum())
+            times = columns["t"][~finite]
+            times = times[np.isfinite(times)]
+            where = f" at {float(times[0]):.6g} s" if len(times) else ""
+            self.events.append(f"{int((~finite).sum())} samples holding values that are not numbers were left "
+                               f"out{where} (a gap, not bridged)")
+            for first, last in runs(finite):
+                self._fed = None
+                self._take({name: values[first:last + 1] for name, values in columns.items()})
+            return
+        self._take(columns)
+
+    def _take(self, columns: dict[str, np.ndarray]) -> None:
+        """Samples that are all numbers: unwrapped, in jointid's angle convention, counted, then streamed."""
+        if not self.linear:
+            columns["q"] = self._unwrapped(columns["q"])
         sign, offset = self.convention.sign, self.convention.offset
         if not self.convention.is_default:  # as a log's convention: in radians, after the source's units
             columns["q"] = sign * columns["q"] + offset
             for name in ("qd", "qdd", "tau"):
                 if name in columns:
                     columns[name] = sign * columns[name]
-        self.received += received.count
+        self.received += len(columns["t"])
         self._count_time(columns["t"])
         if self.step is None:
             self._warm.append(columns)
@@ -368,6 +494,26 @@ class Watcher:
                 self._start()
             return
         self._feed(columns)
+
+    def _unwrapped(self, q: np.ndarray) -> np.ndarray:
+        """The angle with a wrapped source's jumps undone, as logs.angles does a log's: a step of more than half a
+        turn, within a quarter turn of a whole one, between angles inside (-pi, pi] or [0, 2 pi)."""
+        previous = self._last_angle
+        self._last_angle = float(q[-1])
+        joined = q if previous is None else np.concatenate([[previous], q])
+        steps = np.diff(joined)
+        turn = 2 * math.pi
+        jumps = (np.abs(steps) > turn / 2) & (np.abs(np.abs(steps) - turn) <= turn / 4)
+        inside = -math.pi - 1e-9 <= float(np.min(joined)) and float(np.max(joined)) <= turn + 1e-9
+        if jumps.any() and inside:
+            self._unwraps += int(jumps.sum())
+            added = -np.cumsum(np.where(jumps, np.sign(steps), 0.0)) * turn  # after each step
+            if previous is None:
+                added = np.concatenate([[0.0], added])
+            unwrapped = q + self._turns + added
+            self._turns += float(added[-1])
+            return unwrapped
+        return q + self._turns if self._turns else q
 
     def _count_time(self, t: np.ndarray) -> None:
         """Seconds of samples received, gaps not counted."""
@@ -402,6 +548,7 @@ class Watcher:
                 rows = self._segment.add(piece)
                 if rows is not None:
                     self._pending.append(rows)
+                    self._pending_rows += len(rows["tau"])
         self._fed = (float(t[-1]), None if state is None else str(state[-1]))
         self._judge_pending(final=False)
 
@@ -424,12 +571,12 @@ class Watcher:
     def _judge_pending(self, final: bool) -> None:
         """Judge the rows waiting for standstill and outside torques once a block's worth has arrived (any at the
         end of a stretch), and add the kept rows to the statistics."""
-        count = sum(len(rows["tau"]) for rows in self._pending)
-        enough = max(int(ROBUST_SECONDS * self.fitted_rate) if self.step else 0, 8 * (self.model.size + 1))
+        count = self._pending_rows
+        enough = max(int(ROBUST_SECONDS * self.fitted_rate) if self.step else 0, 8 * (self.union.size + 1))
         if not count or (count < enough and not final):
             return
         pending = self._pending
-        self._pending = []
+        self._pending, self._pending_rows = [], 0
         block = {name: np.concatenate([rows[name] for rows in pending]) for name in ("X", "tau", "q", "qd", "qdd",
                                                                                       "t")}
         variants = {pipeline: (np.concatenate([rows["variants"][pipeline][0] for rows in pending]),
@@ -440,6 +587,9 @@ class Watcher:
         when = self.elapsed
         self.statistics.add(block["X"][kept], block["tau"][kept], when)
         self.all_moving.add(block["X"][~still], block["tau"][~still], when)
+        if self.choosing:  # each test's own residual variance, for the mechanism's BIC
+            test = self.test_statistics.setdefault(pending[0]["state"], BatchStatistics(self.union.size, 10 ** 12))
+            test.add(block["X"][kept], block["tau"][kept], when)
         if self.newey_west is not None:  # the rows left out are gaps in the grid, as a log fit's positions
             self.newey_west.add(block["X"] * kept[:, None], np.where(kept, block["tau"], 0.0))
         for pipeline, (X, tau) in variants.items():
@@ -448,7 +598,7 @@ class Watcher:
 
     def _exclusions(self, block: dict) -> tuple[np.ndarray, np.ndarray]:
         """(standstill, outside torques) of a block of rows, as a log fit finds them (estimation.exclusion)."""
-        X, tau = block["X"], block["tau"]
+        X, tau = block["X"][:, self.columns], block["tau"]
         size = len(tau)
         still = np.zeros(size, dtype=bool)
         rest = still
@@ -475,7 +625,7 @@ class Watcher:
         if not self.robust or usable.sum() <= 4 * X.shape[1]:
             return still, pushes
         start = None
-        solution = self.statistics.solution()
+        solution = self.statistics.solution(columns=self.columns)
         if solution is not None and solution.estimate is not None:
             start = solution.estimate
         lag = max(4, 2 * support)
@@ -512,7 +662,7 @@ class Watcher:
             fitted=0 if self.statistics is None else self.statistics.count,
             dropped=self.dropped,
             parameters=parameters,
-            advice=self._advice(parameters),
+            advice=self._advice(parameters, result),
             tests=tuple(self.tests.items()),
             events=tuple(self.events),
             recent=self._recent_columns(result),
@@ -542,69 +692,107 @@ class Watcher:
     def _fit(self) -> FitResult | None:
         """The current fit as a FitResult carrying the whole run's statistics and the judged verdicts."""
         statistics = self.statistics
-        if statistics is None or statistics.count <= self.model.size or not self._recent:
+        if statistics is None or statistics.count <= self.union.size or not self._recent:
             return None
-        solution = statistics.solution()
+        if self.choosing:
+            self._choose_mechanism()
+        solution = statistics.solution(columns=self.columns)
         recent = self._recent_rows()
         training = JointData(t=recent["t"], q=recent["q"], qd=recent["qd"], qdd=recent["qdd"], tau=recent["tau"])
         result = FitResult(training=training, heldout=None, heldout_is_noiseless=False, solution=solution,
-                           training_regressor=recent["X"], model=self.model)
+                           training_regressor=recent["X"][:, self.columns], model=self.model)
         correlated = None
         if self.newey_west is not None and solution.estimate is not None:
             from .log_fit import correlation_lag
 
-            correlated = self.newey_west.covariance(solution, correlation_lag(solution.row_count, self.filter))
+            correlated = self.newey_west.covariance(solution, correlation_lag(solution.row_count, self.filter),
+                                                    self.columns)
         uncertainty = parameter_uncertainty(solution, None, self.model, None, correlated)
         # The whole run's statistics, not the recent rows' the result carries for its charts.
         vars(result)["uncertainty"] = uncertainty
         vars(result)["training_rmse"] = float(solution.residual_norm) / math.sqrt(solution.row_count)
-        return with_judgement(result, self._judgement(result, statistics))
+        judgement = self._judgement(result, statistics)
+        judged = with_judgement(result, judgement)
+        if judgement.spread and uncertainty is not None:  # the analysis choices widen the reported errors
+            vars(judged)["uncertainty"] = replace(uncertainty, spread=np.asarray(judgement.spread, dtype=float))
+            vars(judged).pop("bse", None)
+        return judged
 
     def _judgement(self, result: FitResult, statistics: BatchStatistics):
-        """The verdicts as a log fit's: noise errors, the sensitivity refits, --no-robust, the halves' scatter."""
+        """The verdicts and reported errors as a log fit's (studies.log_fit.judge_log): the noise errors widened by
+        the other analysis choices' moves and the halves' scatter."""
         names = self.model.names
         uncertainty = result.uncertainty
-        if uncertainty is None or uncertainty.relative_std_pct is None:
+        if uncertainty is None or uncertainty.noise_relative_std_pct is None:
             return noise_judgement(names, None)
-        findings = list(self._sensitivity_findings(result))
-        findings += self._robust_findings(result)
+        findings = []
         if self.filter.active and len(statistics.batches) < 2 * MIN_BATCHES:
             # A log fit compares its halves; until the run is long enough for that, nothing is called well
             # determined (early refreshes would otherwise judge a few seconds on the noise alone).
             findings += [Finding(name, TOO_SHORT) for name in names]
-        return judge(names, uncertainty.relative_std_pct, None, findings, self._halves_scatter(result))
+        exact = is_exact(result)
+        return judge(names, uncertainty.noise_relative_std_pct, None, findings,
+                     () if exact else self._halves_scatter(result), () if exact else self._spreads(result),
+                     result.estimate, uncertainty.noise_std_error)
 
-    def _sensitivity_findings(self, result: FitResult) -> tuple[Finding, ...]:
-        """The sensitivity check's flags from the parallel pipelines' estimates, as a log fit's."""
-        if not self.variant_statistics or result.uncertainty.residual_std_error is None:
+    def _spreads(self, result: FitResult):
+        """How far the other analysis choices move the parameters beyond noise, as studies.log_fit.log_spreads: the
+        derivative window and cutoff halved and doubled (the parallel pipelines), the robust step's exclusions,
+        and a torque offset explained the other way (its columns streamed beside the model's)."""
+        from .log_fit import SETTING_CHOICES
+
+        model, estimate, noise = self.model, result.estimate, result.uncertainty.noise_std_error
+        if noise is None:
             return ()
-        base = Variant("", 1.0, self.window, self.filter.cutoff, result.estimate)
-        variants = []
-        for pipeline, statistics in self.variant_statistics.items():
-            solution = statistics.solution()
-            if solution is None or solution.estimate is None:
-                continue
-            variants.append(Variant(pipeline.label, pipeline.factor, pipeline.window, pipeline.chosen.cutoff,
-                                    self.model.report(solution.estimate)))
-        torque_rms = float(np.linalg.norm(self.statistics.triangle[:, -1])) / math.sqrt(self.statistics.count)
-        check = sensitivity_check(self.model.names, base, result.uncertainty.residual_std_error, variants,
-                                  rmse=result.training_rmse, torque_rms=torque_rms)
-        return tuple(Finding(name, SETTINGS_MOVED) for name, flagged in zip(check.names, check.flags) if flagged)
-
-    def _robust_findings(self, result: FitResult) -> list[Finding]:
-        """Parameters the fit with the outside torques kept in moves beyond ROBUST_MOVE standard errors."""
+        names = model.names
+        # A refit's noise errors: its independent-residual errors scaled as the fit's Newey-West ones are to its own.
+        alone = parameter_uncertainty(result.solution, None, model).noise_std_error
+        with np.errstate(all="ignore"):
+            scale = np.where(alone > 0, noise / alone, 1.0)
+        spreads = []
+        for setting, choice in SETTING_CHOICES.items():
+            others, errors = [], []
+            for pipeline, statistics in self.variant_statistics.items():
+                solution = statistics.solution(columns=self.columns)
+                if pipeline.label != setting or solution is None or solution.estimate is None:
+                    continue
+                refit = parameter_uncertainty(solution, None, model)
+                others.append(refit.estimate)
+                errors.append(None if refit.noise_std_error is None else refit.noise_std_error * scale)
+            spreads += beyond_noise(names, estimate, noise, others, choice, errors)
         moving = self.all_moving
-        if not self.robust or moving.count == self.statistics.count:
-            return []
-        solution = moving.solution()
-        errors = result.uncertainty.residual_std_error
-        if solution is None or solution.estimate is None or errors is None:
-            return []
-        kept_in = self.model.report(solution.estimate)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            moves = np.abs(kept_in - result.estimate) / errors
-        return [Finding(name, f"moved {move:.1f} standard errors by --no-robust")
-                for name, move in zip(self.model.names, moves) if move > ROBUST_MOVE]
+        if self.robust and moving.count != self.statistics.count:
+            solution = moving.solution(columns=self.columns)
+            if solution is not None and solution.estimate is not None:
+                spreads += beyond_noise(names, estimate, noise, [model.report(solution.estimate)], ROBUST_CHOICE)
+        spreads += self._offset_spreads(estimate, noise)
+        return tuple(spreads)
+
+    def _offset_spreads(self, estimate: np.ndarray, noise: np.ndarray):
+        """The spread of a torque offset explained the other way (a bias <-> an angle offset), as a log fit's."""
+        if self.alternative is None:
+            return ()
+        other, choice = self.alternative
+        columns = [self.union.column_names.index(name) for name in other.column_names]
+        solution = self.statistics.solution(columns=columns)
+        if solution is None or solution.estimate is None:
+            return ()
+        correlated = None
+        if self.newey_west is not None:
+            from .log_fit import correlation_lag
+
+            correlated = self.newey_west.covariance(solution, correlation_lag(solution.row_count, self.filter),
+                                                    columns)
+        with np.errstate(all="ignore"):
+            refit = parameter_uncertainty(solution, None, other, None, correlated)
+        errors = refit.noise_std_error
+        if errors is None or not (np.all(np.isfinite(refit.estimate)) and np.all(np.isfinite(errors))):
+            return ()
+        by_name = dict(zip(other.names, zip(refit.estimate, errors)))
+        found = np.array([by_name.get(name, (np.nan, np.nan)) for name in self.model.names], dtype=float)
+        shared = np.isfinite(found[:, 0])
+        return beyond_noise(self.model.names, estimate, noise, [np.where(shared, found[:, 0], estimate)], choice,
+                            [np.where(shared, found[:, 1], noise)])
 
     def _halves_scatter(self, result: FitResult):
         """The scatter of the run's two halves (each fitted alone) beyond their errors, as a log fit's."""
@@ -617,10 +805,10 @@ class Watcher:
         for half in (batches[:middle + 1], batches[middle + 1:]):
             if len(half) < 2:
                 return ()
-            solution = self.statistics.solution(half)
+            solution = self.statistics.solution(half, self.columns)
             if solution.estimate is None:
                 return ()
-            correlated = self.statistics.batch_covariance(solution, half)
+            correlated = self.statistics.batch_covariance(solution, half, self.columns)
             uncertainty = parameter_uncertainty(solution, None, self.model, None, correlated)
             error = uncertainty.residual_std_error
             if error is None or not np.all(np.isfinite(error)) or not np.all(error > 0):
@@ -660,19 +848,33 @@ class Watcher:
                                          tuple(self._history.get(name, ()))))
         return tuple(traces)
 
-    def _advice(self, traces: tuple[ParameterTrace, ...]) -> tuple[str, ...]:
-        """What motion would determine what is not determined yet."""
+    def _advice(self, traces: tuple[ParameterTrace, ...], result: FitResult | None) -> tuple[str, ...]:
+        """What motion would determine what is not determined yet: each such parameter, why (its verdict and
+        reason, a column the motion leaves dependent on the others, a sign its rule forbids) and what motion would
+        excite it."""
         if self.model is None or self.step is None:
             return (f"Waiting for {self.warmup:g} s of samples to choose the filters.",)
         if self.statistics is None or not self.statistics.count:
             return ("Waiting for the first fitted samples.",)
         advice = []
-        for trace in traces:
-            if trace.verdict == WELL_DETERMINED:
+        undetermined = () if result is None or result.estimate is not None else result.identifiable.undetermined
+        failures = () if result is None else result.sign_failures
+        for trace, parameter in zip(traces, self.model.parameters):
+            if trace.verdict == WELL_DETERMINED and trace.name not in failures:
                 continue
             kind = self.model.term(self.model.columns_behind(trace.name)[0]).kind
             motion = self._motion_for(kind)
-            if trace.verdict is None:
+            if result is not None and result.estimate is None:
+                if trace.name not in undetermined and not set(self.model.columns_behind(trace.name)) & set(
+                        undetermined):
+                    continue
+                columns = [self.model.column_names.index(name) for name in self.model.columns_behind(trace.name)]
+                zero = bool(np.all(result.identifiable.zero_columns[columns]))
+                why = f"{parameter.invisible_when} so far" if zero else "its column has followed the others'"
+                state = f"not separable from the others yet ({why})"
+            elif trace.name in failures:
+                state = f"{trace.value:.3g} {trace.unit}, against its sign rule ({parameter.requirement})"
+            elif trace.verdict is None:
                 state = "not judged yet (too few stretches of data)"
             elif trace.reason:
                 state = f"{trace.verdict} ({trace.reason})"
@@ -711,7 +913,7 @@ class Watcher:
         rows = self._recent_rows()
         recent = {name: rows[name] for name in ("t", "q", "qd", "tau")}
         if result is not None and result.column_estimate is not None:
-            recent["predicted"] = rows["X"] @ result.column_estimate
+            recent["predicted"] = rows["X"][:, self.columns] @ result.column_estimate
         return recent
 
     @property

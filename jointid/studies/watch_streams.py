@@ -50,6 +50,11 @@ class DerivativeStream:
         """Segment index of the next output (the first `reach` samples have no whole window)."""
         self._largest = 0.0
 
+    @property
+    def size(self) -> int:
+        """Numbers its buffer holds."""
+        return _held(self._raw)
+
     def add(self, columns: dict[str, np.ndarray]) -> dict[str, np.ndarray] | None:
         """Append raw columns (q, tau, qd and qdd when given, t); return the outputs now complete: 'X' (n, p),
         'tau', 'q', 'qd', 'qdd', 't' (n,), and 'index' (n,) their positions in the segment; None when none is."""
@@ -77,6 +82,9 @@ class DerivativeStream:
             acceleration = (velocity[2:] - velocity[:-2]) / (2 * h)  # [first-half, last+half)
             velocity = velocity[1:-1]
             velocity[np.abs(velocity) <= floor / h] = 0.0  # rounding has no sign (Coulomb's column), as offline
+            # An acceleration at the level of rounding is none (offline: when the whole log's is): no column of
+            # rounding noise for the fit to scale up into a 'determined' inertia.
+            acceleration[np.abs(acceleration) <= floor / h / h] = 0.0
             wide = raw["q"][first - half: last + half]
             inner = slice(half, len(wide) - half)
             columns_out = []
@@ -101,6 +109,11 @@ class DerivativeStream:
         return out
 
 
+def _held(buffers) -> int:
+    """Numbers held in a dict of arrays (a stage's buffer)."""
+    return sum(values.size for values in buffers.values())
+
+
 class LowPassStream:
     """The parallel low-pass and decimation of full-rate columns as they arrive, at the kept rows only."""
 
@@ -115,6 +128,11 @@ class LowPassStream:
         """Segment index of the buffer's first row."""
         self.next_row = None
         """The next kept row's index in decimated rows (row m is segment sample m x decimation)."""
+
+    @property
+    def size(self) -> int:
+        """Numbers its buffer holds."""
+        return 0 if self._columns is None else self._columns.size
 
     def add(self, columns: np.ndarray, first: int) -> tuple[np.ndarray, np.ndarray]:
         """Append (n, k) columns of segment samples first .. first + n - 1 (contiguous with the last call's); return
@@ -217,8 +235,10 @@ class BatchStatistics:
         """Every batch, the open one last."""
         return self.closed + ([self.open] if self.open is not None and self.open.count else [])
 
-    def solution(self, subset: list[Batch] | None = None) -> LeastSquaresSolution | None:
-        """jointid's column-scaled, pivoted least squares of every row (or of `subset`'s), None before any row."""
+    def solution(self, subset: list[Batch] | None = None, columns=None) -> LeastSquaresSolution | None:
+        """jointid's column-scaled, pivoted least squares of every row (or of `subset`'s) on `columns` (indices; all
+        by default), None before any row."""
+        chosen = list(range(self.columns)) if columns is None else list(columns)
         if subset is None:
             if self.triangle is None:
                 return None
@@ -226,11 +246,11 @@ class BatchStatistics:
         else:
             triangle = triangle_update(None, np.vstack([batch.triangle for batch in subset]))
             count = sum(batch.count for batch in subset)
-        p = self.columns
-        # ||y - X theta|| = ||T_y - T_X theta|| for every theta: the same problem in p + 1 rows.
-        return replace(solve_least_squares(triangle[:, :p], triangle[:, p]), row_count=count)
+        # ||y - X theta|| = ||T_y - T_X theta|| for every theta and any of X's columns (T^T T = Z^T Z): the same
+        # problem in p + 1 rows.
+        return replace(solve_least_squares(triangle[:, chosen], triangle[:, self.columns]), row_count=count)
 
-    def batch_covariance(self, solution: LeastSquaresSolution, subset: list[Batch] | None = None
+    def batch_covariance(self, solution: LeastSquaresSolution, subset: list[Batch] | None = None, columns=None
                          ) -> tuple[np.ndarray, float] | None:
         """(The batch-means covariance of the column estimate, the effective count of independent rows), or None
         with fewer than two batches or no unique fit."""
@@ -238,13 +258,14 @@ class BatchStatistics:
         theta = solution.estimate
         if theta is None or len(batches) < 2:
             return None
-        p, count = self.columns, solution.row_count
+        chosen = [*(range(self.columns) if columns is None else columns), self.columns]
+        p, count = len(chosen) - 1, solution.row_count
         # Each batch's score X_b^T (y_b - X_b theta) = R_b^T (R_b [-theta; 1])[:p], all batches at once.
-        triangles = np.stack([batch.triangle for batch in batches])
+        triangles = np.stack([batch.triangle for batch in batches])[:, :, chosen]
         residual_rows = triangles @ np.append(-theta, 1.0)
         scores = np.einsum("bij,bi->bj", triangles[:, :, :p], residual_rows)
         meat = scores.T @ scores
-        sums = np.stack([batch.sums for batch in batches])
+        sums = np.stack([batch.sums for batch in batches])[:, chosen]
         shared = float(np.sum((sums[:, p] - sums[:, :p] @ theta) ** 2))
         factor = covariance_factor(solution)
         size = len(batches)
@@ -301,22 +322,26 @@ class NeweyWestSums:
         self._tail_v[:] = 0.0
         self._tail_z[:] = 0.0
 
-    def covariance(self, solution: LeastSquaresSolution, lag: int) -> tuple[np.ndarray, float] | None:
+    def covariance(self, solution: LeastSquaresSolution, lag: int, columns=None) -> tuple[np.ndarray, float] | None:
         """(The Newey-West covariance of the column estimate, the effective count), as estimation.uncertainty's
         newey_west of the same rows with Bartlett weights over `lag` (at most `lags`) steps; None without a unique
         fit."""
         theta = solution.estimate
         if theta is None:
             return None
-        p, count = self.columns, solution.row_count
+        total = self.columns
+        chosen = list(range(total)) if columns is None else list(columns)
+        with_y = [*chosen, total]
+        p, count = len(chosen), solution.row_count
         lag = min(lag, self.lags)
         a = np.append(-theta, 1.0)
         meat = np.zeros((p, p))
         shared = 0.0
         for k in range(lag + 1):
             weight = 1.0 - k / (lag + 1)
-            moment = np.einsum("acbd,c,d->ab", self.fourth[k].reshape(p, p + 1, p, p + 1), a, a)
-            products = float(a @ self.second[k] @ a)
+            fourth = self.fourth[k].reshape(total, total + 1, total, total + 1)[np.ix_(chosen, with_y, chosen, with_y)]
+            moment = np.einsum("acbd,c,d->ab", fourth, a, a)
+            products = float(a @ self.second[k][np.ix_(with_y, with_y)] @ a)
             if k == 0:
                 meat += moment
                 c0 = products
@@ -350,6 +375,11 @@ class SplineResampler:
         self._origin: float | None = None
         self._next = 0
         """The next grid time's index: origin + index x step."""
+
+    @property
+    def size(self) -> int:
+        """Numbers its buffer holds."""
+        return _held(self._raw)
 
     def add(self, columns: dict[str, np.ndarray]) -> dict[str, np.ndarray] | None:
         """Append samples (t and other columns); return the grid times now surrounded by MARGIN samples and every

@@ -34,9 +34,10 @@ class Samples:
                    "tau": self.tau[first:first + size]}
 
 
-def arm(rate: float, seconds: float, noise: float = 0.05, seed: int = 1, jitter: float = 0.0) -> Samples:
+def arm(rate: float, seconds: float, noise: float = 0.05, seed: int = 1, jitter: float = 0.0,
+        bias: float = ARM_TRUTH["tau0"]) -> Samples:
     """An arm swung by a sum of three sines (0.3, 0.7, 1.3 Hz) with its torque measured with Gaussian noise; each
-    sample taken up to `jitter` periods early or late (uniformly), as a robot loop's."""
+    sample taken up to `jitter` periods early or late (uniformly), as a robot loop's; `bias` the torque bias."""
     rng = np.random.default_rng(seed)
     t = np.arange(int(round(seconds * rate))) / rate
     if jitter:
@@ -45,10 +46,10 @@ def arm(rate: float, seconds: float, noise: float = 0.05, seed: int = 1, jitter:
     q = sum(a * np.sin(2 * np.pi * f * t + phase) for a, f, phase in motion)
     qd = sum(a * 2 * np.pi * f * np.cos(2 * np.pi * f * t + phase) for a, f, phase in motion)
     qdd = sum(-a * (2 * np.pi * f) ** 2 * np.sin(2 * np.pi * f * t + phase) for a, f, phase in motion)
-    k = ARM_TRUTH
+    k = dict(ARM_TRUTH, tau0=bias)
     tau = (k["I"] * qdd + k["h"] * G * np.cos(q) + k["B"] * qd + k["Fc"] * np.sign(qd) + k["tau0"]
            + noise * rng.standard_normal(len(t)))
-    return Samples(t, q, tau, dict(k))
+    return Samples(t, q, tau, k)
 
 
 @lru_cache(maxsize=8)
@@ -62,10 +63,12 @@ def flywheel(rate: float, seconds: float, noise: float = 0.02, seed: int = 2) ->
     times = np.arange(count) * fine
 
     def volts(time):
+        """The voltage applied at `time`."""
         return 4.0 * np.sin(2 * np.pi * 0.25 * time) + 2.0 * np.sin(2 * np.pi * 1.7 * time) + \
             1.5 * np.sign(np.sin(2 * np.pi * 0.9 * time))
 
     def acceleration(time, v):
+        """The flywheel's acceleration at `time` and speed `v`."""
         return (volts(time) - k["kS"] * np.sign(v) - k["kV"] * v) / k["kA"]
 
     v = np.empty(count)

@@ -122,6 +122,18 @@ def test_a_truncated_file_is_read_again_as_a_new_stretch_whose_time_follows_on(t
     assert any("clock started again" in event for event in block.events)
 
 
+def test_a_file_written_again_past_where_reading_was_is_read_again_not_misread(tmp_path):
+    path = tmp_path / "capture.csv"
+    path.write_text(HEADER + "0,0.1,0,0,1\n")
+    source = GrowingCsv(path)
+    assert source.poll(0.5).count == 1
+    # The logger started again in the same file and wrote more than before between two polls.
+    path.write_text(HEADER + "0,0.25,0,0,1\n0.01,0.35,0,0,1\n0.02,0.45,0,0,1\n")
+    columns, blocks = collect(source, 3)
+    assert columns["q"].tolist() == [0.25, 0.35, 0.45]
+    assert any("was written again from its start" in event for event in events_of(blocks))
+
+
 def test_a_replaced_file_is_read_out_then_the_new_one_from_its_start(tmp_path):
     path = tmp_path / "capture.csv"
     path.write_text(HEADER + "0,0.1,0,0,1\n")

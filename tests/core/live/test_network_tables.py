@@ -98,6 +98,22 @@ def test_a_1_khz_flywheel_in_rotations_with_a_sysid_state_is_read_in_radians_as_
     assert sum(block.dropped for block in blocks) == 0
 
 
+@pytest.mark.parametrize("unit, units", [("degrees", None), (None, "degrees")])
+def test_degrees_by_the_unit_property_or_by_units_arrive_in_radians(server, sources, unit, units):
+    run = arm(rate=50, duration=2.0)
+    topics = {"/Arm/Position": "double", "/Arm/Torque": "double"}
+    server.publish_topics(topics, units=None if unit is None else {"/Arm/Position": unit})
+    source = NetworkTablesSource(server.address, "q=/Arm/Position,tau=/Arm/Torque", units=units)
+    sources.append(source)
+    wait_until(lambda: all(server.subscribed(name) for name in topics), what="the subscriptions")
+    server.stream(dict(zip(topics, (np.degrees(run.q), run.tau))), run.t)
+    columns, events, _ = collect(source, len(run.t))
+    np.testing.assert_allclose(columns["q"], run.q, rtol=1e-14, atol=1e-14)
+    said = ("'/Arm/Position' is in 'degrees' (its unit property): q = 0.0174533 × the logged value, in radians."
+            if units is None else "'/Arm/Position' is read in degrees (--units degrees).")
+    assert said in events
+
+
 def test_a_velocity_without_a_position_is_integrated_into_q(server, sources):
     run = flywheel(rate=200, duration=2.0)
     topics = {"/Fly/Velocity": "double", "/Fly/Voltage": "double"}

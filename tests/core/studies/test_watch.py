@@ -103,10 +103,16 @@ def test_the_last_refresh_matches_an_offline_fit_of_the_same_samples(make, size,
     # and outside torques block by block: a few percent of the rows differ, so the estimates agree within their
     # standard error and the errors to the precision a standard error has.
     assert final.fitted >= 0.8 * fit.result.training.count
+    noise = dict(zip(fit.result.model.names, fit.result.uncertainty.noise_std_error))
+    live_noise = dict(zip(final.result.model.names, final.result.uncertainty.noise_std_error))
     for trace in final.parameters:
         error = fit.bse[trace.name]
         assert abs(trace.value - fit.params[trace.name]) <= 1.5 * error, (trace, fit.params[trace.name], error)
-        assert 0.8 <= trace.error / error <= 1.25, (trace.name, trace.error, error)
+        # The noise's (Newey-West) errors agree to the precision a standard error has; the reported ones are
+        # widened by the same analysis choices where those move the estimate (the halves' scatter, judged on
+        # other rows, may differ).
+        assert 0.8 <= live_noise[trace.name] / noise[trace.name] <= 1.25, (trace.name, live_noise, noise)
+        assert trace.error >= live_noise[trace.name]
     assert final.result.params.keys() == fit.params.keys()
     assert dict(final.result.bse) == {trace.name: trace.error for trace in final.parameters}
 
@@ -200,3 +206,116 @@ def test_newey_west_sums_give_the_direct_double_sum():
     expected = inverse @ meat @ inverse * count / (count - 3)
     np.testing.assert_allclose(covariance, expected, rtol=1e-9)
     assert effective == pytest.approx(count / max(products / np.sum(residuals ** 2), 1.0), rel=1e-9)
+
+
+@pytest.mark.parametrize("joint, chosen", [("flywheel", "simple"), ("arm", "arm")])
+def test_a_sysid_routine_chooses_its_mechanism_as_a_recorded_log(joint, chosen):
+    # Without --mechanism, a voltage routine's mechanism is chosen from the data: a flywheel turns many times with
+    # no voltage following cos q (simple motor); an arm's voltage follows the cosine of its angle (arm: kG = h g).
+    samples = flywheel(50.0, 40.0) if joint == "flywheel" else arm(50.0, 40.0, bias=0.0)
+    state = np.full(len(samples.t), "dynamic-forward")
+    watcher = Watcher(effort="voltage")
+    for first in range(0, len(samples.t), 5):
+        rows = slice(first, first + 5)
+        watcher.add(Received({"t": samples.t[rows], "q": samples.q[rows], "tau": samples.tau[rows],
+                              "state": state[rows]}))
+    refresh = watcher.refresh()
+    assert watcher.mechanism_choice.mechanism == chosen
+    assert watcher.mechanism_choice.given_by is None
+    values = {trace.name: trace.value for trace in refresh.parameters}
+    if chosen == "arm":
+        assert values["kG"] == pytest.approx(samples.truth["h"] * 9.81, rel=0.05)
+        assert values["kA"] == pytest.approx(samples.truth["I"], rel=0.05)
+    else:
+        assert set(values) == {"kA", "kV", "kS"}
+        assert values["kV"] == pytest.approx(samples.truth["kV"], rel=0.05)
+
+
+def test_advice_names_a_parameter_the_motion_cannot_separate():
+    # A joint turning at one steady speed has no acceleration: its inertia cannot be told from the rest (the fit
+    # is rank-deficient), and the advice says so and what would separate it.
+    t = np.arange(0, 20, 0.001)
+    q, qd = 0.5 * t, np.full(len(t), 0.5)
+    tau = 0.3 * 9.81 * np.cos(q) + 0.1 * qd + np.random.default_rng(6).normal(0, 0.05, len(t))
+    watcher = Watcher(model="plain")
+    for first in range(0, len(t), 100):
+        watcher.add(Received({"t": t[first:first + 100], "q": q[first:first + 100], "tau": tau[first:first + 100]}))
+    refresh = watcher.refresh()
+    assert refresh.result is not None and refresh.result.rank < 3
+    assert any(line.startswith("I (inertia) is not separable") and "no acceleration" in line and "accelerate" in line
+               for line in refresh.advice), refresh.advice
+
+
+def test_a_wrapped_angle_is_unwrapped_as_it_arrives():
+    # The same arm, its angle turned by 2.5 rad so that it crosses the seam at pi, reported wrapped to (-pi, pi]:
+    # the watcher undoes the wraps, so it fits what it fits from the continuous angle.
+    samples = arm(200.0, 30.0)
+    turned = samples.q + 2.5
+    wrapped = np.angle(np.exp(1j * turned))
+    assert np.any(np.abs(np.diff(wrapped)) > np.pi)
+    fits = []
+    for angle in (turned, wrapped):
+        watcher = Watcher(model="plain")
+        for first in range(0, len(samples.t), 20):
+            rows = slice(first, first + 20)
+            watcher.add(Received({"t": samples.t[rows], "q": angle[rows], "tau": samples.tau[rows]}))
+        fits.append([trace.value for trace in watcher.refresh().parameters])
+    np.testing.assert_allclose(fits[1], fits[0], rtol=1e-6)
+
+
+def test_samples_that_are_not_numbers_are_a_gap_said_and_not_bridged():
+    samples = arm(200.0, 30.0)
+    tau = samples.tau.copy()
+    tau[3000] = np.nan
+    watcher = Watcher()
+    for first in range(0, len(samples.t), 20):
+        rows = slice(first, first + 20)
+        watcher.add(Received({"t": samples.t[rows], "q": samples.q[rows], "tau": tau[rows]}))
+    refresh = watcher.refresh()
+    assert refresh.received == len(samples.t)
+    assert any("1 samples holding values that are not numbers were left out at 15 s" in event
+               for event in refresh.events), refresh.events
+    for trace in refresh.parameters:
+        assert np.isfinite(trace.value) and abs(trace.value - samples.truth[trace.name]) <= 0.05 * samples.truth[trace.name]
+
+
+def test_settings_a_log_fit_refuses_are_refused_naming_the_argument():
+    for settings, word in (({"effort": "current"}, "effort"), ({"mechanism": "flywheel"}, "mechanism"),
+                           ({"window": 4}, "window"), ({"cutoff": -1.0}, "cutoff"), ({"decimate": 0}, "decimate"),
+                           ({"zero": "sideways"}, "zero"), ({"mechanism": "arm", "linear": True}, "metres")):
+        with pytest.raises(ValueError, match=word):
+            Watcher(**settings)
+
+
+def test_streamed_derivatives_and_low_pass_equal_the_offline_ones_away_from_the_ends():
+    # The claim of studies.watch_streams: blocks of any size give, wherever the whole window has arrived, what the
+    # log path's Savitzky-Golay derivatives (logs.derivatives) and parallel low-pass (estimation.low_pass) give.
+    from jointid.estimation.low_pass import FilterRequest, choose_filter
+    from jointid.logs.derivatives import differentiate, smooth
+    from jointid.model.terms import model_named
+    from jointid.studies.watch_streams import DerivativeStream, LowPassStream
+
+    samples = arm(500.0, 20.0, noise=0.5)
+    step, window, order = 0.002, 41, 3
+    model = model_named("coulomb+bias")
+    qd, qdd = differentiate(samples.q, step, window, order)
+    offline = np.column_stack([qdd, smooth(9.81 * np.cos(samples.q), window, order), qd,
+                               smooth(np.sign(qd), window, order), np.ones(len(qd)),
+                               smooth(samples.tau, window, order)])
+    chosen = choose_filter(FilterRequest(4.0, 5), step, True, samples.q, len(samples.q))
+    filtered = np.column_stack([chosen.apply_column(offline[:, j]) for j in range(offline.shape[1])])
+    derivatives, low_pass = DerivativeStream(model.terms, step, window, order), LowPassStream(chosen)
+    rows, values = [], []
+    first, sizes = 0, [3, 11, 7, 200, 1]
+    while first < len(samples.t):
+        part = slice(first, first + sizes[0])
+        first, sizes = first + sizes[0], sizes[1:] + sizes[:1]
+        out = derivatives.add({"t": samples.t[part], "q": samples.q[part], "tau": samples.tau[part]})
+        if out is None:
+            continue
+        kept, low = low_pass.add(np.column_stack([out["X"], out["tau"]]), int(out["index"][0]))
+        rows.append(kept), values.append(low)
+    rows, values = np.concatenate(rows), np.concatenate(values)
+    assert rows[0] * 5 >= window + chosen.extension and len(rows) > 0.8 * len(filtered)
+    scale = np.max(np.abs(filtered), axis=0)
+    np.testing.assert_allclose(values / scale, filtered[rows] / scale, atol=1e-10)
