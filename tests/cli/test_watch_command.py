@@ -160,9 +160,12 @@ def test_json_lines_on_a_growing_csv_and_the_saved_log_fits_to_the_last_refresh(
     saved = numeric_rows(in_folder / "saved.csv")
     original = numeric_rows(in_folder / "arm.csv")
     assert len(saved) == last["received"] and np.array_equal(saved, original[:len(saved)])
-    # Watching converged: the inertia's error fell as the samples came in.
+    # Watching converged on the simulated joint's own truth (simulate's lesson joint with Coulomb friction 0.2),
+    # within three of the last refresh's errors, over several fitted refreshes.
     fitted = [o for o in objects if o["estimate"] is not None]
-    assert fitted[-1]["parameters"]["I"]["relative_std_pct"] < fitted[0]["parameters"]["I"]["relative_std_pct"]
+    assert len(fitted) >= 3
+    for name, truth in {"I": 0.8, "h": 0.4, "B": 0.15, "Fc": 0.2}.items():
+        assert abs(last["estimate"][name] - truth) <= 3 * last["std_error"][name], name
     # An offline fit of the saved log gives the last refresh's numbers at the precision they have: the live fit
     # filters in blocks and leaves out its warm-up, so the samples behind the two differ a little, and the two
     # agree within the 95 % band of the live standard error (they differ by 0.3 to 1.4 of it here).
