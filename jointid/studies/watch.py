@@ -15,9 +15,15 @@ It runs a recorded log's pipeline as far as it can be run on samples as they arr
    column-scaled least squares of every row kept (from the QR-updated triangle of [X | y]), its errors a log fit's
    Newey-West errors of the same rows (from sums over lags that hold for any estimate: NeweyWestSums), with the
    rows left out as gaps in the grid, as a log fit's positions;
-5. the sensitivity check's refits (derivative window and cutoff halved and doubled) run as parallel pipelines,
-   their estimates compared as studies.sensitivity does; the halves of the run are compared as
-   studies.refits.stretch_scatter does; and the verdicts come from estimation.judgement.judge, as a log fit's.
+5. the other analysis choices of a log fit run beside it: the derivative window and cutoff halved and doubled as
+   parallel pipelines, the fit with the outside torques kept in, and a torque offset explained the other way (its
+   columns streamed with the model's); their moves beyond noise widen the reported errors (refits.beyond_noise),
+   the scatter of the run's halves (batch-means errors of each half) too, and the verdicts and errors come from
+   estimation.judgement.judge, as studies.log_fit.judge_log gives a log fit's. Nothing is well determined before
+   the halves can be compared.
+
+Without a model or mechanism, a SysId routine's mechanism is chosen from its data at every refresh, as
+studies.mechanism.choose_mechanism chooses a recorded log's: every candidate's columns are streamed.
 """
 
 from __future__ import annotations
