@@ -110,14 +110,28 @@ class Term(Parameter):
 def rounded_cos(q: np.ndarray) -> np.ndarray:
     """cos q, and exactly 0 where it is within the rounding of q itself: cos(fl(pi/2)) = 6e-17 is no gravity
     torque, and a column of such values would otherwise be column-scaled into a parameter the data 'determine'."""
-    values = np.cos(q)
-    return np.where(np.abs(values) <= ROUNDING * np.maximum(1.0, np.abs(q)), 0.0, values)
+    return _rounding_to_zero(np.cos(q), q)
 
 
 def rounded_sin(q: np.ndarray) -> np.ndarray:
     """sin q, and exactly 0 where it is within the rounding of q itself (sin(fl(pi)) = 1.2e-16), as rounded_cos."""
-    values = np.sin(q)
-    return np.where(np.abs(values) <= ROUNDING * np.maximum(1.0, np.abs(q)), 0.0, values)
+    return _rounding_to_zero(np.sin(q), q)
+
+
+def _rounding_to_zero(values: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """`values` (trigonometric, of q; changed in place) with 0 where |value| <= ROUNDING max(1, |q|)."""
+    values = np.asarray(values, dtype=float)
+    q = np.asarray(q, dtype=float)
+    if values.ndim == 0 or values.size == 0:
+        return np.where(np.abs(values) <= ROUNDING * np.maximum(1.0, np.abs(q)), 0.0, values)
+    # Only values under the largest bound can be rounding: those few are checked against their own bound, rather
+    # than building the bound for every sample (a million samples took four passes).
+    largest = max(1.0, float(np.max(q)), -float(np.min(q)))
+    near = np.flatnonzero(np.abs(values) <= ROUNDING * largest)
+    if len(near):
+        flat, angles = values.reshape(-1), np.broadcast_to(q, values.shape).reshape(-1)
+        flat[near[np.abs(flat[near]) <= ROUNDING * np.maximum(1.0, np.abs(angles[near]))]] = 0.0
+    return values
 
 
 ROUNDING = 4 * np.finfo(float).eps

@@ -210,7 +210,7 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
     others = _cutoff_variants(training, chosen) if sensitivity else []
     # Each full-rate column is built once and low-passed by the chosen filter and the sensitivity check's
     # cutoff refits' alike, so no full-rate regressor is held.
-    candidates = _candidates(model)
+    candidates = _candidates(model) if chosen.active else ()  # the test needs the low-pass's correlation
     filtered = filtered_regressors(training, model, (chosen, *(other for _, _, other in others)), candidates)
     candidate_columns = filtered.pop()[0] if candidates else None
     result, exclusions = _fit(training, heldout, model, constrained, chosen, filtered[0], exclusion)
@@ -540,12 +540,7 @@ def _exclusions(training: JointLog, model: JointModel, chosen: ParallelFilter, X
 
 def _speed_resolution(log: JointLog, chosen: ParallelFilter) -> float:
     """The speed (rad/s) one step of the angle's quantisation makes over half a cutoff period (0 unquantised)."""
-    q = log.data.q if log.source is None else log.source.columns["q"]
-    steps = np.abs(np.diff(q))
-    steps = steps[steps > 1e-9 * max(1.0, float(np.max(np.abs(q))))]
-    if not len(steps) or not chosen.active:
-        return 0.0
-    return float(np.percentile(steps, 1)) * 2 * chosen.cutoff
+    return log.angle_quantum * 2 * chosen.cutoff if chosen.active else 0.0
 
 
 def _cutoff_variants(training: JointLog, chosen: ParallelFilter) -> list[tuple[float, float, ParallelFilter]]:
