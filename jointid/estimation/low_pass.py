@@ -32,7 +32,11 @@ over overlapping blocks about four times the taps long (overlap-save: each
 block's spectrum times the taps', then back, and every D-th sample kept; about
 log2 of the block per sample whatever the taps' length), which wins for the
 long filters of low cutoffs. The two give the same outputs to rounding (about
-1e-14 of the column's size). No scipy is imported. The ends are extended rather than trimmed, so a short
+1e-14 of the column's size). Several filters at one decimation (a log fit's
+cutoff and its sensitivity check's half and double) share each block's
+spectrum instead, decimating in the frequency domain (low_passed_together):
+one forward FFT per block for all of them, about half the work of three
+filters apart. No scipy is imported. The ends are extended rather than trimmed, so a short
 log keeps every sample (a 4 s log lost 2 s to a trimmed filter): each column
 is continued past each end by its odd reflection about a straight line fitted
 to its last half cutoff period (about the line, not about one end sample,
@@ -316,6 +320,10 @@ def extended(column: np.ndarray, count: int, fitted: int, total: int = 0) -> np.
     return out
 
 
+MIN_SHARED_BLOCKS = 8
+"""Filters share a spectrum only for a column at least this many blocks long: over fewer the saving is a few ms,
+and a shorter log (every real log so far) keeps the outputs of filtering apart bit for bit."""
+
 SHARED_LARGEST_FACTOR = 101
 """Shared blocks are a multiple of the decimation long: one with a prime factor beyond this makes their FFTs
 slower than filtering apart (a factor 997 took 8 times a power of two's time, 101 1.8 times)."""
@@ -323,8 +331,8 @@ slower than filtering apart (a factor 997 took 8 times a power of two's time, 10
 
 def shared_size(filters, count: int) -> int | None:
     """The block size `low_passed_together` uses for `count` samples through `filters`, or None when they cannot
-    share one spectrum: not all active at one rate and decimation, a log shorter than a filter's half (its ends
-    are held, not only reflected), or a decimation with a large prime factor.
+    share one spectrum: not all active at one rate and decimation, a log shorter than MIN_SHARED_BLOCKS blocks, or
+    a decimation with a large prime factor.
 
     The size is the decimation D times a number of the form 2^a 3^b 5^c (which FFTs take quickly), at least four
     times the longest filter, as `_fft_plan`'s blocks.
@@ -335,10 +343,11 @@ def shared_size(filters, count: int) -> int | None:
     if any(chosen.decimation != step or chosen.rate != rate for chosen in filters):
         return None
     half = max(chosen.design.half for chosen in filters)
-    if count < half + 2 or _largest_factor(step) > SHARED_LARGEST_FACTOR:
+    if count < half + 2 or _largest_factor(step) > SHARED_LARGEST_FACTOR:  # its ends held, not only reflected
         return None
     least = -(-max(4 * (2 * half + 1), 1 << FFT_LEAST_BITS) // step)
-    return step * min(value for value in _smooth_numbers(least) if value >= least)
+    size = step * min(value for value in _smooth_numbers(least) if value >= least)
+    return size if count >= MIN_SHARED_BLOCKS * size else None
 
 
 def _smooth_numbers(least: int):

@@ -152,9 +152,10 @@ def test_only_the_kept_samples_are_computed_and_they_are_the_full_rate_filter_s(
                                    rtol=0, atol=1e-13)
 
 
-def test_filters_sharing_one_spectrum_give_each_filter_s_full_rate_outputs():
+def test_filters_sharing_one_spectrum_give_each_filter_s_full_rate_outputs(monkeypatch):
     """A cutoff and its half and double from one spectrum per block against np.convolve at full rate, over random
     lengths (down to just over the longest filter's half), rates and decimations (odd and even block sizes)."""
+    monkeypatch.setattr(low_pass, "MIN_SHARED_BLOCKS", 0)  # short columns too, so np.convolve stays quick
     rng = np.random.default_rng(31)
     for _ in range(40):
         rate = float(rng.choice([50, 300, 1000]))
@@ -173,12 +174,16 @@ def test_filters_sharing_one_spectrum_give_each_filter_s_full_rate_outputs():
 
 
 def test_filters_that_cannot_share_a_spectrum_are_applied_apart():
-    """Another decimation, a log shorter than the longest filter's half or a decimation with a large prime factor
-    gives no shared size, and the outputs are each filter's own."""
+    """Another decimation, a log shorter than MIN_SHARED_BLOCKS blocks (or than the longest filter's half) or a
+    decimation with a large prime factor gives no shared size, and the outputs are each filter's own."""
     chosen = ParallelFilter(2.0, 1000.0, 10, "test")
-    assert shared_size([chosen, ParallelFilter(1.0, 1000.0, 20, "test")], 10_000) is None
+    together = [chosen, ParallelFilter(1.0, 1000.0, 10, "test")]
+    size = shared_size(together, 1_000_000)
+    assert size % 10 == 0 and size >= 4 * len(together[1].design.taps)
+    assert shared_size(together, low_pass.MIN_SHARED_BLOCKS * size - 1) is None  # too short to gain
+    assert shared_size([chosen, ParallelFilter(1.0, 1000.0, 20, "test")], 1_000_000) is None
     assert shared_size([chosen, ParallelFilter(1.0, 1000.0, 10, "test")], chosen.design.half) is None
-    assert shared_size([ParallelFilter(0.4, 1000.0, 997, "test")], 100_000) is None
+    assert shared_size([ParallelFilter(0.4, 1000.0, 997, "test")], 10_000_000) is None
     column = np.random.default_rng(5).normal(size=3000)
     np.testing.assert_array_equal(low_passed_together(column, [chosen], None)[0], chosen.apply_column(column))
 
