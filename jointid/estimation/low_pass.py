@@ -326,7 +326,7 @@ and a shorter log (every real log so far) keeps the outputs of filtering apart b
 
 SHARED_LARGEST_FACTOR = 101
 """Shared blocks are a multiple of the decimation long: one with a prime factor beyond this makes their FFTs
-slower than filtering apart (a factor 997 took 8 times a power of two's time, 101 1.8 times)."""
+slower than filtering apart (a factor 997 took 9 times a power of two's time, 101 1.8 times)."""
 
 
 def shared_size(filters, count: int) -> int | None:
