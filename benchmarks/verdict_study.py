@@ -29,7 +29,9 @@ from jointid.model.terms import model_named
 from jointid.options import LOG_MODEL
 from jointid.studies.runs import fit_runs
 
-LOGS = Path(__file__).resolve().parent.parent.parent / "shared" / "real-logs"
+CHECKOUT = Path(__file__).resolve().parent.parent
+LOGS = next((folder for folder in (CHECKOUT.parent / "shared" / "real-logs", CHECKOUT.parent.parent / "shared" /
+             "real-logs") if folder.is_dir()), CHECKOUT.parent / "shared" / "real-logs")  # a worktree's is one up
 RUNS = ("pd", "ddp", "energy_shaping")
 WELL = "well determined"
 G = 9.81
@@ -62,6 +64,10 @@ def real_runs() -> None:
         others = fit_runs([loaded[other] for other in RUNS if other != run], model)
         result = fits[run].result
         interval = dict(zip(result.model.names, result.uncertainty.interval95))
+        # The noise-only interval: the same Student t on the Newey-West error before the judgement widened it.
+        half = (result.uncertainty.interval95[:, 1] - result.uncertainty.estimate) / result.uncertainty.residual_std_error
+        noise_interval = {name: (value - h * error, value + h * error) for name, value, h, error in zip(
+            result.model.names, result.uncertainty.estimate, half, result.uncertainty.noise_std_error)}
         print(f"{run} against the others pooled:")
         for name in others.shared:
             low, high = interval[name]
@@ -69,13 +75,14 @@ def real_runs() -> None:
             noise, judged = result.judgement.noise_verdicts, result.judgement.verdicts
             index = result.model.names.index(name)
             holds = low <= reference <= high
-            misses["noise"] += (not holds) and noise[index] == WELL
+            noise_low, noise_high = noise_interval[name]
+            misses["noise"] += (not noise_low <= reference <= noise_high) and noise[index] == WELL
             misses["judged"] += (not holds) and judged[index] == WELL
             print(f"  {name:5s} {result.params[name]:10.6f} [{low:.6f}, {high:.6f}] others {reference:10.6f} "
                   f"{'holds' if holds else 'MISSES'}; noise: {noise[index]}; judged: {judged[index]}"
                   + (f" ({result.judgement.reasons[index]})" if result.judgement.reasons[index] else ""))
     print(f"'well determined' values whose 95 % interval misses the others' pooled value: {misses['noise']} by the "
-          f"noise verdicts, {misses['judged']} by the judged verdicts")
+          f"noise verdicts and intervals, {misses['judged']} by the judged (widened) ones")
     pooled = fit_runs([loaded[run] for run in RUNS], model)
     print("three runs pooled: " + ", ".join(
         f"{name} {pooled.params[name]:.6f} ± {pooled.bse[name]:.6f} {pooled.verdicts[name]}"
@@ -87,7 +94,7 @@ def synthetic(seeds: int) -> None:
     """Part 3: coverage of the truth, the errors against the seeds' scatter, clean data's weakened verdicts."""
     covered = total = weakened = well = 0
     why = Counter()
-    estimates, errors = [], []
+    estimates, errors, widening = [], [], []
     for seed in range(1, seeds + 1):
         result = fit_log(coulomb_joint(seed)).result
         names = result.model.names
@@ -103,11 +110,14 @@ def synthetic(seeds: int) -> None:
                     kind = reason.split(" by ")[-1] if "standard errors by" in reason else reason.split(" scatter")[0]
                     why[kind] += 1
         estimates.append(result.estimate), errors.append(result.uncertainty.residual_std_error)
+        widening.append(result.uncertainty.residual_std_error / result.uncertainty.noise_std_error)
     scatter = np.std(estimates, axis=0, ddof=1)
     inflation = np.mean(errors, axis=0) / scatter
     print(f"{seeds} synthetic Coulomb joints: 95 % intervals hold the truth {covered} of {total} times "
           f"({100 * covered / total:.0f} %); mean standard error / the estimates' scatter over the seeds: "
           + ", ".join(f"{name} {value:.2f}" for name, value in zip(names, inflation))
+          + f"; errors widened (reported / noise): median {np.median(widening):.2f}, widened at all "
+          + f"{int(np.sum(np.array(widening) > 1))} of {np.size(widening)}"
           + f"; 'well determined' noise verdicts weakened by the other checks: {weakened} of {well} ("
           + ", ".join(f"{reason}: {count}" for reason, count in why.items()) + ")")
 

@@ -61,6 +61,8 @@ from collections import defaultdict
 from contextlib import contextmanager
 from typing import BinaryIO, Iterator, Sequence, TextIO
 
+from .text_safety import shown_name
+
 TEMPORARY_SUFFIX = ".jointid-part"
 """Ending of every temporary file this module creates (and the only ones it ever removes)."""
 TEMPORARY_PATTERN = re.compile(r"^\.jointid\.(?P<pid>[1-9]\d{0,9})-(?P<token>[0-9a-f]{8})-(?P<member>\d{1,6})"
@@ -75,14 +77,13 @@ NEW_FILE_MODE = 0o666
 
 
 def shown_path(path) -> str:
-    """A path as messages show it: as given, or quoted with Python's escapes when it holds a character that is
-    not printable (a newline would break a one-line message in two).
+    """A path as messages show it: escaped as every name is (`text_safety.shown_name`), so a newline cannot break
+    a one-line message in two and what is shown can be typed back (`typed_name`).
 
-    >>> shown_path("logs/run 1.csv"), shown_path("a\\nb.csv")
-    ('logs/run 1.csv', "'a\\\\nb.csv'")
+    >>> shown_path("logs/run 1.csv"), shown_path("a\\nb.csv"), shown_path(b"caf\\xe9.csv")
+    ('logs/run 1.csv', 'a\\\\nb.csv', 'caf\\\\xe9.csv')
     """
-    text = os.fsdecode(path) if isinstance(path, bytes) else str(os.fspath(path))
-    return text if text.isprintable() else repr(text)
+    return shown_name(os.fsdecode(path) if isinstance(path, bytes) else str(os.fspath(path)))
 
 
 def shown_command(words) -> str:

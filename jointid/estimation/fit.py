@@ -57,7 +57,8 @@ class FitResult:
     evenly spaced grid (gaps where samples were left out) and the Newey-West lag in grid steps; None: independent."""
     judged: Judgement | None = None
     """The verdicts of every check a log fit ran (sensitivity, robust step, omitted terms, stretches), or None:
-    then `judgement` is the noise verdicts alone (jointid.estimation.judgement)."""
+    then `judgement` is the noise verdicts alone (jointid.estimation.judgement). Its spread widens `uncertainty`'s
+    reported errors and intervals (the noise-only ones stay as its `noise_std_error`)."""
     heldout_regressor: np.ndarray | None = None
     """(M, p) The model's regressor at the held-out states as the training log's went through the low-pass and
     exclusions (a log's held-out check), or None: the held-out states' own regressor."""
@@ -235,7 +236,11 @@ class FitResult:
                                         covariance_factor(self.solution))
             if not (np.isfinite(correlated[0]).all() and np.all(np.diag(correlated[0]) > 0)):
                 correlated = None  # beyond double range: the residual-based errors, which never overflow
-        return parameter_uncertainty(self.solution, self.noise_bound, self.model, self.bounded, correlated)
+        found = parameter_uncertainty(self.solution, self.noise_bound, self.model, self.bounded, correlated)
+        if found is not None and self.judged is not None and self.judged.spread:
+            # The judgement's analysis choices widen the reported errors (and so the intervals) of a log fit.
+            found = replace(found, spread=np.asarray(self.judged.spread, dtype=float))
+        return found
 
     @cached_property
     def identifiable(self) -> IdentifiableSubset:
@@ -280,6 +285,8 @@ def with_judgement(result: FitResult, judgement: Judgement) -> FitResult:
     judged = replace(result, judged=judgement)
     carried = {key: value for key, value in vars(result).items() if key not in {f.name for f in fields(result)}}
     carried.pop("judgement", None)
+    if judgement.spread:  # the reported errors are widened: recomputed from the noise's, with the spread
+        carried.pop("uncertainty", None), carried.pop("bse", None)
     vars(judged).update(carried)
     return judged
 

@@ -111,6 +111,10 @@ class ParameterUncertainty:
     residual-based standard errors come from it, not from s^2 (X^T X)^-1."""
     effective_count: float | None = None
     """How many independent residuals the correlated ones are worth (None: independent, N)."""
+    spread: np.ndarray | None = None
+    """(p,) How far reasonable analysis choices move each parameter beyond what noise makes (a log fit's judgement,
+    jointid.estimation.judgement), added in quadrature to the residual-based standard errors; None: the noise's
+    errors alone."""
 
     @property
     def degrees_of_freedom(self) -> int:
@@ -134,14 +138,25 @@ class ParameterUncertainty:
             return float(np.square(self.residual_norm) / self.degrees_of_freedom)
 
     @cached_property
-    def residual_std_error(self) -> np.ndarray | None:
-        """(p,) Empirical standard errors sqrt(s^2 diag((X^T X)^-1)), or None when N - p <= 0."""
+    def noise_std_error(self) -> np.ndarray | None:
+        """(p,) Empirical standard errors from the residuals alone, sqrt(s^2 diag((X^T X)^-1)) or Newey-West's, or
+        None when N - p <= 0."""
         if self.degrees_of_freedom <= 0:
             return None
         if self.correlated_covariance is not None:
             return self._without_held(np.sqrt(np.diag(self.correlated_covariance)))
         return self._without_held(
             standard_errors(self.residual_norm, self.degrees_of_freedom, self.scaled_diagonal, self.scales))
+
+    @cached_property
+    def residual_std_error(self) -> np.ndarray | None:
+        """(p,) The reported standard errors: `noise_std_error`, widened in quadrature by `spread` when a log fit's
+        analysis choices move the parameters beyond it; None when N - p <= 0."""
+        noise = self.noise_std_error
+        if noise is None or self.spread is None:
+            return noise
+        with np.errstate(over="ignore", invalid="ignore"):
+            return np.where(self.spread > 0, np.hypot(noise, self.spread), noise)
 
     @cached_property
     def noise_bound_std_error(self) -> np.ndarray | None:
@@ -166,25 +181,30 @@ class ParameterUncertainty:
         """(p,) The standard errors the verdicts are judged on (see `verdict_basis`)."""
         return self.noise_bound_std_error if self.noise_bound_std_error is not None else self.residual_std_error
 
+    @property
+    def noise_verdict_std_error(self) -> np.ndarray | None:
+        """(p,) The standard errors the noise-only verdicts are judged on (`verdict_std_error` before widening)."""
+        return self.noise_bound_std_error if self.noise_bound_std_error is not None else self.noise_std_error
+
     @cached_property
     def relative_std_pct(self) -> np.ndarray | None:
         """(p,) verdict standard error as % of |estimate| (0 when the error is 0, inf when the estimate is)."""
-        std = self.verdict_std_error
-        if std is None:
-            return None
-        magnitude = np.abs(self.estimate)
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            relative = np.where(std == 0, 0.0, 100.0 * std / magnitude)
-        return relative
+        return _relative(self.verdict_std_error, self.estimate)
+
+    @cached_property
+    def noise_relative_std_pct(self) -> np.ndarray | None:
+        """(p,) The noise-only verdict standard error as % of |estimate| (`relative_std_pct` before widening)."""
+        return _relative(self.noise_verdict_std_error, self.estimate)
 
     @cached_property
     def verdicts(self) -> tuple[str, ...] | None:
-        """Verdict per parameter from `relative_std_pct`, or None without any standard error."""
-        if self.relative_std_pct is None:
+        """The noise-only verdict per parameter, from `noise_relative_std_pct`, or None without any standard error
+        (the judged verdicts every face shows are `FitResult.verdicts`)."""
+        if self.noise_relative_std_pct is None:
             return None
         held = np.zeros(len(self.estimate), dtype=bool) if self.held is None else self.held
         return tuple(AT_BOUND if at_bound else verdict(float(value))
-                     for value, at_bound in zip(self.relative_std_pct, held))
+                     for value, at_bound in zip(self.noise_relative_std_pct, held))
 
     @cached_property
     def interval95(self) -> np.ndarray | None:
@@ -193,6 +213,14 @@ class ParameterUncertainty:
             return None
         half = student_t_quantile(0.5 + CONFIDENCE / 2, self.interval_degrees_of_freedom) * self.residual_std_error
         return np.column_stack([self.estimate - half, self.estimate + half])
+
+
+def _relative(std: np.ndarray | None, estimate: np.ndarray) -> np.ndarray | None:
+    """(p,) `std` as % of |estimate| (0 when the error is 0, inf when the estimate is), or None without errors."""
+    if std is None:
+        return None
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        return np.where(std == 0, 0.0, 100.0 * std / np.abs(estimate))
 
 
 def newey_west_sum(X: np.ndarray, residuals: np.ndarray, positions: np.ndarray, lag: int

@@ -38,7 +38,7 @@ class LogError(ValueError):
         self.problem = problem
         self.row = row
         self.column = column
-        where = [shown_path(self.path)]  # quoted if it holds a newline: the message stays one line
+        where = [shown_path(self.path)]  # a newline escaped: the message stays one line
         if row is not None:
             where.append(f"row {row}")
         if place is not None:  # where a row number does not apply, e.g. "message 12 on /joint_states"

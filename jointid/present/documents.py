@@ -140,7 +140,10 @@ def uncertainty_to_dict(result: FitResult) -> dict:
     uncertainty = result.uncertainty
     names = result.model.names
     return {
+        # The reported errors (the noise's widened by the other analysis choices, as the verdicts say); the noise's
+        # alone under a name that says so.
         "std_error": per_parameter(names, uncertainty and uncertainty.residual_std_error),
+        "noise_std_error": per_parameter(names, uncertainty and uncertainty.noise_std_error),
         # The issues' schema: null, not an object of nulls, when no noise bound is known (logs).
         "noise_bound_std_error": (
             None if result.noise_bound is None

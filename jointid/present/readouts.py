@@ -10,6 +10,8 @@ import math
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
+import numpy as np
+
 from ..estimation.uncertainty import AT_BOUND, WELL_DETERMINED_LIMIT
 from .status import CONDITION_CAVEAT, CONDITION_CAVEAT_SHORT, DEPENDENT_COLUMNS, condition_text, status_message
 from .text import UNAVAILABLE, format_number
@@ -34,9 +36,11 @@ class Readout:
         return bool(self.failed_requirement)
 
 
-def readouts(result: FitResult) -> tuple[Readout, ...]:
-    """The lab's readouts for a fit in display order: rank, one per parameter, both RMSEs, motion RMS."""
+def readouts(result: FitResult, linear: bool = False) -> tuple[Readout, ...]:
+    """The lab's readouts for a fit in display order: rank, one per parameter, both RMSEs, motion RMS (in m/s and
+    m/s² when `linear`: a log whose position is a length)."""
     estimate = result.estimate
+    speed = "m/s" if linear else "rad/s"
     unit = result.model.effort.unit
 
     def optional(key: str, label: str, value: float | None) -> Readout:
@@ -54,14 +58,14 @@ def readouts(result: FitResult) -> tuple[Readout, ...]:
         *parameters,
         optional("training_rmse", f"Training RMSE ({unit})", result.training_rmse),
         optional("heldout_rmse", f"Held-out RMSE ({unit})", result.heldout_rmse),
-        Readout("accel_rms", "Acceleration RMS (rad/s²)", format_number(result.accel_rms)),
-        Readout("speed_rms", "Speed RMS (rad/s)", format_number(result.speed_rms)),
+        Readout("accel_rms", f"Acceleration RMS ({speed}²)", format_number(result.accel_rms)),
+        Readout("speed_rms", f"Speed RMS ({speed})", format_number(result.speed_rms)),
     )
 
 
-def readouts_text(result: FitResult) -> str:
+def readouts_text(result: FitResult, linear: bool = False) -> str:
     """Every readout on its own line, label padded, then the status sentence."""
-    items = readouts(result)
+    items = readouts(result, linear)
     width = max(28, *(len(r.label) + 1 for r in items))  # other models' labels may be longer
     lines = [
         f"{r.label:<{width}}{r.text:>12}" + (f"  fails {r.failed_requirement}" if r.sign_failure else "")
@@ -225,7 +229,7 @@ def uncertainty_text(result: FitResult) -> str:
             )
         if uncertainty.residual_std_error is not None:
             free = [i for i, v in enumerate(uncertainty.verdicts or ()) if v != AT_BOUND] or range(model.size)
-            from_residuals = ", ".join(f"{model.names[i]} {format_number(uncertainty.residual_std_error[i])}" for i in free)
+            from_residuals = ", ".join(f"{model.names[i]} {format_number(uncertainty.noise_std_error[i])}" for i in free)
             if uncertainty.effective_count is None:
                 lines.append(f"From the residuals (N - p = {uncertainty.degrees_of_freedom}): {from_residuals}.")
             else:
@@ -237,7 +241,9 @@ def uncertainty_text(result: FitResult) -> str:
                 f"{format_number(uncertainty.interval95[i][1])}]"
                 for i in free
             )
-            lines.append(f"95 % intervals (Student t): {intervals}.")
+            widened = uncertainty.spread is not None and bool(np.any(uncertainty.spread > 0))
+            lines.append(f"95 % intervals (Student t{', on the errors widened as above' if widened else ''}): "
+                         f"{intervals}.")
     ratio = result.scale_ratio
     if ratio is not None and ratio_determined(result):
         corr, value, error = ratio

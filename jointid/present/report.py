@@ -118,17 +118,17 @@ def _with_reason(verdict: str, reason: str) -> str:
     return f"{verdict} ({reason})" if reason else verdict
 
 
-def readout_table(result: FitResult) -> Table:
-    """The lab's readouts: rank, each parameter, both RMSEs, the motion's RMS."""
+def readout_table(result: FitResult, linear: bool = False) -> Table:
+    """The lab's readouts: rank, each parameter, both RMSEs, the motion's RMS (per metre when `linear`)."""
     from .readouts import readouts
 
     return Table(("Readout", "Value"), tuple(
         (item.label, item.text + (f"  fails {item.failed_requirement}" if item.sign_failure else ""))
-        for item in readouts(result)))
+        for item in readouts(result, linear)))
 
 
 def fit_blocks(result: FitResult, prefix: str, training_chart=None, training_count: int | None = None,
-               heldout_title: str | None = None) -> list[Block]:
+               heldout_title: str | None = None, linear: bool = False) -> list[Block]:
     """The parameter table, the readouts, the uncertainty in words, the torque charts and the residual views of
     one fit. `prefix` makes the charts' names unique; `training_chart` is a log's chart (left-out samples faint)
     of `training_count` samples before thinning."""
@@ -141,7 +141,7 @@ def fit_blocks(result: FitResult, prefix: str, training_chart=None, training_cou
         Heading("Parameters", 3, f"{prefix}parameters"),
         parameter_table(result),
         Heading("Readouts", 3, f"{prefix}readouts"),
-        readout_table(result),
+        readout_table(result, linear),
         Preformatted(uncertainty_text(result)),
         Heading(f"Training and held-out {result.model.effort.name}s", 3, f"{prefix}torques"),  # or voltages
     ]
@@ -250,7 +250,7 @@ def log_blocks(logs: LoadedLogs, prefix: str = "") -> list[Block]:
         blocks.append(intervals)
     blocks += [Heading("Fit", 2, f"{prefix}fit"),
                *fit_blocks(logs.result, prefix, log_training_chart(logs, columns=MAX_POINTS),
-                           _filtered_count(logs), logs.heldout_name)]
+                           _filtered_count(logs), logs.heldout_name, logs.training.position_unit == "metres")]
     notes = log_notes(logs)
     if notes:
         blocks += [Heading("Notes", 2, f"{prefix}notes"), *(Paragraph(note) for note in notes)]

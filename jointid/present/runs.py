@@ -47,7 +47,8 @@ def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
     offsets = pooled.estimate[len(shared):]
     rows.append(["pooled", str(sum(run.result.training.count for run in pooled.runs)), "", "",
                  *(format_number(pooled.params[name]) for name in shared), *(["own"] if bias else []), ""])
-    rows.append(["± (Newey-West)", "", "", "", *(format_number(pooled.bse[name]) for name in shared),
+    widened = "widened" if pooled.judgement.spread else "Newey-West"  # the analysis choices or the runs' scatter
+    rows.append([f"± ({widened})", "", "", "", *(format_number(pooled.bse[name]) for name in shared),
                  *([""] if bias else []), ""])
     rows.append(["verdict", "", "", "", *(SHORT_VERDICTS.get(pooled.verdicts[name], pooled.verdicts[name] or "-")
                                           for name in shared), *([""] if bias else []), ""])
@@ -167,7 +168,8 @@ def runs_document(pooled: PooledRuns) -> dict:
                                    for name in pooled.shared},
                   "not_determined": not_determined(run, pooled.shared)}
                  for run, other, weight in zip(pooled.runs, pooled.predicted_by_others, pooled.weights)],
-        "pooled": {"estimate": dict(pooled.params), "std_error": dict(pooled.bse), **pooled.judgement.to_dict(),
+        "pooled": {"estimate": dict(pooled.params), "std_error": dict(pooled.bse),
+                   "noise_std_error": dict(pooled.noise_bse), **pooled.judgement.to_dict(),
                    "torque_bias": dict(zip(pooled.names, map(float, pooled.estimate[len(pooled.shared):])))},
         "scatter_std_errors": pooled.scatter,
         "disagreements": [{"run": run, "parameter": name, "combined_std_errors": gap}

@@ -67,10 +67,10 @@ def accuracy_sentences(result: FitResult) -> tuple[str, ...]:
     if weak := listing(WEAK):
         subject, detail = weak
         sentences.append(f"{capitalise(subject)} only weakly determined {detail}.")
-    # A parameter a check weakened says why, so the sentence never contradicts the small error beside it.
+    # A parameter whose error a check widened, or whose verdict it weakened, says why and by how much.
     weakened = "; ".join(f"{name} ({reason})" for name, reason in reasons.items() if reason)
     if weakened:
-        sentences.append(f"Weaker than their errors alone say: {weakened}.")
+        sentences.append(f"Less certain than their noise alone says: {weakened}.")
     return tuple(sentences)
 
 

@@ -40,9 +40,10 @@ def log_checks(logs: LoadedLogs) -> tuple[list[str], str | None]:
     return found, exclusion_text(logs)
 
 
-RUN_TO_RUN = ("Run to run: the ± and the verdicts speak of this run (its noise, the checks above, whether its halves "
-              "agree); another run of the joint can differ by more, as the shared pendulum's runs do by up to 10 "
-              "%: fit several runs together (--csv A --csv B) to judge by their scatter.")
+RUN_TO_RUN = ("Run to run: the ± and the verdicts speak of this run (its noise, widened by what the other analysis "
+              "choices above move and by whether its halves agree); another run of the joint can differ by more, as "
+              "the shared pendulum's runs do by up to 10 %: fit several runs together (--csv A --csv B) to judge by "
+              "their scatter.")
 """What no single run can show, said under every log fit's checks (benchmarks/verdict_study.py measured it)."""
 
 
@@ -57,7 +58,7 @@ def log_fit_summary(logs: LoadedLogs) -> str:
     """What was read, the readouts, the uncertainty, the sensitivity check, terms the residuals follow that the
     model lacks, and every note."""
     found, left = log_checks(logs)
-    parts = [*logs.source_lines(), readouts_text(logs.result), "", uncertainty_text(logs.result),
+    parts = [*logs.source_lines(), readouts_text(logs.result, logs.training.position_unit == "metres"), "", uncertainty_text(logs.result),
              *found]
     if left is not None:
         parts += ["", left]

@@ -15,6 +15,7 @@ import math
 import os
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, replace
+from types import MappingProxyType
 
 import numpy as np
 
@@ -22,7 +23,7 @@ from ..checks import checked, flag, optional, pairs, real, text, whole
 from ..estimation.exclusion import (ExclusionRequest, Exclusions, commanded_changes, explained_transients,
                                     outside_torques, standstill)
 from ..estimation.fit import FitResult, fit_joint, with_judgement
-from ..estimation.judgement import Finding, Judgement, judge, noise_judgement
+from ..estimation.judgement import Finding, Judgement, Spread, judge, noise_judgement
 from ..estimation.low_pass import (FilterRequest, FilterRequestError, ParallelFilter, choose_filter,
                                    low_passed_together, shared_size)
 from ..estimation.omitted import OmittedTerms, omitted_terms_test
@@ -32,13 +33,13 @@ from ..logs.pipeline import JointLog
 from ..logs.request import HELDOUT, TRAINING, LoadRequest, load_joint_log
 from ..logs.table import LoadCancelled, LogError
 from ..memory import available_memory, in_words
-from ..model.terms import CANDIDATE_TERMS, PLAIN, JointModel, Term, in_effort, model_argument
+from ..model.terms import CANDIDATE_TERMS, PLAIN, JointModel, Term, in_effort, model_argument, model_named
 from ..norms import rms
-from ..options import DEFAULT_ORDER
+from ..options import DEFAULT_ORDER, model_extras
 from ..samples import JointData
 from ..text_safety import shown_name
 from .angle_models import check_angle_model
-from .refits import is_exact, robust_findings, stretch_scatter
+from .refits import beyond_noise, is_exact, robust_spreads, stretch_scatter
 from .sensitivity import FACTORS, SensitivityCheck, Variant, sensitivity_check
 
 
@@ -84,6 +85,10 @@ class LoadedLogs:
     heldout_pipeline: tuple[Exclusions | None, ParallelFilter] | None = None
     """What the held-out log's check left out and the low-pass it went through, as the training log's fit did;
     None without a held-out log, or when it was predicted as it is (too short for the filter, say)."""
+    offset: tuple[str, np.ndarray, np.ndarray] | None = None
+    """(what it is, e.g. 'an angle offset in place of the torque bias', the reported estimate and its noise-based
+    errors by the fitted model's names, NaN where it has no such parameter) of the refit that explains a torque
+    offset the other way; None when the model has not exactly one of the two or the refit failed."""
 
     def __repr__(self) -> str:
         return f"<LoadedLogs {self.name!r} {self.result!r}>"
@@ -97,6 +102,13 @@ class LoadedLogs:
     def bse(self) -> Mapping[str, float]:
         """Standard errors by name, as `FitResult.bse` (from the residuals: a log has no known noise bound)."""
         return self.result.bse
+
+    @property
+    def noise_bse(self) -> Mapping[str, float]:
+        """The standard errors from the noise alone, by name, before the judgement widened them (`bse`)."""
+        errors = None if self.result.uncertainty is None else self.result.uncertainty.noise_std_error
+        values = np.full(len(self.result.model.names), np.nan) if errors is None else errors
+        return MappingProxyType(dict(zip(self.result.model.names, map(float, values))))
 
     def conf_int(self, alpha: float = 0.05) -> Mapping[str, tuple[float, float]]:
         """(low, high) intervals by name, as `FitResult.conf_int`."""
@@ -133,8 +145,8 @@ class LoadedLogs:
 
     @property
     def unsettled(self) -> dict[str, str]:
-        """Parameters another check moved, each with why (the first check's): not well determined, whatever their
-        error."""
+        """Parameters a check moved in a way no error describes (a term the model lacks), each with why: not well
+        determined, whatever their error."""
         reasons: dict[str, str] = {}
         for finding in log_findings(self):
             reasons.setdefault(finding.name, finding.reason)
@@ -228,40 +240,111 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
     check = _sensitivity(training, model, constrained, chosen, result, zip(others, filtered[1:]), exclusion,
                          exclusions) if sensitivity else None
     omitted = _omitted_terms(model, candidates, candidate_columns, result, exclusions)
+    offset = _offset_refit(training, model, constrained, chosen, result, exclusion, exclusions) \
+        if sensitivity else None
     logs = LoadedLogs(training, heldout, result, chosen, filtering, check, exclusions, exclusion, omitted,
-                      heldout_pipeline=None if predicted is None else predicted[2:])
+                      heldout_pipeline=None if predicted is None else predicted[2:], offset=offset)
     return replace(logs, result=with_judgement(result, judge_log(logs)))
 
 
-SETTINGS_MOVED = "moved by the derivative settings"
-"""Why the sensitivity check's flags weaken a verdict (its warning names the settings and the moves)."""
 TERM_MOVED = "moved by a term the model lacks"
 """Why the omitted-terms test weakens a verdict (its sentence names the term)."""
 
+SETTING_CHOICES = {"window": "the derivative window's choice", "cutoff": "the cutoff's choice"}
+"""What widened an error that the sensitivity check's refits of each setting move beyond noise."""
+
 
 def log_findings(logs: LoadedLogs) -> tuple[Finding, ...]:
-    """What the log fit's checks found against its parameters: the sensitivity check's moves, the omitted-terms
-    test's, and the refit without the robust step's exclusions."""
-    findings = [Finding(name, SETTINGS_MOVED) for name in logs.moved_by_settings]
-    findings += [Finding(name, TERM_MOVED) for name in logs.decided_by_omitted]
+    """What the log fit's checks found against its parameters that no error describes: the omitted-terms test's
+    moves."""
+    return tuple(Finding(name, TERM_MOVED) for name in logs.decided_by_omitted)
+
+
+def log_spreads(logs: LoadedLogs) -> tuple[Spread, ...]:
+    """How far the log fit's other reasonable analysis choices move its parameters beyond noise: the derivative
+    window and the cutoff halved and doubled, the robust step's exclusions, a torque offset explained the other
+    way (each choice's largest move, less one noise standard error in quadrature: refits.beyond_noise)."""
+    result = logs.result
+    if result.estimate is None or result.uncertainty is None or is_exact(result):
+        return ()
+    names, estimate, noise = result.model.names, result.estimate, result.uncertainty.noise_std_error
+    if noise is None:
+        return ()
+    spreads: list[Spread] = []
+    check = logs.sensitivity
+    if check is not None:
+        for setting, choice in SETTING_CHOICES.items():
+            variants = [variant for variant in check.variants if variant.setting == setting]
+            spreads += beyond_noise(names, estimate, noise, [variant.estimate for variant in variants], choice,
+                                    [variant.std_error for variant in variants])
     left = logs.exclusions
-    if left is not None and left.regressor is not None and not is_exact(logs.result):
+    if left is not None and left.regressor is not None:
         by_hand = np.zeros(len(left.since), dtype=bool)
         for start, end in logs.exclusion.by_hand:
             by_hand |= (left.since >= start) & (left.since <= end)
-        findings += robust_findings(logs.result, left, by_hand)
-    return tuple(findings)
+        spreads += robust_spreads(result, left, by_hand)
+    if logs.offset is not None:
+        choice, other, errors = logs.offset
+        shared = np.isfinite(other)
+        spreads += beyond_noise(names, estimate, noise, [np.where(shared, other, estimate)], choice,
+                                [np.where(shared, errors, noise)])
+    return tuple(spreads)
 
 
 def judge_log(logs: LoadedLogs) -> Judgement:
-    """Each parameter of a log fit judged once: its noise-based error, the checks' findings and the scatter of the
-    run's stretches."""
+    """Each parameter of a log fit judged once: its noise-based error widened by the other analysis choices'
+    moves and the scatter of the run's stretches, and weakened by the checks' findings."""
     result = logs.result
     uncertainty = result.uncertainty
     if uncertainty is None:
         return noise_judgement(result.model.names, None)
-    return judge(result.model.names, uncertainty.relative_std_pct, uncertainty.held, log_findings(logs),
-                 () if is_exact(result) else stretch_scatter(result))
+    return judge(result.model.names, uncertainty.noise_relative_std_pct, uncertainty.held, log_findings(logs),
+                 () if is_exact(result) else stretch_scatter(result), log_spreads(logs), result.estimate,
+                 uncertainty.noise_std_error)
+
+
+def offset_alternative(model: JointModel) -> tuple[JointModel, str] | None:
+    """The model with its torque offset explained the other way (a torque bias <-> an angle offset, which a joint
+    swinging about one angle can hardly tell apart) and what that is, or None when it has not exactly one of
+    them."""
+    try:
+        extras = set(model_extras(model.name))
+    except ValueError:  # a mechanism's model (simple, elevator) or one of the caller's own
+        return None
+    if ("bias" in extras) == ("angle-offset" in extras):
+        return None
+    if "bias" in extras:
+        swapped, choice = (extras - {"bias"}) | {"angle-offset"}, "an angle offset in place of the torque bias"
+    else:
+        swapped, choice = (extras - {"angle-offset"}) | {"bias"}, "a torque bias in place of the angle offset"
+    return model_named("+".join(sorted(swapped))).in_effort(model.effort), choice
+
+
+def _offset_refit(training: JointLog, model: JointModel, constrained: bool, chosen: ParallelFilter,
+                  result: FitResult, exclusion: ExclusionRequest, exclusions: Exclusions | None
+                  ) -> tuple[str, np.ndarray, np.ndarray] | None:
+    """(what it is, the reported estimate and its noise-based errors by `model`'s names, NaN where the other model
+    has no such parameter) of the fit with a torque offset explained the other way, leaving out what the fit left
+    out; None without one."""
+    alternative = offset_alternative(model)
+    if alternative is None or result.estimate is None or result.bounded is not None:
+        return None
+    other, choice = alternative
+    try:
+        check_angle_model(training, other)
+        found = None if exclusions is None else exclusions.excluded
+        # Columns of extreme magnitude can leave double precision in the other model's angle offset: no choice.
+        with np.errstate(all="ignore"):
+            fit, _ = _fit(training, None, other, constrained, chosen, None, exclusion, found)
+            errors = _noise_errors(fit)
+    except (LogError, FloatingPointError):  # nothing left to fit with it, say: no such choice
+        return None
+    if fit.estimate is None or errors is None or not (np.all(np.isfinite(fit.estimate))
+                                                      and np.all(np.isfinite(errors))):
+        return None
+    by_name = dict(zip(other.names, zip(fit.estimate, errors)))
+    found = np.array([by_name.get(name, (np.nan, np.nan)) for name in model.names], dtype=float)
+    return choice, found[:, 0], found[:, 1]
 
 
 def _candidates(model: JointModel) -> tuple[Term, ...]:
@@ -585,16 +668,21 @@ def _sensitivity(training: JointLog, model: JointModel, constrained: bool, chose
                 fit, _ = _fit(log, None, model, constrained, low_pass_for(log, same), None, exclusion, None, start)
             except LogError:  # too short for the wider window: that variant is skipped
                 continue
-            variants.append(Variant("window", factor, other, chosen.cutoff, fit.estimate))
+            variants.append(Variant("window", factor, other, chosen.cutoff, fit.estimate, _noise_errors(fit)))
     for (factor, cutoff, other), low_passed in cutoffs:
         try:
             found = None if exclusions is None else exclusions.excluded
             fit, _ = _fit(training, None, model, constrained, other, low_passed, exclusion, found)
         except LogError:  # nothing left to fit, say: that variant is skipped
             continue
-        variants.append(Variant("cutoff", factor, window, cutoff, fit.estimate))
+        variants.append(Variant("cutoff", factor, window, cutoff, fit.estimate, _noise_errors(fit)))
     return sensitivity_check(model.names, base, result.uncertainty.residual_std_error, variants,
                              rmse=result.training_rmse, torque_rms=rms(result.training.tau))
+
+
+def _noise_errors(fit: FitResult) -> np.ndarray | None:
+    """(p,) A refit's noise-based standard errors, or None without them."""
+    return None if fit.uncertainty is None else fit.uncertainty.noise_std_error
 
 
 def refits_of(logs: LoadedLogs) -> dict[str, FitResult]:

@@ -22,14 +22,14 @@ from types import MappingProxyType
 import numpy as np
 
 from ..estimation.exclusion import ExclusionRequest
-from ..estimation.judgement import Finding, Judgement, judge, relative_error_pct
+from ..estimation.judgement import Finding, Judgement, Spread, judge, relative_error_pct
 from ..estimation.low_pass import FilterRequest
 from ..estimation.solver import block_rows_for, solve_least_squares, triangle_of
 from ..estimation.uncertainty import covariance_factor, newey_west_sum
 from ..logs.pipeline import JointLog
 from ..model.terms import JointModel
 from .log_fit import LoadedLogs, fit_logs, refits_of
-from .refits import ROBUST_MOVE, is_exact, move_text, run_scatter
+from .refits import beyond_noise, is_exact, run_scatter
 
 BIAS = "tau0"
 """The model's torque bias term, which each run keeps for itself."""
@@ -98,29 +98,37 @@ class PooledRuns:
 
     @cached_property
     def bse(self) -> MappingProxyType:
-        """Their standard errors by name."""
-        return MappingProxyType(dict(zip(self.shared, map(float, self._reported[1]))))
+        """Their reported standard errors by name: `noise_bse` widened as the judgement says (the runs' scatter, the
+        analysis choices)."""
+        return MappingProxyType(dict(zip(self.shared, self.judgement.widened(self._reported[1]))))
 
     @cached_property
     def judgement(self) -> Judgement:
-        """Each shared parameter judged once: its pooled error, the scatter of the runs about it beyond their own
-        errors, and what moved it in any run standing alone (a SysId test does not stand alone: see OWN_FIT)."""
+        """Each shared parameter judged once: its pooled error widened by the scatter of the runs about it beyond
+        their own noise errors and by what the analysis choices move (each run's, or the pooled refits' for runs
+        that do not stand alone: see OWN_FIT), and weakened by what a check found in any run."""
         values, errors = self._reported
         relative = [relative_error_pct(float(value), float(error)) for value, error in zip(values, errors)]
-        findings, scatters = [], ()
+        findings, scatters, spreads = [], (), []
         # Errors of rounding make no move or scatter count: a run's own (OWN_FIT), or every test's (a SysId dynamic
         # test alone fits its constant voltage exactly, whatever the noise).
         exact = (all if self.weighting == POOLED_FIT else any)(is_exact(run.result) for run in self.runs)
         if self.weighting == POOLED_FIT and not exact:
-            findings = list(pooled_refit_findings(self))
+            spreads = list(pooled_refit_spreads(self))
         if self.weighting == OWN_FIT:
             for run in self.runs:
                 findings += [Finding(name, f"{reason} in {run.name}") for name, reason in run.unsettled.items()
                              if name in self.shared]
             own = np.array([[run.params[name] for name in self.shared] for run in self.runs])
-            own_errors = np.array([[run.bse[name] for name in self.shared] for run in self.runs])
+            own_errors = np.array([[run.noise_bse[name] for name in self.shared] for run in self.runs])
             scatters = () if exact else run_scatter(self.shared, own, own_errors, values)
-        return judge(self.shared, relative, None, findings, scatters)
+            spreads = [] if exact else list(runs_spreads(self.shared, self.runs, own_errors))
+        return judge(self.shared, relative, None, findings, scatters, spreads, values, errors)
+
+    @cached_property
+    def noise_bse(self) -> MappingProxyType:
+        """The pooled standard errors from the noise alone (Newey-West within each run), by name."""
+        return MappingProxyType(dict(zip(self.shared, map(float, self._reported[1]))))
 
     @property
     def verdicts(self) -> MappingProxyType:
@@ -142,42 +150,60 @@ class PooledRuns:
     @cached_property
     def disagreements(self) -> tuple[tuple[str, str, float], ...]:
         """(run, parameter, combined errors) where a run's own estimate differs from the pooled one by more than
-        DISAGREEMENT of their combined standard errors."""
+        DISAGREEMENT of their combined noise-based standard errors (which the judgement then widens)."""
         found = []
         for run in self.runs:
             for name in self.shared:
-                combined = math.hypot(run.bse[name], self.bse[name])
+                combined = math.hypot(run.noise_bse[name], self.noise_bse[name])  # the noise's: what they miss
                 gap = abs(run.params[name] - self.params[name]) / combined if combined > 0 else 0.0
                 if gap > DISAGREEMENT:
                     found.append((run.name, name, gap))
         return tuple(found)
 
 
-POOLED_MOVES = {"window halved": (ROBUST_MOVE, "moved {move} by the derivative window halved"),
-                "window doubled": (ROBUST_MOVE, "moved {move} by the derivative window doubled"),
-                "--no-robust": (ROBUST_MOVE, "moved {move} by --no-robust")}
-"""Each pooled refit: how many pooled standard errors it may move a parameter (about three, as a controller's gain
-is judged: issue 32), and the reason when it moves more."""
+POOLED_CHOICES = {"window halved": "the derivative window's choice", "window doubled": "the derivative window's choice",
+                  "--no-robust": "the robust step's exclusions (--no-robust)"}
+"""Each pooled refit, and what widened an error it moves beyond noise (the window halved and doubled are one choice,
+which widens by the larger of their moves, as a single log fit's)."""
 
 
-def pooled_refit_findings(pooled: PooledRuns) -> tuple[Finding, ...]:
-    """Shared parameters that the pooled fit redone from every run's refit (window halved or doubled, --no-robust)
-    moves beyond POOLED_MOVES: for runs that do not stand alone (a SysId routine's tests), whose own checks say
-    nothing of the pooled gains."""
+def pooled_refit_spreads(pooled: PooledRuns) -> tuple[Spread, ...]:
+    """How far the pooled fit redone from every run's refit (window halved or doubled, --no-robust) moves the shared
+    parameters beyond noise (refits.beyond_noise): for runs that do not stand alone (a SysId routine's tests),
+    whose own checks say nothing of the pooled gains."""
     refits = [refits_of(run) for run in pooled.runs]
-    findings = []
-    for label, (limit, reason) in POOLED_MOVES.items():
+    values = np.array([pooled.params[name] for name in pooled.shared])
+    noise = np.array([pooled.noise_bse[name] for name in pooled.shared])
+    largest: dict[tuple[str, str], Spread] = {}
+    for label, choice in POOLED_CHOICES.items():
         if not all(label in found for found in refits):
             continue
         redone = tuple(LoadedLogs(run.training, None, found[label]) for run, found in zip(pooled.runs, refits))
         again = pool_runs(redone, pooled.weighting)
-        for name in pooled.shared:
-            error = pooled.bse[name]
-            move = abs(again.params[name] - pooled.params[name]) / error if error > 0 else 0.0
-            if move > limit:
-                findings.append(Finding(name, reason.format(move=move_text(move, again.params[name],
-                                                                           pooled.params[name]))))
-    return tuple(findings)
+        for spread in beyond_noise(pooled.shared, values, noise, [[again.params[name] for name in pooled.shared]],
+                                   choice, [[again.noise_bse[name] for name in pooled.shared]]):
+            key = (spread.name, spread.choice)
+            if key not in largest or spread.error > largest[key].error:
+                largest[key] = spread
+    return tuple(largest.values())
+
+
+def runs_spreads(shared, runs, noise_errors: np.ndarray) -> tuple[Spread, ...]:
+    """The runs' own analysis spreads carried to the pooled fit: their mean weighted as the pool weighs them (the
+    same choices move every run alike, so averaging does not shrink them); `noise_errors` (k, s)."""
+    spreads = []
+    with np.errstate(all="ignore"):
+        weights = 1.0 / np.square(noise_errors)
+    for j, name in enumerate(shared):
+        own = []
+        for run in runs:
+            spread = run.result.judgement.spread
+            index = run.result.model.names.index(name)
+            own.append(spread[index] if spread else 0.0)
+        total = float(np.sum(weights[:, j] * np.array(own)) / np.sum(weights[:, j]))
+        if math.isfinite(total) and total > 0:
+            spreads.append(Spread(name, total, "the runs' analysis choices"))
+    return tuple(spreads)
 
 
 def fit_runs(logs: list[JointLog], model: JointModel, filtering: FilterRequest = FilterRequest(),

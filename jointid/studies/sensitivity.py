@@ -44,6 +44,8 @@ class Variant:
     """Low-pass cutoff (Hz) of this fit, or None unfiltered."""
     estimate: np.ndarray
     """(p,) The reported parameters."""
+    std_error: np.ndarray | None = None
+    """(p,) Their noise-based standard errors, or None (say how far noise alone moves one fit from another)."""
 
     @property
     def label(self) -> str:

@@ -98,9 +98,11 @@ def test_a_folder_or_a_missing_file_is_refused_in_one_line(tmp_path):
         open_for_reading(str(tmp_path / "nul\0.csv"))
 
 
-def test_a_path_that_is_not_printable_is_shown_quoted():
-    assert shown_path("logs/run 1 ²").startswith("logs/run 1 ²")
-    assert shown_path("two\nlines.csv") == "'two\\nlines.csv'"
+def test_a_path_that_is_not_printable_is_shown_escaped_as_every_name_is():
+    """A newline or an undecodable byte is written as the escape one types back (text_safety.typed_name)."""
+    assert shown_path("logs/run 1 ²") == "logs/run 1 ²"
+    assert shown_path("two\nlines.csv") == "two\\nlines.csv"
+    assert shown_path(b"caf\xe9.csv") == "caf\\xe9.csv"
     assert "\n" not in str(FileRefused("two\nlines.csv", "cannot open", "No such file or directory"))
 
 

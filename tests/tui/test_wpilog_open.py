@@ -150,3 +150,18 @@ async def test_a_broken_log_is_one_notification_and_nothing_changes(logs, case, 
         assert note.severity == "error" and expected in note.message
         await pilot.press("escape")
         assert isinstance(app.screen, MainScreen) and app.screen.logs is None
+
+
+@synchronous
+async def test_an_elevators_readouts_give_its_speed_in_metres_per_second(tmp_path):
+    """A log whose position is a length shows the motion's RMS per metre, as the command line's text does."""
+    from support.sysid_mechanisms import ELEVATOR, write_mechanism_log
+    from tui.widgets.readouts import ReadoutPanel
+
+    path = write_mechanism_log(tmp_path / "elevator.wpilog", ELEVATOR)
+    app = make_app()
+    async with app.run_test(size=SIZE) as pilot:
+        await open_path(pilot, path)
+        await settle(pilot, lambda: isinstance(app.screen, MainScreen) and app.screen.runs is not None)
+        labels = {item.label for item in app.screen.query_one(ReadoutPanel).items}
+    assert {"Speed RMS (m/s)", "Acceleration RMS (m/s²)"} <= labels, labels

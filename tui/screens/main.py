@@ -410,7 +410,8 @@ class MainScreen(Screen):
         self.query_one("#training-chart", TorqueChart).show(training)
         if heldout is not None:  # without a held-out log its chart is hidden (-no-heldout)
             self.query_one("#heldout-chart", TorqueChart).show(heldout)
-        self.query_one(ReadoutPanel).show(readouts(result), precision(result))
+        linear = logs is not None and logs.training.position_unit == "metres"  # an elevator's speed is in m/s
+        self.query_one(ReadoutPanel).show(readouts(result, linear), precision(result))
         self.show_status()
 
     def show_status(self) -> None:

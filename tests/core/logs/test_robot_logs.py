@@ -71,7 +71,11 @@ def test_a_deliberately_high_cutoff_biases_inertia_low_and_raises_the_sensitivit
     text = capsys.readouterr().out
     assert re.search(r"Your derivative settings decide this estimate: with the (cutoff|window) \w+ \([^)]*\), "
                      r"I moves \d+\.\d\d standard errors", text)
-    assert "moved by the derivative settings" in text  # and I is not called well determined
+    line = next(line for line in text.splitlines() if line.startswith("I (kg m²)"))
+    # The cutoff's move widens I's error to cover the truth its bias misses: no longer called well determined.
+    assert "error widened from" in line and "by the cutoff's choice" in line and "well determined" not in line
+    assert document["std_error"]["I"] > 0.1 * max(abs(s["estimate"]["I"] - base) for s in sensitivity["settings"])
+    assert abs(document["estimate"]["I"] - TRUE["I"]) < 2 * document["std_error"]["I"]
 
 
 def test_the_text_output_states_what_was_chosen_and_why(capsys, tmp_path):
