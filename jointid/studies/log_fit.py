@@ -223,8 +223,14 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
     # Each full-rate column is built once and low-passed by the chosen filter and the sensitivity check's
     # cutoff refits' alike, so no full-rate regressor is held.
     candidates = _candidates(model) if chosen.active else ()  # the test needs the low-pass's correlation
-    filtered = filtered_regressors(training, model, (chosen, *(other for _, _, other in others)), candidates)
-    candidate_columns = filtered.pop()[0] if candidates else None
+    # The offset refit's model shares most columns with this one and the candidates: only its others are added.
+    alternative = offset_alternative(model) if sensitivity else None
+    extras = candidates + tuple(term for term in (() if alternative is None else alternative[0].terms)
+                                if term not in model.terms and term not in candidates)
+    filtered = filtered_regressors(training, model, (chosen, *(other for _, _, other in others)), extras)
+    extra_columns = filtered.pop()[0] if extras else np.empty((0, 0))
+    candidate_columns = extra_columns[:, :len(candidates)] if candidates else None
+    through_chosen = dict(zip((*model.terms, *extras), (*filtered[0][0].T, *extra_columns.T)))
     result, exclusions = _fit(training, heldout, model, constrained, chosen, filtered[0], exclusion)
     predicted = None if heldout is None else heldout_as_fitted(
         training, heldout, model, chosen, exclusion, None if exclusions is None else exclusions.estimate)
@@ -240,8 +246,8 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
     check = _sensitivity(training, model, constrained, chosen, result, zip(others, filtered[1:]), exclusion,
                          exclusions) if sensitivity else None
     omitted = _omitted_terms(model, candidates, candidate_columns, result, exclusions)
-    offset = _offset_refit(training, model, constrained, chosen, result, exclusion, exclusions) \
-        if sensitivity else None
+    offset = _offset_refit(training, model, constrained, chosen, result, exclusion, exclusions,
+                           (through_chosen, filtered[0][1])) if sensitivity else None
     logs = LoadedLogs(training, heldout, result, chosen, filtering, check, exclusions, exclusion, omitted,
                       heldout_pipeline=None if predicted is None else predicted[2:], offset=offset)
     return replace(logs, result=with_judgement(result, judge_log(logs)))
@@ -321,21 +327,26 @@ def offset_alternative(model: JointModel) -> tuple[JointModel, str] | None:
 
 
 def _offset_refit(training: JointLog, model: JointModel, constrained: bool, chosen: ParallelFilter,
-                  result: FitResult, exclusion: ExclusionRequest, exclusions: Exclusions | None
-                  ) -> tuple[str, np.ndarray, np.ndarray] | None:
+                  result: FitResult, exclusion: ExclusionRequest, exclusions: Exclusions | None,
+                  low_passed: tuple[dict, np.ndarray] | None = None) -> tuple[str, np.ndarray, np.ndarray] | None:
     """(what it is, the reported estimate and its noise-based errors by `model`'s names, NaN where the other model
     has no such parameter) of the fit with a torque offset explained the other way, leaving out what the fit left
-    out; None without one."""
+    out; None without one. `low_passed`: (columns by term, torque) already through `chosen`, when they hold the
+    other model's every column."""
     alternative = offset_alternative(model)
     if alternative is None or result.estimate is None or result.bounded is not None:
         return None
     other, choice = alternative
+    columns, torque = ({}, None) if low_passed is None else low_passed
+    X = np.column_stack([columns[term] for term in other.terms]) if all(
+        term in columns for term in other.terms) else None
     try:
         check_angle_model(training, other)
         found = None if exclusions is None else exclusions.excluded
         # Columns of extreme magnitude can leave double precision in the other model's angle offset: no choice.
         with np.errstate(all="ignore"):
-            fit, _ = _fit(training, None, other, constrained, chosen, None, exclusion, found)
+            fit, _ = _fit(training, None, other, constrained, chosen, None if X is None else (X, torque), exclusion,
+                          found)
             errors = _noise_errors(fit)
     except (LogError, FloatingPointError):  # nothing left to fit with it, say: no such choice
         return None
