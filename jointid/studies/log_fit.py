@@ -223,14 +223,17 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
     # Each full-rate column is built once and low-passed by the chosen filter and the sensitivity check's
     # cutoff refits' alike, so no full-rate regressor is held.
     candidates = _candidates(model) if chosen.active else ()  # the test needs the low-pass's correlation
-    # The offset refit's model shares most columns with this one and the candidates: only its others are added.
+    # The offset refit's model shares most columns (column functions) with this one and the candidates: only its
+    # others are added.
     alternative = offset_alternative(model) if sensitivity else None
+    known = {term.column for term in (*model.terms, *candidates)}
     extras = candidates + tuple(term for term in (() if alternative is None else alternative[0].terms)
-                                if term not in model.terms and term not in candidates)
+                                if term.column not in known)
     filtered = filtered_regressors(training, model, (chosen, *(other for _, _, other in others)), extras)
     extra_columns = filtered.pop()[0] if extras else np.empty((0, 0))
     candidate_columns = extra_columns[:, :len(candidates)] if candidates else None
-    through_chosen = dict(zip((*model.terms, *extras), (*filtered[0][0].T, *extra_columns.T)))
+    through_chosen = {term.column: column for term, column in zip((*model.terms, *extras),
+                                                                   (*filtered[0][0].T, *extra_columns.T))}
     result, exclusions = _fit(training, heldout, model, constrained, chosen, filtered[0], exclusion)
     predicted = None if heldout is None else heldout_as_fitted(
         training, heldout, model, chosen, exclusion, None if exclusions is None else exclusions.estimate)
@@ -331,15 +334,15 @@ def _offset_refit(training: JointLog, model: JointModel, constrained: bool, chos
                   low_passed: tuple[dict, np.ndarray] | None = None) -> tuple[str, np.ndarray, np.ndarray] | None:
     """(what it is, the reported estimate and its noise-based errors by `model`'s names, NaN where the other model
     has no such parameter) of the fit with a torque offset explained the other way, leaving out what the fit left
-    out; None without one. `low_passed`: (columns by term, torque) already through `chosen`, when they hold the
-    other model's every column."""
+    out; None without one. `low_passed`: (columns by their column function, torque) already through `chosen`, when
+    they hold the other model's every column."""
     alternative = offset_alternative(model)
     if alternative is None or result.estimate is None or result.bounded is not None:
         return None
     other, choice = alternative
     columns, torque = ({}, None) if low_passed is None else low_passed
-    X = np.column_stack([columns[term] for term in other.terms]) if all(
-        term in columns for term in other.terms) else None
+    X = np.column_stack([columns[term.column] for term in other.terms]) if all(
+        term.column in columns for term in other.terms) else None
     try:
         check_angle_model(training, other)
         found = None if exclusions is None else exclusions.excluded
