@@ -8,12 +8,13 @@ import numpy as np
 import pytest
 import scipy.stats
 from support.coulomb_joint import coulomb_joint_log
+from support.real_logs import REAL_LOGS, needs_real_logs
 
 import jointid
 from jointid.estimation.judgement import Scatter, Spread, judge
 from jointid.estimation.uncertainty import WEAK, WELL_DETERMINED
 from jointid.model.terms import model_named
-from jointid.studies.log_fit import offset_alternative
+from jointid.studies.log_fit import offset_alternative, refits_of
 from jointid.studies.refits import CHOICE_MOVE, beyond_noise
 
 G = 9.81
@@ -155,3 +156,35 @@ def test_a_clean_synthetic_joint_keeps_its_noise_errors(seed):
     assert dict(logs.bse) == dict(logs.noise_bse)
     assert logs.result.judgement.verdicts == logs.result.judgement.noise_verdicts
     assert not logs.result.judgement.weakened
+
+
+
+@needs_real_logs
+def test_h_over_i_is_widened_by_the_choices_that_move_it_beyond_its_noise():
+    """Energy shaping's h/I: the delta method's noise error, then each choice's largest move of the ratio (its
+    sensitivity refits, the fit with the pushes kept in, the offset's refit), beyond 2 noise errors, adds
+    sqrt(move^2 - noise^2) in quadrature, as for a parameter."""
+    logs = jointid.fit_log(REAL_LOGS / "pendulum_energy_shaping.csv", zero="down")
+    result = logs.result
+    names = result.model.names
+    inertia, gravity = names.index("I"), names.index("h")
+    columns = [result.model.index_of("I"), result.model.index_of("h")]
+    gradient = np.array([-result.estimate[gravity] / result.estimate[inertia] ** 2, 1 / result.estimate[inertia]])
+    block = result.uncertainty.correlated_covariance[np.ix_(columns, columns)]
+    noise = float(np.sqrt(gradient @ block @ gradient))
+
+    def ratio(estimate):
+        return estimate[gravity] / estimate[inertia]
+
+    base = ratio(result.estimate)
+    moves = {}
+    for variant in logs.sensitivity.variants:
+        moves.setdefault(variant.setting, []).append(abs(ratio(variant.estimate) - base))
+    moves["robust"] = [abs(ratio(refits_of(logs)["--no-robust"].estimate) - base)]
+    moves["offset"] = [abs(ratio(logs.offset[1]) - base)]
+    extra = [math.sqrt(max(found) ** 2 - noise**2) for found in moves.values() if max(found) > 2 * noise]
+    assert extra  # the pushes kept in move it 2.6 noise errors
+    _, value, error = result.scale_ratio
+    assert value == pytest.approx(base, rel=1e-12)
+    assert error == pytest.approx(math.hypot(noise, math.sqrt(sum(value**2 for value in extra))), rel=1e-9)
+    assert "(widened by the analysis choices too)" in logs.summary()
