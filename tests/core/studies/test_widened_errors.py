@@ -56,7 +56,8 @@ def test_spreads_add_in_quadrature_to_the_noise_error_and_the_verdict_is_judged_
     # 0.04 and 0.08: reported error sqrt(0.02^2 + 0.04^2 + 0.08^2) = 0.091652, 9.2 %: still well determined.
     # h = 2 with error 0.02 (1 %) and a spread of 0.3: sqrt(0.02^2 + 0.3^2) = 0.300666, 15 %: weak.
     judged = judge(("I", "h"), [2.0, 1.0], None,
-                   spreads=[Spread("I", 0.04, "the cutoff's choice"), Spread("I", 0.08, "the derivative window's choice"),
+                   spreads=[Spread("I", 0.04, "the cutoff's choice"),
+                            Spread("I", 0.08, "the derivative window's choice"),
                             Spread("h", 0.3, "the robust step's exclusions (--no-robust)")],
                    values=[1.0, 2.0], noise_errors=[0.02, 0.02])
     widened = judged.widened([0.02, 0.02])
