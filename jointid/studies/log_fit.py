@@ -39,7 +39,7 @@ from ..options import DEFAULT_ORDER, model_extras
 from ..samples import JointData
 from ..text_safety import shown_name
 from .angle_models import check_angle_model
-from .refits import beyond_noise, is_exact, robust_spreads, stretch_scatter
+from .refits import ROBUST_CHOICE, beyond_noise, is_exact, robust_refit, robust_spreads, stretch_scatter
 from .sensitivity import FACTORS, SensitivityCheck, Variant, sensitivity_check
 
 
@@ -288,16 +288,50 @@ def log_spreads(logs: LoadedLogs) -> tuple[Spread, ...]:
                                     [variant.std_error for variant in variants])
     left = logs.exclusions
     if left is not None and left.regressor is not None:
-        by_hand = np.zeros(len(left.since), dtype=bool)
-        for start, end in logs.exclusion.by_hand:
-            by_hand |= (left.since >= start) & (left.since <= end)
-        spreads += robust_spreads(result, left, by_hand)
+        spreads += robust_spreads(result, left, _by_hand(logs))
     if logs.offset is not None:
         choice, other, errors = logs.offset
         shared = np.isfinite(other)
         spreads += beyond_noise(names, estimate, noise, [np.where(shared, other, estimate)], choice,
                                 [np.where(shared, errors, noise)])
     return tuple(spreads)
+
+
+def _by_hand(logs: LoadedLogs) -> np.ndarray:
+    """(kept,) The filtered samples left out by hand (--exclude), which every refit leaves out too."""
+    left = logs.exclusions
+    by_hand = np.zeros(len(left.since), dtype=bool)
+    for start, end in logs.exclusion.by_hand:
+        by_hand |= (left.since >= start) & (left.since <= end)
+    return by_hand
+
+
+def ratio_spread(logs: LoadedLogs) -> float:
+    """How far the log fit's analysis choices (as log_spreads) move h/I beyond its noise error, in quadrature over
+    the choices; 0 when the fit states no ratio (FitResult.scale_ratio) or nothing moves it beyond noise."""
+    result = logs.result
+    scale = result.scale_ratio
+    if scale is None or result.estimate is None or is_exact(result):
+        return 0.0
+    model = result.model
+    inertia, gravity = (model.names.index(model.terms[model.index_of(kind)].name) for kind in ("I", "h"))
+
+    def ratio(estimate) -> float:
+        return float(estimate[gravity] / estimate[inertia])
+
+    moved: dict[str, list[float]] = {}
+    for variant in () if logs.sensitivity is None else logs.sensitivity.variants:
+        moved.setdefault(SETTING_CHOICES[variant.setting], []).append(ratio(variant.estimate))
+    left = logs.exclusions
+    kept_in = None if left is None or left.regressor is None else robust_refit(result, left, _by_hand(logs))
+    if kept_in is not None:
+        moved[ROBUST_CHOICE] = [ratio(kept_in)]
+    if logs.offset is not None:
+        moved[logs.offset[0]] = [ratio(logs.offset[1])]
+    with np.errstate(all="ignore"):
+        found = [spread.error for choice, ratios in moved.items() for spread in beyond_noise(
+            ("h/I",), np.array([ratio(result.estimate)]), np.array([scale[2]]), [[value] for value in ratios], choice)]
+    return math.sqrt(sum(error * error for error in found))
 
 
 def judge_log(logs: LoadedLogs) -> Judgement:
@@ -307,9 +341,10 @@ def judge_log(logs: LoadedLogs) -> Judgement:
     uncertainty = result.uncertainty
     if uncertainty is None:
         return noise_judgement(result.model.names, None)
-    return judge(result.model.names, uncertainty.noise_relative_std_pct, uncertainty.held, log_findings(logs),
-                 () if is_exact(result) else stretch_scatter(result), log_spreads(logs), result.estimate,
-                 uncertainty.noise_std_error)
+    judged = judge(result.model.names, uncertainty.noise_relative_std_pct, uncertainty.held, log_findings(logs),
+                   () if is_exact(result) else stretch_scatter(result), log_spreads(logs), result.estimate,
+                   uncertainty.noise_std_error)
+    return replace(judged, ratio_spread=ratio_spread(logs))
 
 
 def offset_alternative(model: JointModel) -> tuple[JointModel, str] | None:
