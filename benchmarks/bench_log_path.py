@@ -56,7 +56,7 @@ def default_path_steps(path: Path) -> dict[str, float]:
     from jointid.options import LOG_MODEL
 
     steps = {"the automatic cutoff": (low_pass, "automatic_cutoff"),
-             "low-pass of the columns (and the refits')": (log_fit, "filtered_regressors"),
+             "low-pass of the columns (refits', candidates')": (log_fit, "filtered_regressors"),
              "robust step": (log_fit, "outside_torques"), "sensitivity refits": (log_fit, "_sensitivity"),
              "omitted-terms test": (log_fit, "_omitted_terms")}
     spent: dict[str, list[float]] = {name: [] for name in (*steps, "whole fit", "like-for-like fit")}

@@ -7,7 +7,7 @@ from functools import cached_property
 
 import numpy as np
 
-from .norms import rms
+from .norms import all_finite, rms
 
 
 STATES = ("q", "qd", "qdd", "tau")
@@ -41,7 +41,7 @@ class JointData:
             if values.ndim != 1 or values.dtype.kind not in "biuf":
                 raise ValueError(f"JointData's {name} must be a 1-D array of real numbers; got "
                                  f"{values.dtype} values of shape {values.shape}")
-            if values.size and not np.isfinite(values).all():  # a NaN would reach the fit as a silent NaN estimate
+            if values.size and not all_finite(values):  # a NaN would reach the fit as a silent NaN estimate
                 index = int(np.flatnonzero(~np.isfinite(values))[0])
                 raise ValueError(f"JointData's {name} must be finite numbers; got {values[index]} at index {index}")
             if length is not None and len(values) != length:

@@ -39,6 +39,9 @@ SUBCOMMANDS = {
                            "list a ROS bag's topics and the joints of its JointState topics (for --bag/--joint)"),
     "log-info": Subcommand("log_info_command",
                            "list a WPILib data log's entries and any SysId routine in it (for --wpilog/--entry)"),
+    "watch": Subcommand("watch_command",
+                        "fit a joint while it moves (a growing CSV or NetworkTables 4) and say when each parameter "
+                        "is determined"),
     "serve": Subcommand("serve_command", "serve the explorer to web browsers, one session per tab (needs pip install "
                         "'jointid[web]')"),
 }

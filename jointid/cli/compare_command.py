@@ -58,10 +58,7 @@ def compare(args: argparse.Namespace, fitted=None):
     passing the logs it `fitted` already (several runs are compared pooled, from their own fits)."""
     from ..present.notes import low_pass_short_note
     from ..present.text import settings_header
-    from ..studies.ladder import (  # numpy and the numeric modules load only to run
-        compare_experiment,
-        compare_models,
-    )
+    from ..studies.ladder import compare_experiment  # numpy and the numeric modules load only to run
 
     if has_log(args) and (fitted is not None and hasattr(fitted, "runs") or several_runs(args)
                           or getattr(args, "wpilog", None) is not None):
@@ -77,8 +74,8 @@ def compare(args: argparse.Namespace, fitted=None):
     if has_log(args):
         from ..logs.table import LogError
         from ..model.terms import model_named
-        from ..studies.ladder import ALL_COLUMNS
-        from ..studies.log_fit import fit_logs, heldout_as_fitted, smoothed_regressor
+        from ..studies.ladder import compare_log
+        from ..studies.log_fit import fit_logs
 
         training, heldout = load_logs(args)
         try:
@@ -88,15 +85,7 @@ def compare(args: argparse.Namespace, fitted=None):
         except LogError as error:
             raise UserError(str(error)) from None
         low_pass = logs.filter
-        kept = None if logs.exclusions is None else ~logs.exclusions.pushes  # standstill decides no model either
-        every = ALL_COLUMNS.in_effort(training.effort)
-        # The held-out log through the training log's pipeline, as the fit's own held-out check (None: as it is).
-        predicted = None if heldout is None else heldout_as_fitted(training, heldout, every, low_pass,
-                                                                   exclusion_options(args), None)
-        comparison = compare_models(training.data, None if heldout is None else
-                                    heldout.data if predicted is None else predicted[0], low_pass=low_pass,
-                                    kept=kept, regressor=smoothed_regressor(training, every), effort=training.effort,
-                                    heldout_regressor=None if predicted is None else predicted[1])
+        comparison = compare_log(logs)
         heading = f"Training log {training.source_text()}; {low_pass_short_note(low_pass, training.effort.name)}"
         return comparison, heading, None, {"training": training.path,
                                            "heldout": None if heldout is None else heldout.path}

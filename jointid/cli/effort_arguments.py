@@ -101,8 +101,6 @@ def effort_reading(args: argparse.Namespace):
 def motor_drive(args: argparse.Namespace):
     """The model.motors.MotorDrive of --motor (or --motor-r/-kt/-kv), --motor-count, --gear, --efficiency,
     --motor-inertia, or None without a motor; UserError on a bad mix or an unknown motor."""
-    from ..model.motors import MotorDrive, UnknownMotor, motor_named
-
     custom = {name: getattr(args, name) for name in CUSTOM_MOTOR_FLAGS}
     given = [name for name, value in custom.items() if value is not None]
     if args.motor is not None and given:
@@ -117,6 +115,8 @@ def motor_drive(args: argparse.Namespace):
         if stray:
             raise UserError(f"{', '.join(stray)}: only with a motor (--motor NAME, or --motor-r/--motor-kt/--motor-kv)")
         return None
+    from ..model.motors import MotorDrive, UnknownMotor, motor_named  # only with a motor: a few ms of each start
+
     count = 1 if args.motor_count is None else args.motor_count
     gear = 1.0 if args.gear is None else args.gear
     efficiency = 1.0 if args.efficiency is None else args.efficiency
@@ -142,10 +142,12 @@ def check_gains_request(args: argparse.Namespace) -> None:
 def effort_extras(args: argparse.Namespace, logs):
     """(text paragraphs, JSON fields) the motor and --gains add to the output of a log's fit (or of several runs
     pooled); UserError when the fit gives none."""
-    from ..studies.gains import GainsError, arm_gains, motor_parameters
-
     drive = motor_drive(args)
     paragraphs, fields = [], {}
+    if drive is None and getattr(args, "gains", None) != "wpilib":
+        return paragraphs, fields
+    from ..studies.gains import GainsError, arm_gains, motor_parameters  # only when asked: a few ms of each start
+
     model = (logs.runs[0] if hasattr(logs, "runs") else logs).result.model
     try:
         if drive is not None and not model.effort.is_torque:

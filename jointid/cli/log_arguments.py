@@ -11,7 +11,7 @@ defaults in afterwards (`with_default_settings`).
 from __future__ import annotations
 
 import argparse
-from typing import TYPE_CHECKING
+TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (2.5 ms of every --help)
 
 from ..options import DEFAULT_ORDER, SETTING_DEFAULTS, default_log_model
 from .arguments import UserError, finite_float, whole_number

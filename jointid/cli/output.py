@@ -4,10 +4,13 @@ from __future__ import annotations
 
 import os
 import sys
-from typing import NoReturn
 
 from .arguments import UserError
 from .exit_status import ExitStatus
+
+TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing (2.5 ms of every --help)
+if TYPE_CHECKING:
+    from typing import NoReturn
 
 
 def output_error_line(error: OSError) -> str:

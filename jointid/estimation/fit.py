@@ -271,6 +271,8 @@ class FitResult:
             gradient = np.array([-mass_moment / inertia**2, 1 / inertia])
             block = covariance[np.ix_([i, h], [i, h])]
             ratio, error = float(mass_moment / inertia), float(np.sqrt(gradient @ block @ gradient))
+        if self.judged is not None and self.judged.ratio_spread > 0:  # widened as the parameters' errors are
+            error = math.hypot(error, self.judged.ratio_spread)
         return (corr, ratio, error) if np.isfinite(ratio) and np.isfinite(error) else None
 
     @property
@@ -287,6 +289,8 @@ def with_judgement(result: FitResult, judgement: Judgement) -> FitResult:
     carried.pop("judgement", None)
     if judgement.spread:  # the reported errors are widened: recomputed from the noise's, with the spread
         carried.pop("uncertainty", None), carried.pop("bse", None)
+    if judgement.ratio_spread:  # and so is h/I's
+        carried.pop("scale_ratio", None)
     vars(judged).update(carried)
     return judged
 

@@ -85,6 +85,9 @@ class Judgement:
     spread: tuple[float, ...] = ()
     """Per parameter, what widens its noise-based standard error, added in quadrature (0: nothing; () for none at
     all): jointid.estimation.uncertainty.ParameterUncertainty.spread."""
+    ratio_spread: float = 0.0
+    """What widens the noise-based error of h/I (FitResult.scale_ratio) in quadrature: the analysis choices' moves of
+    the ratio beyond its noise, as `spread` for the parameters (0: nothing)."""
 
     def by_name(self) -> Mapping[str, str | None]:
         """The verdicts by parameter name (read-only)."""

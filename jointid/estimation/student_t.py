@@ -37,8 +37,6 @@ from __future__ import annotations
 
 import math
 import sys
-from statistics import NormalDist
-
 _EXPANSION_MIN_DF = 2000.0
 _EXPANSION_MAX_X2_PER_DF = 2e-3
 """The Cornish-Fisher expansion is used for nu >= 2000 and x^2 <= 2e-3 nu (x the normal quantile).
@@ -112,12 +110,20 @@ def student_t_quantile(probability: float, degrees_of_freedom: float) -> float:
     return sign * t
 
 
-_STANDARD_NORMAL = NormalDist()
+KNOWN_UPPER_NORMAL_QUANTILES = {1 - 0.975: 1.9599639845400536, 0.025: 1.9599639845400538}
+"""-NormalDist().inv_cdf(tail) for the tails of 95 % intervals, which every fit asks for (the test of this module
+checks them against statistics): statistics, with fractions, decimal and random, is then imported only for other
+levels, sparing a few ms of each command's start."""
 
 
 def _upper_normal_quantile(tail: float) -> float:
     """x with P(Z > x) = tail for a standard normal Z, 0 < tail <= 1/2 (statistics' Wichura AS 241)."""
-    return -_STANDARD_NORMAL.inv_cdf(tail)
+    known = KNOWN_UPPER_NORMAL_QUANTILES.get(tail)
+    if known is not None:
+        return known
+    from statistics import NormalDist
+
+    return -NormalDist().inv_cdf(tail)
 
 
 def _cauchy_quantile(tail: float, centre: float) -> float:

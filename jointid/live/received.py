@@ -24,6 +24,9 @@ class Received:
     """Samples the source received but could not keep since the last poll (it was too fast to keep up)."""
     ended: bool = False
     """True when the source is finished for good (the file's writer closed it, --duration reached)."""
+    breaks: tuple[int, ...] = ()
+    """Rows of this block where a new stretch starts (a reconnection after a gap, a file truncated or replaced):
+    nothing may be interpolated or differentiated across one. 't' still grows across it (see live.stretches)."""
 
     @property
     def count(self) -> int:

@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 import os
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
@@ -111,6 +112,15 @@ class JointLog:
         if getattr(None if self.source is None else self.source.table, "linear", False):
             return "metres"
         return "degrees" if self.degrees else "radians"
+
+    @cached_property
+    def angle_quantum(self) -> float:
+        """The 1st percentile of the logged angle's steps between samples, leaving out those within rounding: its
+        quantisation step when it has one; 0 when the angle never moves. Once per log (every refit reads it)."""
+        q = self.data.q if self.source is None else self.source.columns["q"]
+        steps = np.abs(np.diff(q))
+        steps = steps[steps > 1e-9 * max(1.0, float(np.max(np.abs(q))))]
+        return float(np.percentile(steps, 1)) if len(steps) else 0.0
 
     def source_text(self) -> str:
         """One line describing what was read, e.g. for the line above the readouts."""

@@ -110,27 +110,50 @@ class Term(Parameter):
 def rounded_cos(q: np.ndarray) -> np.ndarray:
     """cos q, and exactly 0 where it is within the rounding of q itself: cos(fl(pi/2)) = 6e-17 is no gravity
     torque, and a column of such values would otherwise be column-scaled into a parameter the data 'determine'."""
-    values = np.cos(q)
-    return np.where(np.abs(values) <= ROUNDING * np.maximum(1.0, np.abs(q)), 0.0, values)
+    return _rounding_to_zero(np.cos(q), q)
 
 
 def rounded_sin(q: np.ndarray) -> np.ndarray:
     """sin q, and exactly 0 where it is within the rounding of q itself (sin(fl(pi)) = 1.2e-16), as rounded_cos."""
-    values = np.sin(q)
-    return np.where(np.abs(values) <= ROUNDING * np.maximum(1.0, np.abs(q)), 0.0, values)
+    return _rounding_to_zero(np.sin(q), q)
+
+
+def _rounding_to_zero(values: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """`values` (trigonometric, of q; changed in place) with 0 where |value| <= ROUNDING max(1, |q|)."""
+    values = np.asarray(values, dtype=float)
+    q = np.asarray(q, dtype=float)
+    if values.ndim == 0 or values.size == 0:
+        return np.where(np.abs(values) <= ROUNDING * np.maximum(1.0, np.abs(q)), 0.0, values)
+    # Only values under the largest bound can be rounding: those few are checked against their own bound, rather
+    # than building the bound for every sample (a million samples took four passes).
+    largest = max(1.0, float(np.max(q)), -float(np.min(q)))
+    near = np.flatnonzero(np.abs(values) <= ROUNDING * largest)
+    if len(near):
+        flat, angles = values.reshape(-1), np.broadcast_to(q, values.shape).reshape(-1)
+        flat[near[np.abs(flat[near]) <= ROUNDING * np.maximum(1.0, np.abs(angles[near]))]] = 0.0
+    return values
 
 
 ROUNDING = 4 * np.finfo(float).eps
 """A trigonometric value this small times max(1, |q|) is rounding: q itself is only known to eps/2 of it."""
 
+def gravity_cosine_column(q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
+    """g cos q: the column of h, and of h_c in an angle-offset model (one function, so a log fit that needs both
+    low-passes it once)."""
+    return G * rounded_cos(q)
+
+
+def cosine_column(q: np.ndarray, qd: np.ndarray, qdd: np.ndarray) -> np.ndarray:
+    """cos q: the column of a voltage model's kG, and of kG_c with an angle offset (as gravity_cosine_column)."""
+    return rounded_cos(q)
+
+
 INERTIA = Term("I", "inertia", "kg m²", POSITIVE, "no acceleration", lambda q, qd, qdd: qdd, True)
-MASS_MOMENT = Term("h", "mass moment", "kg m", NONNEGATIVE, "no gravity torque",
-                   lambda q, qd, qdd: G * rounded_cos(q))
+MASS_MOMENT = Term("h", "mass moment", "kg m", NONNEGATIVE, "no gravity torque", gravity_cosine_column)
 DAMPING = Term("B", "damping", "N m s/rad", NONNEGATIVE, "no velocity", lambda q, qd, qdd: qd, True)
 COULOMB = Term("Fc", "Coulomb friction", "N m", NONNEGATIVE, "no velocity", lambda q, qd, qdd: np.sign(qd))
 BIAS = Term("tau0", "torque bias", "N m", None, "no samples", lambda q, qd, qdd: np.ones_like(q))
-GRAVITY_COSINE = Term("h_c", "gravity cosine coefficient", "kg m", None, "no gravity torque",
-                      lambda q, qd, qdd: G * rounded_cos(q))
+GRAVITY_COSINE = Term("h_c", "gravity cosine coefficient", "kg m", None, "no gravity torque", gravity_cosine_column)
 GRAVITY_SINE = Term("h_s", "gravity sine coefficient", "kg m", None, "no angle away from horizontal",
                     lambda q, qd, qdd: G * rounded_sin(q))
 ANGLE_OFFSET = Parameter("q0", "angle offset", "rad", None, "no angle away from horizontal")
@@ -143,8 +166,7 @@ QUADRATIC_DRAG = Term("Bq", "quadratic drag", "N m s²/rad²", None, "no velocit
 # is cos q itself (kG is the voltage that holds the arm horizontal), not g cos q.
 ACCELERATION_GAIN = Term("kA", "acceleration gain", "V s²/rad", POSITIVE, "no acceleration",
                          lambda q, qd, qdd: qdd, True, "I")
-GRAVITY_GAIN = Term("kG", "gravity gain", "V", NONNEGATIVE, "no gravity torque",
-                    lambda q, qd, qdd: rounded_cos(q), role="h")
+GRAVITY_GAIN = Term("kG", "gravity gain", "V", NONNEGATIVE, "no gravity torque", cosine_column, role="h")
 VELOCITY_GAIN = Term("kV", "velocity gain", "V s/rad", NONNEGATIVE, "no velocity", lambda q, qd, qdd: qd, True, "B")
 STATIC_GAIN = Term("kS", "static gain", "V", NONNEGATIVE, "no velocity", lambda q, qd, qdd: np.sign(qd),
                    role="Fc")
@@ -152,8 +174,8 @@ LOAD_GRAVITY_GAIN = Term("kG", "gravity gain", "V", None, "no samples", lambda q
                          role="tauG")
 """ElevatorFeedforward's kG: the voltage that holds the load still, the same at every position."""
 VOLTAGE_BIAS = Term("V0", "voltage bias", "V", None, "no samples", lambda q, qd, qdd: np.ones_like(q), role="tau0")
-GRAVITY_COSINE_GAIN = Term("kG_c", "gravity cosine gain", "V", None, "no gravity torque",
-                           lambda q, qd, qdd: rounded_cos(q), role="h_c")
+GRAVITY_COSINE_GAIN = Term("kG_c", "gravity cosine gain", "V", None, "no gravity torque", cosine_column,
+                           role="h_c")
 GRAVITY_SINE_GAIN = Term("kG_s", "gravity sine gain", "V", None, "no angle away from horizontal",
                          lambda q, qd, qdd: rounded_sin(q), role="h_s")
 QUADRATIC_DRAG_GAIN = Term("kVq", "quadratic drag gain", "V s²/rad²", None, "no velocity",

@@ -250,9 +250,11 @@ def uncertainty_text(result: FitResult) -> str:
         inertia, gravity = (model.terms[model.index_of(kind)].name for kind in ("I", "h"))
         unit = "1/m" if model.effort.is_torque else "rad/s²"
         swings = " (the joint swings near its natural frequency)" if swings_near_natural_frequency(result) else ""
+        widened = " (widened by the analysis choices too)" if result.judged is not None and \
+            result.judged.ratio_spread > 0 else ""
         lines.append(f"The acceleration and gravity columns correlate at {corr:.3f}{swings}: {gravity}/{inertia} = "
-                     f"{format_number(value)} ± {format_number(error)} {unit} is determined better than the scale "
-                     "they share.")
+                     f"{format_number(value)} ± {format_number(error)} {unit}{widened} is determined better than "
+                     "the scale they share.")
     if result.constrained and result.unconstrained_estimate is not None:
         values = ", ".join(f"{name} {format_number(value)}"
                            for name, value in zip(model.names, result.unconstrained_estimate))

@@ -62,7 +62,7 @@ def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
              text_table(header, rows)]
     weakened = pooled.judgement.weakened
     if weakened:
-        lines.append("Pooled verdicts weaker than their errors alone say: "
+        lines.append("Pooled values less certain than their noise alone says: "
                      + "; ".join(f"{name} ({reason})" for name, reason in weakened.items()) + ".")
     if bias:
         lines.append(f"Pooled {model.effort.name} bias of each run: " + ", ".join(
@@ -81,17 +81,17 @@ def runs_parts(pooled: PooledRuns) -> tuple[str, ...]:
         lines.append("Others predict: the RMS error of each test's effort predicted by the pooled fit of the other "
                      "tests.")
         return tuple(lines)
-    lines.append("Scatter between the runs in their standard errors (about 1 when the errors are honest): "
+    lines.append("Scatter between the runs in their reported standard errors (about 1 when the errors are honest): "
                  + ", ".join(f"{name} {value:.1f}" for name, value in pooled.scatter.items()) + ".")
     if pooled.disagreements:
         worst = {}
         for run, name, gap in pooled.disagreements:
             worst.setdefault(run, []).append(f"{name} {gap:.1f}")
-        lines.append("Disagrees with the pooled fit beyond their combined errors: " + "; ".join(
+        lines.append("Disagrees with the pooled fit beyond their combined noise errors: " + "; ".join(
             f"{run} ({', '.join(parts)} errors)" for run, parts in worst.items())
-            + ". The runs do not share one joint within their errors: read the scatter, not the ±.")
+            + ". The runs do not share one joint within their noise errors: the pooled ± is widened by their scatter.")
     else:
-        lines.append("Every run agrees with the pooled fit within its errors.")
+        lines.append("Every run agrees with the pooled fit within its noise errors.")
     lines.append(f"Others predict: the RMS error of each run's filtered {model.effort.name} predicted by the pooled "
                  "fit of the other runs (its own offset).")
     return tuple(lines)

@@ -22,7 +22,7 @@ def sensitivity_summary(check, effort: str = "torque") -> str:
                 f"(noise-free data), so the standard errors are rounding and no move is judged by them; "
                 f"largest relative moves {moves}.")
     moves = ", ".join(f"{name} {f'{check.worst(j)[1]:.2f}'}" for j, name in enumerate(check.names))
-    return f"Sensitivity check ({varied}, each halved and doubled): largest moves {moves} standard errors."
+    return f"Sensitivity check ({varied}, each halved and doubled): largest moves {moves} noise standard errors."
 
 
 def sensitivity_warning(check, compact: bool = False) -> str | None:
@@ -42,7 +42,7 @@ def sensitivity_warning(check, compact: bool = False) -> str | None:
     for setting, named in moves.items():
         first, *rest = named
         name, move = first.split(" ")
-        parts.append(f"{setting}{name} moves {move} standard errors" + "".join(f", {other}" for other in rest))
+        parts.append(f"{setting}{name} moves {move} noise standard errors" + "".join(f", {other}" for other in rest))
     return f"{SETTINGS_DECIDE}: " + "; ".join(parts) + "."
 
 

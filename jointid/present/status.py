@@ -265,7 +265,7 @@ def compact_log_status(logs) -> str:
     if check is not None and check.flagged:
         moved = [name for name, flagged in zip(check.names, check.flags) if flagged]
         largest = max(check.worst(j)[1] for j, flagged in enumerate(check.flags) if flagged)
-        parts.append(f"The derivative settings move {', '.join(moved)} (up to {largest:.1f} standard errors).")
+        parts.append(f"The derivative settings move {', '.join(moved)} (up to {largest:.1f} noise standard errors).")
     omitted = omitted_sentence(logs, compact=True)
     left = left_out_brief(logs)
     return " ".join((*parts, *(() if omitted is None else (omitted,)), *(() if left is None else (left,)),

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
-from ..synthetic.settings import Settings
+TYPE_CHECKING = False  # typing.TYPE_CHECKING without importing typing
+if TYPE_CHECKING:
+    from ..synthetic.settings import Settings
 
 UNAVAILABLE = "unavailable"
 """Readout text when the rank gives no unique fit (or there is no held-out data)."""
@@ -66,7 +68,7 @@ def settings_header(settings: Settings, *, motion: bool = True, seeds: str | Non
     parts = [settings.training_motion.label] if motion else []
     parts += [f"noise {format_number(settings.noise, 2)} N m", f"{settings.samples} samples",
               seeds or f"seed {settings.seed}"]
-    if settings.model != Settings.model:  # the lesson's texts stay as they were
+    if settings.model != type(settings).model:  # the lesson's texts (the default model) stay as they were
         parts.append(f"model {settings.model}")
     if settings.constrained:
         parts.append("constrained")

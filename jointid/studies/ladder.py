@@ -159,6 +159,24 @@ def compare_models(training: JointData, heldout: JointData | None = None, *, noi
     return Comparison(tuple(rows), count)
 
 
+def compare_log(logs, *, models: tuple[str, ...] = LADDER) -> Comparison:
+    """The ladder on a fitted log (a jointid.studies.log_fit.LoadedLogs), as `jointid compare --csv` and the
+    explorer's ladder build it: the log's smoothed columns through its fit's low-pass, less the pushes its robust
+    step found (standstill decides no model), and its held-out log through the training log's pipeline (as the
+    fit's own held-out check), or as it is when the pipeline cannot take it."""
+    from .log_fit import heldout_as_fitted, smoothed_regressor  # the log path loads only for a log
+
+    training, heldout = logs.training, logs.heldout
+    every = ALL_COLUMNS.in_effort(training.effort)
+    kept = None if logs.exclusions is None else ~logs.exclusions.pushes
+    predicted = None if heldout is None else heldout_as_fitted(training, heldout, every, logs.filter,
+                                                               logs.exclusion, None)
+    return compare_models(training.data, None if heldout is None else heldout.data if predicted is None else
+                          predicted[0], models=models, low_pass=logs.filter, kept=kept,
+                          regressor=smoothed_regressor(training, every), effort=training.effort,
+                          heldout_regressor=None if predicted is None else predicted[1])
+
+
 def compare_runs(blocks, *, models: tuple[str, ...] = LADDER, effort: Effort = TORQUE) -> Comparison:
     """The ladder on several runs' samples stacked: `blocks` holds each run's (ALL_COLUMNS regressor, torque,
     independent samples or None) already filtered and kept as its own fit did. A model with a bias gives each run

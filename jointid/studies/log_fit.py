@@ -10,6 +10,7 @@ and the cutoff halved and doubled.
 
 from __future__ import annotations
 
+import contextlib
 import math
 import os
 from collections.abc import Callable, Mapping
@@ -23,7 +24,8 @@ from ..estimation.exclusion import (ExclusionRequest, Exclusions, commanded_chan
                                     outside_torques, standstill)
 from ..estimation.fit import FitResult, fit_joint, with_judgement
 from ..estimation.judgement import Finding, Judgement, Spread, judge, noise_judgement
-from ..estimation.low_pass import FilterRequest, FilterRequestError, ParallelFilter, choose_filter
+from ..estimation.low_pass import (FilterRequest, FilterRequestError, ParallelFilter, choose_filter,
+                                   low_passed_together, shared_size)
 from ..estimation.omitted import OmittedTerms, omitted_terms_test
 from ..estimation.solver import NonFiniteError
 from ..logs.derivatives import MAX_WINDOW, smooth
@@ -31,13 +33,13 @@ from ..logs.pipeline import JointLog
 from ..logs.request import HELDOUT, TRAINING, LoadRequest, load_joint_log
 from ..logs.table import LoadCancelled, LogError
 from ..memory import available_memory, in_words
-from ..model.terms import CANDIDATE_TERMS, PLAIN, JointModel, in_effort, model_argument, model_named
+from ..model.terms import CANDIDATE_TERMS, PLAIN, JointModel, Term, in_effort, model_argument, model_named
 from ..norms import rms
 from ..options import DEFAULT_ORDER, model_extras
 from ..samples import JointData
 from ..text_safety import shown_name
 from .angle_models import check_angle_model
-from .refits import beyond_noise, is_exact, robust_spreads, stretch_scatter
+from .refits import ROBUST_CHOICE, beyond_noise, is_exact, robust_refit, robust_spreads, stretch_scatter
 from .sensitivity import FACTORS, SensitivityCheck, Variant, sensitivity_check
 
 
@@ -220,7 +222,18 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
     others = _cutoff_variants(training, chosen) if sensitivity else []
     # Each full-rate column is built once and low-passed by the chosen filter and the sensitivity check's
     # cutoff refits' alike, so no full-rate regressor is held.
-    filtered = filtered_regressors(training, model, (chosen, *(other for _, _, other in others)))
+    candidates = _candidates(model) if chosen.active else ()  # the test needs the low-pass's correlation
+    # The offset refit's model shares most columns (column functions) with this one and the candidates: only its
+    # others are added.
+    alternative = offset_alternative(model) if sensitivity else None
+    known = {term.column for term in (*model.terms, *candidates)}
+    extras = candidates + tuple(term for term in (() if alternative is None else alternative[0].terms)
+                                if term.column not in known)
+    filtered = filtered_regressors(training, model, (chosen, *(other for _, _, other in others)), extras)
+    extra_columns = filtered.pop()[0] if extras else np.empty((0, 0))
+    candidate_columns = extra_columns[:, :len(candidates)] if candidates else None
+    through_chosen = {term.column: column for term, column in zip((*model.terms, *extras),
+                                                                   (*filtered[0][0].T, *extra_columns.T))}
     result, exclusions = _fit(training, heldout, model, constrained, chosen, filtered[0], exclusion)
     predicted = None if heldout is None else heldout_as_fitted(
         training, heldout, model, chosen, exclusion, None if exclusions is None else exclusions.estimate)
@@ -235,9 +248,9 @@ def fit_logs(training: JointLog, heldout: JointLog | None = None, model: JointMo
             )
     check = _sensitivity(training, model, constrained, chosen, result, zip(others, filtered[1:]), exclusion,
                          exclusions) if sensitivity else None
-    omitted = _omitted_terms(training, model, chosen, result, exclusions)
-    offset = _offset_refit(training, model, constrained, chosen, result, exclusion, exclusions) \
-        if sensitivity else None
+    omitted = _omitted_terms(model, candidates, candidate_columns, result, exclusions)
+    offset = _offset_refit(training, model, constrained, chosen, result, exclusion, exclusions,
+                           (through_chosen, filtered[0][1])) if sensitivity else None
     logs = LoadedLogs(training, heldout, result, chosen, filtering, check, exclusions, exclusion, omitted,
                       heldout_pipeline=None if predicted is None else predicted[2:], offset=offset)
     return replace(logs, result=with_judgement(result, judge_log(logs)))
@@ -275,16 +288,50 @@ def log_spreads(logs: LoadedLogs) -> tuple[Spread, ...]:
                                     [variant.std_error for variant in variants])
     left = logs.exclusions
     if left is not None and left.regressor is not None:
-        by_hand = np.zeros(len(left.since), dtype=bool)
-        for start, end in logs.exclusion.by_hand:
-            by_hand |= (left.since >= start) & (left.since <= end)
-        spreads += robust_spreads(result, left, by_hand)
+        spreads += robust_spreads(result, left, _by_hand(logs))
     if logs.offset is not None:
         choice, other, errors = logs.offset
         shared = np.isfinite(other)
         spreads += beyond_noise(names, estimate, noise, [np.where(shared, other, estimate)], choice,
                                 [np.where(shared, errors, noise)])
     return tuple(spreads)
+
+
+def _by_hand(logs: LoadedLogs) -> np.ndarray:
+    """(kept,) The filtered samples left out by hand (--exclude), which every refit leaves out too."""
+    left = logs.exclusions
+    by_hand = np.zeros(len(left.since), dtype=bool)
+    for start, end in logs.exclusion.by_hand:
+        by_hand |= (left.since >= start) & (left.since <= end)
+    return by_hand
+
+
+def ratio_spread(logs: LoadedLogs) -> float:
+    """How far the log fit's analysis choices (as log_spreads) move h/I beyond its noise error, in quadrature over
+    the choices; 0 when the fit states no ratio (FitResult.scale_ratio) or nothing moves it beyond noise."""
+    result = logs.result
+    scale = result.scale_ratio
+    if scale is None or result.estimate is None or is_exact(result):
+        return 0.0
+    model = result.model
+    inertia, gravity = (model.names.index(model.terms[model.index_of(kind)].name) for kind in ("I", "h"))
+
+    def ratio(estimate) -> float:
+        return float(estimate[gravity] / estimate[inertia])
+
+    moved: dict[str, list[float]] = {}
+    for variant in () if logs.sensitivity is None else logs.sensitivity.variants:
+        moved.setdefault(SETTING_CHOICES[variant.setting], []).append(ratio(variant.estimate))
+    left = logs.exclusions
+    kept_in = None if left is None or left.regressor is None else robust_refit(result, left, _by_hand(logs))
+    if kept_in is not None:
+        moved[ROBUST_CHOICE] = [ratio(kept_in)]
+    if logs.offset is not None:
+        moved[logs.offset[0]] = [ratio(logs.offset[1])]
+    with np.errstate(all="ignore"):
+        found = [spread.error for choice, ratios in moved.items() for spread in beyond_noise(
+            ("h/I",), np.array([ratio(result.estimate)]), np.array([scale[2]]), [[value] for value in ratios], choice)]
+    return math.sqrt(sum(error * error for error in found))
 
 
 def judge_log(logs: LoadedLogs) -> Judgement:
@@ -294,9 +341,10 @@ def judge_log(logs: LoadedLogs) -> Judgement:
     uncertainty = result.uncertainty
     if uncertainty is None:
         return noise_judgement(result.model.names, None)
-    return judge(result.model.names, uncertainty.noise_relative_std_pct, uncertainty.held, log_findings(logs),
-                 () if is_exact(result) else stretch_scatter(result), log_spreads(logs), result.estimate,
-                 uncertainty.noise_std_error)
+    judged = judge(result.model.names, uncertainty.noise_relative_std_pct, uncertainty.held, log_findings(logs),
+                   () if is_exact(result) else stretch_scatter(result), log_spreads(logs), result.estimate,
+                   uncertainty.noise_std_error)
+    return replace(judged, ratio_spread=ratio_spread(logs))
 
 
 def offset_alternative(model: JointModel) -> tuple[JointModel, str] | None:
@@ -317,21 +365,26 @@ def offset_alternative(model: JointModel) -> tuple[JointModel, str] | None:
 
 
 def _offset_refit(training: JointLog, model: JointModel, constrained: bool, chosen: ParallelFilter,
-                  result: FitResult, exclusion: ExclusionRequest, exclusions: Exclusions | None
-                  ) -> tuple[str, np.ndarray, np.ndarray] | None:
+                  result: FitResult, exclusion: ExclusionRequest, exclusions: Exclusions | None,
+                  low_passed: tuple[dict, np.ndarray] | None = None) -> tuple[str, np.ndarray, np.ndarray] | None:
     """(what it is, the reported estimate and its noise-based errors by `model`'s names, NaN where the other model
     has no such parameter) of the fit with a torque offset explained the other way, leaving out what the fit left
-    out; None without one."""
+    out; None without one. `low_passed`: (columns by their column function, torque) already through `chosen`, when
+    they hold the other model's every column."""
     alternative = offset_alternative(model)
     if alternative is None or result.estimate is None or result.bounded is not None:
         return None
     other, choice = alternative
+    columns, torque = ({}, None) if low_passed is None else low_passed
+    X = np.column_stack([columns[term.column] for term in other.terms]) if all(
+        term.column in columns for term in other.terms) else None
     try:
         check_angle_model(training, other)
         found = None if exclusions is None else exclusions.excluded
         # Columns of extreme magnitude can leave double precision in the other model's angle offset: no choice.
         with np.errstate(all="ignore"):
-            fit, _ = _fit(training, None, other, constrained, chosen, None, exclusion, found)
+            fit, _ = _fit(training, None, other, constrained, chosen, None if X is None else (X, torque), exclusion,
+                          found)
             errors = _noise_errors(fit)
     except (LogError, FloatingPointError):  # nothing left to fit with it, say: no such choice
         return None
@@ -343,18 +396,20 @@ def _offset_refit(training: JointLog, model: JointModel, constrained: bool, chos
     return choice, found[:, 0], found[:, 1]
 
 
-def _omitted_terms(training: JointLog, model: JointModel, chosen: ParallelFilter, result: FitResult,
-                   exclusions: Exclusions | None) -> OmittedTerms | None:
-    """The test of the candidate terms the model lacks against the fit's filtered, kept samples; None without a
-    unique low-passed fit on times, or when the model has every candidate."""
+def _candidates(model: JointModel) -> tuple[Term, ...]:
+    """The candidate terms the model lacks, in its effort, for the omitted-terms test."""
     kinds = {term.kind for term in model.terms}
-    candidates = in_effort(tuple(term for term in CANDIDATE_TERMS if term.name not in kinds), model.effort)
+    return in_effort(tuple(term for term in CANDIDATE_TERMS if term.name not in kinds), model.effort)
+
+
+def _omitted_terms(model: JointModel, candidates: tuple[Term, ...], Z: np.ndarray | None, result: FitResult,
+                   exclusions: Exclusions | None) -> OmittedTerms | None:
+    """The test of the `candidates` the model lacks, their columns `Z` through the fit's low-pass, against the
+    fit's filtered, kept samples; None without a unique low-passed fit on times, or without candidates."""
     if (exclusions is None or exclusions.regressor is None or result.estimate is None
             or result.correlation is None or not candidates):
         return None
     # A column beyond double precision (qd |qd| of a log in huge units) is not a candidate: the fit stands alone.
-    with np.errstate(all="ignore"):
-        (Z, _), = filtered_regressors(training, JointModel("candidates", candidates), (chosen,))
     usable = [j for j in range(Z.shape[1]) if np.all(np.isfinite(Z[:, j]))]
     if not usable:
         return None
@@ -520,23 +575,33 @@ def _without_polynomial_ends(log: JointLog) -> JointData:
                      qdd=data.qdd[keep], tau=data.tau[keep])
 
 
-def filtered_regressors(log: JointLog, model: JointModel, filters) -> list[tuple[np.ndarray, np.ndarray]]:
+def filtered_regressors(log: JointLog, model: JointModel, filters,
+                        candidates: tuple[Term, ...] = ()) -> list[tuple[np.ndarray, np.ndarray]]:
     """(M, p) regressor and (M,) torque of the log through each of `filters`: as `smoothed_regressor` low-passed
-    and decimated, built one full-rate column at a time (each filtered by all) rather than as one (N, p + 1)
-    matrix."""
+    and decimated, built one full-rate column at a time (each filtered by all, from one spectrum when they can
+    share it: low_pass.low_passed_together) rather than as one (N, p + 1) matrix. With `candidates`, one more pair
+    follows: their (M, k) columns through the first filter (each finite or not: double precision may not hold
+    them) and an empty torque."""
     data, estimate = log.data, log.derivatives
+    size = shared_size(filters, data.count) if len(filters) > 1 else None  # one filter alone: its own blocks
     outs = [np.empty((len(chosen.rows(data.count)), model.size)) for chosen in filters]
     torques = [np.empty(0)] * len(filters)
-    for j, term in enumerate((*model.terms, None)):
-        column = data.tau if term is None else np.asarray(term.column(data.q, data.qd, data.qdd), dtype=float)
-        if estimate is not None and (term is None or not term.from_derivatives):
-            column = smooth(column, estimate.window, estimate.order)
-        for k, chosen in enumerate(filters):
-            if term is None:
-                torques[k] = chosen.apply_column(column)
+    extra = np.empty((len(filters[0].rows(data.count)), len(candidates)))
+    for j, term in enumerate((*model.terms, None, *candidates)):
+        candidate = j > model.size
+        with np.errstate(all="ignore") if candidate else contextlib.nullcontext():
+            column = data.tau if term is None else np.asarray(term.column(data.q, data.qd, data.qdd), dtype=float)
+            if estimate is not None and (term is None or not term.from_derivatives):
+                column = smooth(column, estimate.window, estimate.order)
+            low_passed = low_passed_together(column, filters[:1] if candidate else filters, size)
+        for k, out in enumerate(low_passed):
+            if candidate:
+                extra[:, j - model.size - 1] = out
+            elif term is None:
+                torques[k] = out
             else:
-                outs[k][:, j] = chosen.apply_column(column)
-    return list(zip(outs, torques))
+                outs[k][:, j] = out
+    return list(zip(outs, torques)) + ([(extra, np.empty(0))] if candidates else [])
 
 
 def smoothed_regressor(log: JointLog, model: JointModel) -> np.ndarray:
@@ -607,12 +672,7 @@ def _exclusions(training: JointLog, model: JointModel, chosen: ParallelFilter, X
 
 def _speed_resolution(log: JointLog, chosen: ParallelFilter) -> float:
     """The speed (rad/s) one step of the angle's quantisation makes over half a cutoff period (0 unquantised)."""
-    q = log.data.q if log.source is None else log.source.columns["q"]
-    steps = np.abs(np.diff(q))
-    steps = steps[steps > 1e-9 * max(1.0, float(np.max(np.abs(q))))]
-    if not len(steps) or not chosen.active:
-        return 0.0
-    return float(np.percentile(steps, 1)) * 2 * chosen.cutoff
+    return log.angle_quantum * 2 * chosen.cutoff if chosen.active else 0.0
 
 
 def _cutoff_variants(training: JointLog, chosen: ParallelFilter) -> list[tuple[float, float, ParallelFilter]]:

@@ -13,8 +13,8 @@ HEAVY = ("numpy", "scipy", "pandas", "importlib.metadata")
 """Modules that printing help has no use for: numpy alone is most of a cold start."""
 
 
-def heavy_modules_after(code: str) -> tuple[str, list[str]]:
-    """(stdout, the HEAVY modules loaded) after running `code` in a fresh interpreter."""
+def heavy_modules_after(code: str, watched: tuple[str, ...] = HEAVY) -> tuple[str, list[str]]:
+    """(stdout, the `watched` modules loaded, HEAVY by default) after running `code` in a fresh interpreter."""
     probe = (
         "import contextlib, io, json, sys\n"
         "out = io.StringIO()\n"
@@ -23,7 +23,7 @@ def heavy_modules_after(code: str) -> tuple[str, list[str]]:
         f"        {code}\n"
         "    except SystemExit as exit:\n"
         "        assert exit.code in (0, None), exit.code\n"
-        f"print(json.dumps([out.getvalue(), sorted(m for m in sys.modules if m in {HEAVY!r})]))\n"
+        f"print(json.dumps([out.getvalue(), sorted(m for m in sys.modules if m in {watched!r})]))\n"
     )
     done = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
     return tuple(json.loads(done.stdout))
@@ -34,6 +34,34 @@ def heavy_modules_after(code: str) -> tuple[str, list[str]]:
 def test_help_loads_no_numpy(command):
     text, loaded = heavy_modules_after(f"from jointid.cli import main; main({command + ['--help']!r})")
     assert text.startswith("usage: jointid") and loaded == []
+
+
+def test_help_loads_neither_typing_nor_shutil():
+    """typing (2.5 ms) and shutil (zlib, bz2, lzma: 2 ms) are a tenth of a --help's start beyond Python's own."""
+    text, loaded = heavy_modules_after("from jointid.cli import main; main(['serve', '--help'])",
+                                       ("typing", "shutil", "lzma"))
+    assert text.startswith("usage: jointid serve") and loaded == []
+    _, loaded = heavy_modules_after("import shutil; from jointid.cli import main; main(['serve', '--help'])",
+                                    ("typing", "shutil", "lzma"))
+    assert loaded == ["lzma", "shutil"]  # the check can fail
+
+
+def test_a_plain_fit_loads_neither_statistics_nor_the_motor_tables(tmp_path):
+    """A fit's 95 % intervals need no statistics (fractions, decimal, random), and a log's fit without a motor
+    neither the motor tables nor the gains; with a motor it does. The log is fitted like for like: the robust step
+    and the omitted-terms test take other levels, from statistics."""
+    watched = ("statistics", "fractions", "jointid.model.motors", "jointid.studies.gains")
+    text, loaded = heavy_modules_after("from jointid.cli import main; main(['fit', '--json'])", watched)
+    assert json.loads(text)["rank"] == 3 and loaded == []
+    log = tmp_path / "log.csv"
+    log.write_text("t,q,qd,qdd,tau\n" + "".join(f"{i / 100},{i % 7 / 10},{i % 5 / 10},{i % 3 / 10},{i % 11 / 10}\n"
+                                                 for i in range(200)))
+    fit = (f"from jointid.cli import main; main(['fit', '--csv', {str(log)!r}, '--json', '--model', 'plain', "
+           "'--no-robust', '--cutoff', '0'")
+    text, loaded = heavy_modules_after(fit + "])", watched)
+    assert "estimate" in json.loads(text) and loaded == []
+    _, loaded = heavy_modules_after(fit + ", '--motor', 'NEO', '--gear', '50'])", watched)
+    assert "jointid.model.motors" in loaded
 
 
 def test_the_help_test_sees_numpy_when_a_command_runs():

@@ -57,8 +57,8 @@ VENV_BIN = ".venv/bin/"
 
 SHELL_SYNTAX = re.compile(r"[|<>;&`$]")
 
-OUTPUT_FLAGS = ("--out", "--mujoco", "--urdf")
-"""Flags naming a file the example writes (simulate's and design's --out, export's files)."""
+OUTPUT_FLAGS = ("--out", "--mujoco", "--urdf", "--save")
+"""Flags naming a file the example writes (simulate's and design's --out, export's files, watch's received log)."""
 
 REDIRECT_TO_FILE = re.compile(r"(?<![0-9&])>\s*(?!&|/dev/)[\w.-]+")
 """`> fit.json`: the example writes a file the doc's later examples read (not `2>&1`, not `> /dev/full`)."""

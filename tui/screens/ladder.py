@@ -15,7 +15,7 @@ from textual.worker import get_current_worker
 from jointid.model.truth import TrueJoint
 from jointid.present.comparison import comparison_sentences, comparison_table, simulation_table
 from jointid.samples import JointData
-from jointid.studies.ladder import Comparison, compare_models
+from jointid.studies.ladder import Comparison, compare_log, compare_models, compare_pooled
 from jointid.studies.simulation import DEFAULT_HORIZON, simulate_model
 
 from ..widgets.footer import KeyFooter
@@ -40,26 +40,26 @@ class LadderScreen(Screen):
         Binding("l", "back", "Back", show=False),
     ]
 
-    def __init__(self, title: str, training: JointData, heldout: JointData | None, *,
-                 noise_bound: float | None = None, joint: TrueJoint | None = None, low_pass=None,
-                 effort=None) -> None:
+    def __init__(self, title: str, training: JointData | None = None, heldout: JointData | None = None, *,
+                 noise_bound: float | None = None, joint: TrueJoint | None = None, logs=None, runs=None) -> None:
         """Create the view.
 
         Args:
             title: What the data are (the settings header, or the log's name).
-            training: The data every model is fitted to.
-            heldout: The data every model predicts, or None.
+            training: The synthetic data every model is fitted to (None with `logs`).
+            heldout: The synthetic data every model predicts, or None.
             noise_bound: The known noise bound (synthetic data), for expected standard errors.
             joint: The synthetic joint to simulate against; None for a log (no true torque).
-            low_pass: The log fit's parallel low-pass (parallel_filter.ParallelFilter), applied alike here.
-            effort: What the log's effort is (jointid.model.effort.Effort: a voltage log's models are fitted in
-                volts); None: torque.
+            logs: A fitted log (jointid.studies.log_fit.LoadedLogs), compared as `jointid compare --csv` compares
+                it: through its fit's pipeline, its held-out log through the same one.
+            runs: Several runs of one joint (jointid.studies.runs.PooledRuns), compared pooled as `jointid compare`
+                compares them.
         """
         super().__init__()
         self.title_text = title
-        extra = {} if effort is None else {"effort": effort}
-        self.comparison: Comparison = compare_models(training, heldout, noise_bound=noise_bound, low_pass=low_pass,
-                                                     **extra)
+        self.comparison: Comparison = (compare_pooled(runs.runs) if runs is not None else
+                                       compare_log(logs) if logs is not None else
+                                       compare_models(training, heldout, noise_bound=noise_bound))
         self.joint = joint
         self.simulations: dict = {}
 

@@ -610,7 +610,7 @@ class MainScreen(Screen):
         self.change_fit("constrained", not self.settings.constrained)
 
     def action_ladder(self) -> None:
-        """Open the model-ladder view on the data shown (the synthetic experiment or the log)."""
+        """Open the model-ladder view on the data shown (the synthetic experiment, the log, or its runs pooled)."""
         from jointid.present.text import settings_header
         from jointid.synthetic.samples import training_data, validation_data
 
@@ -621,10 +621,10 @@ class MainScreen(Screen):
             self.app.push_screen(LadderScreen(settings_header(settings), training_data(settings),
                                               validation_data(settings.true_joint), noise_bound=settings.noise,
                                               joint=settings.true_joint))
+        elif self.runs is not None:  # several runs: their pooled ladder, as `jointid compare` gives it
+            self.app.push_screen(LadderScreen(f"{len(self.runs.runs)} runs pooled", runs=self.runs))
         else:
-            self.app.push_screen(LadderScreen(f"log {self.logs.name}", self.logs.training.data,
-                                              None if self.logs.heldout is None else self.logs.heldout.data,
-                                              low_pass=self.logs.filter, effort=self.logs.training.effort))
+            self.app.push_screen(LadderScreen(f"log {self.logs.name}", logs=self.logs))
 
     def action_help(self) -> None:
         """Open the help screen."""

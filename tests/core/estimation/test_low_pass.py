@@ -23,7 +23,9 @@ from jointid.estimation.low_pass import (
     LowPassDesign,
     ParallelFilter,
     choose_filter,
+    low_passed_together,
     noise_cap,
+    shared_size,
 )
 from jointid.logs.pipeline import joint_log_from_table
 from jointid.logs.table import LogError, LogTable
@@ -148,6 +150,42 @@ def test_only_the_kept_samples_are_computed_and_they_are_the_full_rate_filter_s(
         np.testing.assert_allclose(chosen.apply(columns)[:, 1], expected, rtol=0, atol=1e-13)
         np.testing.assert_allclose(chosen.apply_column(np.ascontiguousarray(columns[:, 1])), expected,
                                    rtol=0, atol=1e-13)
+
+
+def test_filters_sharing_one_spectrum_give_each_filter_s_full_rate_outputs(monkeypatch):
+    """A cutoff and its half and double from one spectrum per block against np.convolve at full rate, over random
+    lengths (down to just over the longest filter's half), rates and decimations (odd and even block sizes)."""
+    monkeypatch.setattr(low_pass, "MIN_SHARED_BLOCKS", 0)  # short columns too, so np.convolve stays quick
+    rng = np.random.default_rng(31)
+    for _ in range(40):
+        rate = float(rng.choice([50, 300, 1000]))
+        cutoff = float(rng.uniform(0.02, 0.2)) * rate
+        decimation = int(rng.integers(1, 40))
+        filters = [ParallelFilter(cutoff * factor, rate, decimation, "test") for factor in (1.0, 0.5, 2.0)]
+        longest = max(len(reference_taps(f.cutoff, rate)) for f in filters) // 2
+        count = int(rng.integers(longest + 2, longest + 5000))
+        size = shared_size(filters, count)
+        assert size is not None and size % decimation == 0
+        column = np.cumsum(rng.normal(size=count)) + 3.0  # a drifting column with an offset
+        for chosen, out in zip(filters, low_passed_together(column, filters, size)):
+            expected, _ = low_passed_rows(column, reference_taps(chosen.cutoff, rate), decimation, rate,
+                                          chosen.cutoff)
+            np.testing.assert_allclose(out, expected, rtol=0, atol=1e-12 * np.max(np.abs(column)))
+
+
+def test_filters_that_cannot_share_a_spectrum_are_applied_apart():
+    """Another decimation, a log shorter than MIN_SHARED_BLOCKS blocks (or than the longest filter's half) or a
+    decimation with a large prime factor gives no shared size, and the outputs are each filter's own."""
+    chosen = ParallelFilter(2.0, 1000.0, 10, "test")
+    together = [chosen, ParallelFilter(1.0, 1000.0, 10, "test")]
+    size = shared_size(together, 1_000_000)
+    assert size % 10 == 0 and size >= 4 * len(together[1].design.taps)
+    assert shared_size(together, low_pass.MIN_SHARED_BLOCKS * size - 1) is None  # too short to gain
+    assert shared_size([chosen, ParallelFilter(1.0, 1000.0, 20, "test")], 1_000_000) is None
+    assert shared_size([chosen, ParallelFilter(1.0, 1000.0, 10, "test")], chosen.design.half) is None
+    assert shared_size([ParallelFilter(0.4, 1000.0, 997, "test")], 10_000_000) is None
+    column = np.random.default_rng(5).normal(size=3000)
+    np.testing.assert_array_equal(low_passed_together(column, [chosen], None)[0], chosen.apply_column(column))
 
 
 def test_one_filter_on_both_sides_keeps_the_model_exact():

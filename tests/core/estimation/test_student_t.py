@@ -113,3 +113,18 @@ def test_a_fit_imports_no_scipy():
     loaded = packages_loaded("jointid.cli", {"scipy"},
                              run="jointid.cli.main(['fit', '--noise', '0.2', '--json'])")
     assert loaded == []
+
+
+def test_the_kept_normal_quantiles_are_statistics_own():
+    """The 95 % intervals' normal quantiles kept as numbers are NormalDist's to the last bit, and the quantiles
+    built on them are scipy's."""
+    from statistics import NormalDist
+
+    from scipy.stats import t as student_t
+
+    from jointid.estimation.student_t import KNOWN_UPPER_NORMAL_QUANTILES
+
+    for tail, value in KNOWN_UPPER_NORMAL_QUANTILES.items():
+        assert value == -NormalDist().inv_cdf(tail)
+    for df in (3.0, 40.0, 2500.0, 1e7):
+        assert student_t_quantile(0.975, df) == pytest.approx(student_t.ppf(0.975, df), rel=1e-12)

@@ -197,7 +197,7 @@ def test_runs_that_disagree_beyond_their_errors_are_said_not_refused(capsys):
     capsys.readouterr()
     assert main(argv) == 0
     text = capsys.readouterr().out
-    assert "Disagrees with the pooled fit beyond their combined errors: pendulum_ddp.csv" in text
+    assert "Disagrees with the pooled fit beyond their combined noise errors: pendulum_ddp.csv" in text
 
 
 def test_the_training_chart_shades_each_push_and_shows_its_torque_off_the_fitted_line():

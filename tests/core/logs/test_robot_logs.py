@@ -70,7 +70,7 @@ def test_a_deliberately_high_cutoff_biases_inertia_low_and_raises_the_sensitivit
     assert main(["fit", "--csv", str(path), "--cutoff", "20", "--model", "plain"]) == 0
     text = capsys.readouterr().out
     assert re.search(r"Your derivative settings decide this estimate: with the (cutoff|window) \w+ \([^)]*\), "
-                     r"I moves \d+\.\d\d standard errors", text)
+                     r"I moves \d+\.\d\d noise standard errors", text)
     line = next(line for line in text.splitlines() if line.startswith("I (kg m²)"))
     # The cutoff's move widens I's error to cover the truth its bias misses: no longer called well determined.
     assert "error widened from" in line and "by the cutoff's choice" in line and "well determined" not in line

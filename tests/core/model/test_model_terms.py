@@ -155,3 +155,22 @@ def test_the_explorer_shows_every_term_of_the_model():
     assert lines[0].split() == ["Regressor", "rank", "4", "/", "4"]
     assert f"Fitted torque bias (N m)   {bias:.6f}" in lines
     assert status_message(result) in shown.replace("\n", " ")
+
+
+def test_gravity_columns_are_zero_exactly_where_the_trigonometric_value_is_rounding():
+    """g cos q and g sin q are 0 where |cos q| (|sin q|) <= 4 eps max(1, |q|), and np.cos (np.sin) elsewhere: on
+    random angles, multiples of pi/2 up to large turns, and arrays of any shape."""
+    from jointid.model.terms import rounded_cos, rounded_sin
+
+    eps = np.finfo(float).eps
+    rng = np.random.default_rng(3)
+    angles = [rng.normal(size=20_000) * 30, np.arange(-400, 401) * (np.pi / 2), np.array([1e17, -1e300, 0.0]),
+              np.full((3, 4), np.pi / 2), np.array(np.pi), np.array([])]
+    for q in angles:
+        for rounded, exact in ((rounded_cos, np.cos), (rounded_sin, np.sin)):
+            expected = np.where(np.abs(exact(q)) <= 4 * eps * np.maximum(1.0, np.abs(q)), 0.0, exact(q))
+            got = rounded(q)
+            assert np.shape(got) == np.shape(q)
+            np.testing.assert_array_equal(got, expected)
+    assert not rounded_cos(np.arange(-401, 401, 2) * (np.pi / 2)).any()  # odd multiples of pi/2: no gravity
+    assert np.all(np.abs(rounded_cos(np.arange(-400, 401, 2) * (np.pi / 2))) == 1.0)  # even ones: all of it
