@@ -131,8 +131,7 @@ def test_ctrl_o_in_the_browser_reads_only_inside_the_data_folder(server, data_tr
         await tab.wait_for_text("Log loaded")
         await tab.press("?")
         await tab.wait_for_text("Keys")
-        await tab.press("end")  # the help's last section, in a browser only
-        await tab.wait_for_text("In a browser")
+        await tab.press_until_text("end", "In a browser")  # the help's last section, in a browser only
         await tab.close()
 
     run(scenario)

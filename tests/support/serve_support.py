@@ -248,6 +248,19 @@ class BrowserTerminal:
         """Wait until the screen shows `text`."""
         await self.wait_until(lambda: text in self.text, repr(text), timeout)
 
+    async def press_until_text(self, key: str, text: str, timeout: float = DEADLINE) -> None:
+        """Press `key` until the screen shows `text`: a key that scrolls a screen still laying out its text (the
+        help's Markdown is laid out after its first paint) can land before there is anywhere to scroll."""
+        deadline = time.monotonic() + timeout
+        while True:
+            await self.press(key)
+            try:
+                await self.wait_for_text(text, timeout=min(2.0, max(deadline - time.monotonic(), 0.0)))
+                return
+            except AssertionError:
+                if time.monotonic() >= deadline or self.closed:
+                    raise
+
     async def wait_for_close(self, timeout: float = DEADLINE) -> None:
         """Wait until the server closes the connection."""
         deadline = time.monotonic() + timeout
