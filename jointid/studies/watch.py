@@ -59,9 +59,9 @@ ROBUST_SECONDS = 5.0
 """Seconds of fitted rows judged together for standstill and outside torques."""
 RECENT_SECONDS = 10.0
 """Seconds of fitted rows kept for the charts and the prediction."""
-MIN_BATCHES = 8
-"""Batches (stretches longer than the residuals' correlation) each half of the run needs before the halves'
-scatter is judged: fewer give batch-means errors too rough to call a scatter significant."""
+HALF_LAGS = 4
+"""Each half of the run spans at least this many correlation lags before the halves are compared (as a log fit's
+stretches, studies.refits.stretch_scatter): shorter halves share their residuals."""
 HISTORY = 120
 """A trace's history is thinned to half when it reaches twice this many points."""
 EVENTS = 50
@@ -72,6 +72,9 @@ STANDSTILL_SHARE = 0.1
 """Speeds below this share of the RMS filtered speed so far count as standstill (as estimation.exclusion)."""
 TOO_SHORT = "too few samples yet to compare the run's halves"
 """Why nothing is well determined before the halves' scatter can be judged."""
+HALVES_HOURS = 1.0
+"""The halves' Newey-West lag is a log fit's for this many hours of rows (the filter's support sets it unless the
+filter is very short)."""
 
 
 @dataclass(frozen=True)
@@ -95,6 +98,14 @@ def _candidates(effort, linear: bool) -> JointModel:
         for term in mechanism_model(name).in_effort(effort).terms:
             terms.setdefault(term.name, term)
     return JointModel("mechanisms", tuple(terms.values()), None, effort)
+
+
+def _rows(rows: dict, first: int, last: int) -> dict:
+    """Rows first..last - 1 of waiting rows (their variants' too)."""
+    part = {name: values[first:last] for name, values in rows.items() if name not in ("variants", "state")}
+    part["variants"] = {pipeline: (X[first:last], tau[first:last]) for pipeline, (X, tau) in rows["variants"].items()}
+    part["state"] = rows["state"]
+    return part
 
 
 class _Segment:
@@ -362,7 +373,12 @@ class Watcher:
                     pipelines.append(Pipeline("cutoff", factor, self.window, other))
         self.pipelines = tuple(pipelines)
         p = self.union.size
-        self.statistics = BatchStatistics(p, self._batch_rows())
+        self.halves_lag = None
+        if self.filter.active:
+            from .log_fit import correlation_lag
+
+            self.halves_lag = correlation_lag(int(HALVES_HOURS * 3600 * self.fitted_rate), self.filter)
+        self.statistics = BatchStatistics(p, self._batch_rows(), self.halves_lag)
         self.variant_statistics = {pipeline: BatchStatistics(p, 10 ** 12) for pipeline in self.pipelines[1:]}
         self.all_moving = BatchStatistics(p, 10 ** 12)
         if self.filter.active:
@@ -428,12 +444,8 @@ class Watcher:
                                                 tuple(gravity), revolutions)
 
     def _batch_rows(self) -> int:
-        """The shortest batch: several times the rows over which a filtered fit's residuals correlate."""
-        chosen = self.filter
-        if not chosen.active:
-            return max(4 * self.union.size, 16)
-        support = max(1, math.ceil(chosen.support * chosen.rate / chosen.decimation))
-        return max(4 * support, 4 * self.union.size, 16)
+        """The shortest batch (grid rows): the run's halves are split at batch ends, so short ones split it finely."""
+        return max(self.support, 4 * self.union.size, 16)
 
     @property
     def support(self) -> int:
@@ -454,9 +466,14 @@ class Watcher:
         """Take one Received block: its samples, events, drops and end."""
         self.events.extend(received.events)
         self.dropped += int(received.dropped)
+        if received.count:
+            self._add_samples(received)
+        if received.ended and not self.ended and self.step is not None:
+            self._finish_segment()  # the source is done: the rows waiting for the robust step are judged
         self.ended = self.ended or bool(received.ended)
-        if not received.count:
-            return
+
+    def _add_samples(self, received) -> None:
+        """A block's samples: checked, a sample that is no number taken as a gap, the rest streamed."""
         columns = {name: np.asarray(values) for name, values in received.columns.items()}
         for name in columns:
             if name != "state":
@@ -493,12 +510,20 @@ class Watcher:
         self.received += len(columns["t"])
         self._count_time(columns["t"])
         if self.step is None:
-            self._warm.append(columns)
-            t0 = self._warm[0]["t"][0]
-            count = sum(len(block["t"]) for block in self._warm)
-            if columns["t"][-1] - t0 >= self.warmup and count >= WARMUP_SAMPLES:
-                self._start()
-            return
+            # The warm-up is the samples up to the first one WARMUP seconds in (and WARMUP_SAMPLES), however they
+            # arrive in blocks: the rest of the block is fed after the filters are chosen.
+            before = sum(len(block["t"]) for block in self._warm)
+            t0 = (self._warm[0] if self._warm else columns)["t"][0]
+            late = (columns["t"] - t0 >= self.warmup) & (before + np.arange(1, len(columns["t"]) + 1) >= WARMUP_SAMPLES)
+            if not late.any():
+                self._warm.append(columns)
+                return
+            end = int(np.argmax(late)) + 1
+            self._warm.append({name: values[:end] for name, values in columns.items()})
+            self._start()
+            columns = {name: values[end:] for name, values in columns.items()}
+            if not len(columns["t"]):
+                return
         self._feed(columns)
 
     def _unwrapped(self, q: np.ndarray) -> np.ndarray:
@@ -571,30 +596,41 @@ class Watcher:
         self._judge_pending(final=True)
         if self.newey_west is not None:
             self.newey_west.gap()
+            self.statistics.gap()
 
     # -- rows judged and fitted -----------------------------------------------------------------------------------
 
     def _judge_pending(self, final: bool) -> None:
-        """Judge the rows waiting for standstill and outside torques once a block's worth has arrived (any at the
-        end of a stretch), and add the kept rows to the statistics."""
-        count = self._pending_rows
+        """Judge the rows waiting for standstill and outside torques in blocks of exactly ROBUST_SECONDS (the rest
+        of a stretch at its end), whatever blocks they arrived in, and add the kept rows to the statistics."""
         enough = max(int(ROBUST_SECONDS * self.fitted_rate) if self.step else 0, 8 * (self.union.size + 1))
-        if not count or (count < enough and not final):
+        if not self._pending_rows or (self._pending_rows < enough and not final):
             return
         pending = self._pending
-        self._pending, self._pending_rows = [], 0
-        block = {name: np.concatenate([rows[name] for rows in pending]) for name in ("X", "tau", "q", "qd", "qdd",
-                                                                                      "t")}
-        variants = {pipeline: (np.concatenate([rows["variants"][pipeline][0] for rows in pending]),
-                               np.concatenate([rows["variants"][pipeline][1] for rows in pending]))
-                    for pipeline in self.pipelines[1:]}
+        names = ("X", "tau", "q", "qd", "qdd", "t")
+        waiting = {name: np.concatenate([rows[name] for rows in pending]) for name in names}
+        waiting["variants"] = {pipeline: tuple(np.concatenate([rows["variants"][pipeline][j] for rows in pending])
+                                               for j in (0, 1)) for pipeline in self.pipelines[1:]}
+        waiting["state"] = pending[0]["state"]
+        count = self._pending_rows
+        first = 0
+        while count - first >= enough or (final and first < count):
+            last = count if final and count - first < enough else first + enough
+            self._judge_block(_rows(waiting, first, last), waiting["state"])
+            first = last
+        rest = _rows(waiting, first, count)
+        self._pending, self._pending_rows = ([rest] if count > first else []), count - first
+
+    def _judge_block(self, block: dict, state: str) -> None:
+        """Judge one block of rows for standstill and outside torques and add it to the statistics."""
+        variants = block["variants"]
         still, pushes = self._exclusions(block)
         kept = ~(still | pushes)
         when = self.elapsed
-        self.statistics.add(block["X"][kept], block["tau"][kept], when)
+        self.statistics.add(block["X"], block["tau"], when, kept)
         self.all_moving.add(block["X"][~still], block["tau"][~still], when)
         if self.choosing:  # each test's own residual variance, for the mechanism's BIC
-            test = self.test_statistics.setdefault(pending[0]["state"], BatchStatistics(self.union.size, 10 ** 12))
+            test = self.test_statistics.setdefault(state, BatchStatistics(self.union.size, 10 ** 12))
             test.add(block["X"][kept], block["tau"][kept], when)
         if self.newey_west is not None:  # the rows left out are gaps in the grid, as a log fit's positions
             self.newey_west.add(block["X"] * kept[:, None], np.where(kept, block["tau"], 0.0))
@@ -732,7 +768,7 @@ class Watcher:
         if uncertainty is None or uncertainty.noise_relative_std_pct is None:
             return noise_judgement(names, None)
         findings = []
-        if self.filter.active and len(statistics.batches) < 2 * MIN_BATCHES:
+        if self.filter.active and self._halves() is None:
             # A log fit compares its halves; until the run is long enough for that, nothing is called well
             # determined (early refreshes would otherwise judge a few seconds on the noise alone).
             findings += [Finding(name, TOO_SHORT) for name in names]
@@ -800,23 +836,36 @@ class Watcher:
         return beyond_noise(self.model.names, estimate, noise, [np.where(shared, found[:, 0], estimate)], choice,
                             [np.where(shared, found[:, 1], noise)])
 
-    def _halves_scatter(self, result: FitResult):
-        """The scatter of the run's two halves (each fitted alone) beyond their errors, as a log fit's."""
+    def _halves(self):
+        """The run's two halves (lists of batches, split at the batch end nearest the middle of the grid), or None
+        while either spans fewer than HALF_LAGS correlation lags (as a log fit's halves)."""
         batches = self.statistics.batches
-        if not self.filter.active or len(batches) < 2 * MIN_BATCHES:
+        if not self.filter.active or len(batches) < 2:
+            return None
+        grid = np.cumsum([batch.grid for batch in batches])
+        middle = int(np.argmin(np.abs(grid[:-1] - grid[-1] / 2)))
+        first, second = batches[:middle + 1], batches[middle + 1:]
+        if min(grid[middle], grid[-1] - grid[middle]) < HALF_LAGS * self.halves_lag:
+            return None
+        return first, second
+
+    def _halves_scatter(self, result: FitResult):
+        """The scatter of the run's two halves (each fitted alone, with its own Newey-West errors) beyond their
+        errors, as a log fit's (studies.refits.stretch_scatter)."""
+        halves = self._halves()
+        if halves is None:
             return ()
-        counts = np.cumsum([batch.count for batch in batches])
-        middle = int(np.searchsorted(counts, counts[-1] / 2))
         values, errors = [], []
-        for half in (batches[:middle + 1], batches[middle + 1:]):
-            if len(half) < 2:
+        for half in halves:
+            if sum(batch.count for batch in half) <= 4 * len(self.columns):
                 return ()
             solution = self.statistics.solution(half, self.columns)
             if solution.estimate is None:
                 return ()
-            correlated = self.statistics.batch_covariance(solution, half, self.columns)
-            uncertainty = parameter_uncertainty(solution, None, self.model, None, correlated)
-            error = uncertainty.residual_std_error
+            correlated = self.statistics.lagged_covariance(solution, half, self.columns)
+            with np.errstate(all="ignore"):
+                uncertainty = parameter_uncertainty(solution, None, self.model, None, correlated)
+            error = uncertainty.noise_std_error
             if error is None or not np.all(np.isfinite(error)) or not np.all(error > 0):
                 return ()
             values.append(uncertainty.estimate), errors.append(error)
@@ -921,6 +970,12 @@ class Watcher:
         if result is not None and result.column_estimate is not None:
             recent["predicted"] = rows["X"][:, self.columns] @ result.column_estimate
         return recent
+
+    @property
+    def fitted_until(self) -> float | None:
+        """The source's time of the newest fitted row (rows wait for the robust step's block), or None."""
+        fitted = [rows["t"] for rows in self._recent if len(rows["t"])]
+        return float(fitted[-1][-1]) if fitted else None
 
     @property
     def state_size(self) -> int:

@@ -11,8 +11,8 @@ grow with the time watched:
   once the filter's whole window has arrived (the offline filter's value there, to rounding);
 - `BatchStatistics`: the upper triangle of [X | y] of every row so far (its QR update), and the same for contiguous
   batches of rows, merged pairwise so their number stays bounded: the estimate and its covariance factor come from
-  the whole triangle; each batch's score s_b - S_b theta is linear in theta, so the batch-means (cluster) covariance
-  of a part of the run (a half, for the halves' scatter) needs only its batches' triangles;
+  the whole triangle, and each batch may keep its Newey-West sums at one lag (LaggedSums), so any run of batches
+  (a half, for the halves' scatter) has its own estimate and Newey-West errors, as a log fit's stretch has;
 - `NeweyWestSums`: the lagged fourth-order sums from which a log fit's Newey-West covariance of every row so far
   follows for any estimate, in memory bounded by the longest lag.
 """
@@ -181,38 +181,87 @@ class Batch:
     sums: np.ndarray
     start: float
     """Seconds watched at its first row."""
+    grid: int = 0
+    """Rows of the grid it spans (rows left out included)."""
+    lagged: LaggedSums | None = None
+    """Its Newey-West sums (pairs within it, and pairs reaching back into the batch before), or None."""
+
+
+@dataclass
+class LaggedSums:
+    """Bartlett-weighted lagged sums of a stretch of grid rows at one lag L, from which the Newey-West covariance of
+    the stretch's rows follows for any estimate (as NeweyWestSums, the weights applied as the pairs are added):
+    lag 0, the pairs within the stretch at lags 1..L, and the pairs whose earlier row lies before it."""
+
+    fourth0: np.ndarray
+    fourth: np.ndarray
+    fourth_back: np.ndarray
+    second0: np.ndarray
+    second: np.ndarray
+    second_back: np.ndarray
+
+    @classmethod
+    def zeros(cls, columns: int) -> LaggedSums:
+        """Empty sums for `columns` (p) regressor columns."""
+        width = columns * (columns + 1)
+        return cls(*(np.zeros((width, width)) for _ in range(3)),
+                   *(np.zeros((columns + 1, columns + 1)) for _ in range(3)))
+
+    def joined(self, later: LaggedSums) -> LaggedSums:
+        """The sums of this stretch followed by `later` (its pairs reaching back now lie within)."""
+        return LaggedSums(self.fourth0 + later.fourth0, self.fourth + later.fourth + later.fourth_back,
+                          self.fourth_back, self.second0 + later.second0,
+                          self.second + later.second + later.second_back, self.second_back)
+
+    @property
+    def size(self) -> int:
+        """Numbers held."""
+        return sum(values.size for values in vars(self).values())
 
 
 class BatchStatistics:
     """The least-squares statistics of rows [X | y] arriving in blocks, in bounded memory."""
 
-    def __init__(self, columns: int, batch_rows: int):
-        """`columns`: p; `batch_rows`: the shortest batch, longer than the residuals' correlation."""
+    def __init__(self, columns: int, batch_rows: int, lag: int | None = None):
+        """`columns`: p; `batch_rows`: the shortest batch (rows of the grid); `lag`: each batch keeps the
+        Newey-West sums of Bartlett lag `lag` (None: not kept), so any run of batches has its own errors."""
         self.columns = columns
         self.batch_rows = max(1, batch_rows)
+        self.lag = lag
         self.triangle: np.ndarray | None = None
         self.count = 0
         self.closed: list[Batch] = []
         self.open: Batch | None = None
+        width = columns * (columns + 1)
+        self._tail_v = np.zeros((lag or 0, width))
+        self._tail_z = np.zeros((lag or 0, columns + 1))
 
-    def add(self, X: np.ndarray, y: np.ndarray, when: float) -> None:
-        """Add rows (n, p) and (n,), `when` seconds watched at the first."""
+    def add(self, X: np.ndarray, y: np.ndarray, when: float, kept: np.ndarray | None = None) -> None:
+        """Add rows (n, p) and (n,) of the grid, `when` seconds watched at the first; `kept` (n,) False where a row
+        is left out (a gap in the grid: not fitted, no pair with it)."""
         if not len(y):
             return
-        Z = np.column_stack([X, y])
-        self.triangle = triangle_update(self.triangle, Z)
-        self.count += len(y)
+        kept = np.ones(len(y), dtype=bool) if kept is None else np.asarray(kept, dtype=bool)
+        Z = np.column_stack([X, y]) * kept[:, None]
+        if kept.any():
+            self.triangle = triangle_update(self.triangle, Z[kept])
+        self.count += int(kept.sum())
         position = 0
         while position < len(Z):
             if self.open is None:
-                self.open = Batch(np.zeros((0, Z.shape[1])), 0, np.zeros(Z.shape[1]), when)
-            room = self.batch_rows - self.open.count
-            piece = Z[position: position + room]
-            self.open.triangle = triangle_update(self.open.triangle, piece)
-            self.open.count += len(piece)
+                self.open = Batch(np.zeros((0, Z.shape[1])), 0, np.zeros(Z.shape[1]), when,
+                                  lagged=None if self.lag is None else LaggedSums.zeros(self.columns))
+            room = self.batch_rows - self.open.grid
+            piece, inside = Z[position: position + room], kept[position: position + room]
+            if inside.any():
+                self.open.triangle = triangle_update(self.open.triangle, piece[inside])
+            self.open.count += int(inside.sum())
             self.open.sums = self.open.sums + piece.sum(axis=0)
+            if self.lag is not None:
+                self._add_lagged(piece)
+            self.open.grid += len(piece)
             position += len(piece)
-            if self.open.count >= self.batch_rows:
+            if self.open.grid >= self.batch_rows:
                 self.closed.append(self.open)
                 self.open = None
                 if len(self.closed) > MAX_BATCHES:
@@ -224,11 +273,49 @@ class BatchStatistics:
         for k in range(0, len(self.closed) - 1, 2):
             a, b = self.closed[k], self.closed[k + 1]
             merged.append(Batch(triangle_update(a.triangle, b.triangle), a.count + b.count, a.sums + b.sums,
-                                a.start))
+                                a.start, a.grid + b.grid,
+                                None if a.lagged is None else a.lagged.joined(b.lagged)))
         if len(self.closed) % 2:
             merged.append(self.closed[-1])
         self.closed = merged
         self.batch_rows *= 2
+
+    def _add_lagged(self, Z: np.ndarray) -> None:
+        """Add grid rows to the open batch's lagged sums: each pair (i, i + k), k <= lag, whose later row is new,
+        as within the batch or reaching back before it."""
+        lag, n, sums = self.lag, len(Z), self.open.lagged
+        X = Z[:, :-1]
+        V = (X[:, :, None] * Z[:, None, :]).reshape(n, -1)
+        every_v, every_z = np.vstack([self._tail_v, V]), np.vstack([self._tail_z, Z])
+        before = self.open.grid  # rows of the batch before these
+        sums.fourth0 += V.T @ V
+        sums.second0 += Z.T @ Z
+        for k in range(1, lag + 1):
+            weight = 1.0 - k / (lag + 1)
+            back = max(0, min(n, k - before))  # new rows whose partner k back lies before the batch
+            earlier_v, earlier_z = every_v[lag - k: lag - k + n], every_z[lag - k: lag - k + n]
+            sums.fourth_back += weight * earlier_v[:back].T @ V[:back]
+            sums.second_back += weight * earlier_z[:back].T @ Z[:back]
+            sums.fourth += weight * earlier_v[back:].T @ V[back:]
+            sums.second += weight * earlier_z[back:].T @ Z[back:]
+        self._tail_v, self._tail_z = every_v[-lag:] if lag else every_v[:0], every_z[-lag:] if lag else every_z[:0]
+
+    def gap(self) -> None:
+        """A break in the grid (another stretch of samples): no pair spans it."""
+        self._tail_v[:] = 0.0
+        self._tail_z[:] = 0.0
+
+    def lagged_covariance(self, solution: LeastSquaresSolution, subset: list[Batch], columns=None
+                          ) -> tuple[np.ndarray, float] | None:
+        """(The Newey-West covariance of the column estimate of `subset`'s rows alone, the effective count), as
+        estimation.uncertainty's newey_west of those rows at the kept lag; None without a unique fit."""
+        if solution.estimate is None or not subset or subset[0].lagged is None:
+            return None
+        total = subset[0].lagged
+        for batch in subset[1:]:
+            total = total.joined(batch.lagged)
+        return lagged_covariance(total.fourth0, total.fourth, total.second0, total.second, self.columns, solution,
+                                 columns)
 
     @property
     def batches(self) -> list[Batch]:
@@ -250,37 +337,12 @@ class BatchStatistics:
         # problem in p + 1 rows.
         return replace(solve_least_squares(triangle[:, chosen], triangle[:, self.columns]), row_count=count)
 
-    def batch_covariance(self, solution: LeastSquaresSolution, subset: list[Batch] | None = None, columns=None
-                         ) -> tuple[np.ndarray, float] | None:
-        """(The batch-means covariance of the column estimate, the effective count of independent rows), or None
-        with fewer than two batches or no unique fit."""
-        batches = self.batches if subset is None else subset
-        theta = solution.estimate
-        if theta is None or len(batches) < 2:
-            return None
-        chosen = [*(range(self.columns) if columns is None else columns), self.columns]
-        p, count = len(chosen) - 1, solution.row_count
-        # Each batch's score X_b^T (y_b - X_b theta) = R_b^T (R_b [-theta; 1])[:p], all batches at once.
-        triangles = np.stack([batch.triangle for batch in batches])[:, :, chosen]
-        residual_rows = triangles @ np.append(-theta, 1.0)
-        scores = np.einsum("bij,bi->bj", triangles[:, :, :p], residual_rows)
-        meat = scores.T @ scores
-        sums = np.stack([batch.sums for batch in batches])[:, chosen]
-        shared = float(np.sum((sums[:, p] - sums[:, :p] @ theta) ** 2))
-        factor = covariance_factor(solution)
-        size = len(batches)
-        correction = size / (size - 1) * count / max(count - p, 1)
-        covariance = factor @ meat @ factor * correction
-        covariance = (covariance + covariance.T) / 2
-        rss = float(solution.residual_norm) ** 2
-        autocorrelation = max(shared / rss, 1.0) if rss > 0 else 1.0
-        return covariance, count / autocorrelation
-
     @property
     def size(self) -> int:
         """Numbers held (the state's size, for memory checks)."""
-        return sum(batch.triangle.size + batch.sums.size for batch in self.batches) + (
-            0 if self.triangle is None else self.triangle.size)
+        return sum(batch.triangle.size + batch.sums.size + (0 if batch.lagged is None else batch.lagged.size)
+                   for batch in self.batches) + (0 if self.triangle is None else self.triangle.size) + \
+            self._tail_v.size + self._tail_z.size
 
 
 class NeweyWestSums:
@@ -326,37 +388,44 @@ class NeweyWestSums:
         """(The Newey-West covariance of the column estimate, the effective count), as estimation.uncertainty's
         newey_west of the same rows with Bartlett weights over `lag` (at most `lags`) steps; None without a unique
         fit."""
-        theta = solution.estimate
-        if theta is None:
+        if solution.estimate is None:
             return None
-        total = self.columns
-        chosen = list(range(total)) if columns is None else list(columns)
-        with_y = [*chosen, total]
-        p, count = len(chosen), solution.row_count
         lag = min(lag, self.lags)
-        a = np.append(-theta, 1.0)
-        meat = np.zeros((p, p))
-        shared = 0.0
-        for k in range(lag + 1):
-            weight = 1.0 - k / (lag + 1)
-            fourth = self.fourth[k].reshape(total, total + 1, total, total + 1)[np.ix_(chosen, with_y, chosen, with_y)]
-            moment = np.einsum("acbd,c,d->ab", fourth, a, a)
-            products = float(a @ self.second[k][np.ix_(with_y, with_y)] @ a)
-            if k == 0:
-                meat += moment
-                c0 = products
-            else:
-                meat += weight * (moment + moment.T)
-                shared += 2 * weight * products
-        meat = (meat + meat.T) / 2
-        factor = covariance_factor(solution)
-        autocorrelation = max((c0 + shared) / c0, 1.0) if c0 > 0 else 1.0
-        return factor @ meat @ factor * count / max(count - p, 1), count / autocorrelation
+        fourth0, second0 = self.fourth[0], self.second[0]
+        weights = 1.0 - np.arange(1, lag + 1) / (lag + 1)
+        fourth = np.tensordot(weights, self.fourth[1:lag + 1], axes=1)
+        second = np.tensordot(weights, self.second[1:lag + 1], axes=1)
+        return lagged_covariance(fourth0, fourth, second0, second, self.columns, solution, columns)
 
     @property
     def size(self) -> int:
         """Numbers held."""
         return self.fourth.size + self.second.size + self._tail_v.size + self._tail_z.size
+
+
+def lagged_covariance(fourth0: np.ndarray, fourth: np.ndarray, second0: np.ndarray, second: np.ndarray, total: int,
+                      solution: LeastSquaresSolution, columns=None) -> tuple[np.ndarray, float]:
+    """(Newey-West covariance of the column estimate, effective count) from lag-0 and Bartlett-weighted lagged sums
+    (NeweyWestSums' fourth- and second-order sums) of rows with `total` regressor columns."""
+    theta = solution.estimate
+    chosen = list(range(total)) if columns is None else list(columns)
+    with_y = [*chosen, total]
+    p, count = len(chosen), solution.row_count
+    a = np.append(-theta, 1.0)
+
+    def moment(sums: np.ndarray) -> np.ndarray:
+        """sum_i u_i u_(i+k)^T of the sums at the estimate."""
+        picked = sums.reshape(total, total + 1, total, total + 1)[np.ix_(chosen, with_y, chosen, with_y)]
+        return np.einsum("acbd,c,d->ab", picked, a, a)
+
+    lagged = moment(fourth)
+    meat = moment(fourth0) + lagged + lagged.T
+    meat = (meat + meat.T) / 2
+    c0 = float(a @ second0[np.ix_(with_y, with_y)] @ a)
+    shared = 2 * float(a @ second[np.ix_(with_y, with_y)] @ a)
+    factor = covariance_factor(solution)
+    autocorrelation = max((c0 + shared) / c0, 1.0) if c0 > 0 else 1.0
+    return factor @ meat @ factor * count / max(count - p, 1), count / autocorrelation
 
 
 class SplineResampler:
