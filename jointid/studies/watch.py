@@ -585,8 +585,9 @@ class Watcher:
 
     def _count_tests(self, state: np.ndarray) -> None:
         """Seconds of each SysId test received."""
-        names, counts = np.unique(state, return_counts=True)
-        for name, count in zip(names, counts):
+        names, first, counts = np.unique(state, return_index=True, return_counts=True)
+        for k in np.argsort(first):  # in the order they came, however the samples were cut into blocks
+            name, count = names[k], counts[k]
             if str(name).strip().lower() not in IDLE_STATES:
                 self.tests[str(name)] = self.tests.get(str(name), 0.0) + float(count) * self.step
 
@@ -736,6 +737,8 @@ class Watcher:
         statistics = self.statistics
         if statistics is None or statistics.count <= self.union.size or not self._recent:
             return None
+        if self.newey_west is not None and statistics.count < 2 * self.support:
+            return None  # fewer rows than the filter correlates: no Newey-West error is meaningful yet
         if self.choosing:
             self._choose_mechanism()
         solution = statistics.solution(columns=self.columns)
