@@ -9,7 +9,8 @@ It runs a recorded log's pipeline as far as it can be run on samples as they arr
    low-passed unless a cutoff is given, as studies.sysid fits it;
 2. each contiguous stretch (no gap, one SysId test) goes through the streaming derivatives and low-pass of
    jointid.studies.watch_streams, equal to the offline values away from the stretch's ends, which are not fitted;
-3. the rows are judged in blocks of ROBUST_SECONDS: standstill (models with Coulomb friction) and outside torques
+3. the rows are judged in blocks of exactly ROBUST_SECONDS (however the samples arrived; the rest of a stretch at its
+   end, and at the source's end): standstill (models with Coulomb friction) and outside torques
    (jointid.estimation.exclusion.outside_torques, from the current estimate) are left out;
 4. the rows kept are added to bounded least-squares statistics (studies.watch_streams): the estimate is jointid's
    column-scaled least squares of every row kept (from the QR-updated triangle of [X | y]), its errors a log fit's
@@ -18,7 +19,8 @@ It runs a recorded log's pipeline as far as it can be run on samples as they arr
 5. the other analysis choices of a log fit run beside it: the derivative window and cutoff halved and doubled as
    parallel pipelines, the fit with the outside torques kept in, and a torque offset explained the other way (its
    columns streamed with the model's); their moves beyond noise widen the reported errors (refits.beyond_noise),
-   the scatter of the run's halves (batch-means errors of each half) too, and the verdicts and errors come from
+   the scatter of the run's halves (each fitted alone with its own Newey-West errors, from its batches'
+   lagged sums) too, and the verdicts and errors come from
    estimation.judgement.judge, as studies.log_fit.judge_log gives a log fit's. Nothing is well determined before
    the halves can be compared.
 
