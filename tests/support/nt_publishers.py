@@ -35,16 +35,49 @@ class LoopbackServer:
     """An NT4 server on 127.0.0.1:`port`, with publishers for a joint's topics."""
 
     def __init__(self, tmp_path, port: int | None = None):
-        self.port = free_port() if port is None else port
-        self.instance = ntcore.NetworkTableInstance.create()
-        self.instance.startServer(persist_filename=str(tmp_path / f"nt-{self.port}.json"),
-                                  listen_address="127.0.0.1", port3=0, port4=self.port)
-        wait_until(self._listening, what=f"the server to listen on port {self.port}")
+        self.tmp_path = tmp_path
+        self.instance = None
+        for attempt in range(3 if port is None else 1):
+            self.port = free_port() if port is None else port
+            if self._start():
+                break
+        else:
+            raise AssertionError(f"no NT4 server of this test's own came up on 127.0.0.1 (last tried {self.port})")
         self.publishers: dict[str, object] = {}
         self.meta: dict[str, object] = {}
         self.streams: list[threading.Thread] = []
         self.stopping = threading.Event()
         self.options = ntcore.PubSubOptions(sendAll=True, keepDuplicates=True)
+
+    def _start(self) -> bool:
+        """Start the server on self.port; True once a client sees this server's own marker topic there (a port
+        another process took between free_port's probe and the server's bind would show another server's)."""
+        self.instance = ntcore.NetworkTableInstance.create()
+        self.instance.startServer(persist_filename=str(self.tmp_path / f"nt-{self.port}.json"),
+                                  listen_address="127.0.0.1", port3=0, port4=self.port)
+        wait_until(self._listening, what=f"the server to listen on port {self.port}")
+        marker = f"/jointid-loopback/{id(self)}-{self.port}"
+        marking = self.instance.getIntegerTopic(marker).publish()
+        marking.set(1)
+        probe = ntcore.NetworkTableInstance.create()
+        try:
+            probe.setServer("127.0.0.1", self.port)
+            probe.startClient4("loopback probe")
+            seen = probe.getTopic(marker)
+            # A client hears only of topics it subscribes to, and only while the subscriber object lives.
+            watching = seen.genericSubscribe(ntcore.PubSubOptions())
+            try:
+                wait_until(lambda: watching.exists(), timeout=30.0, what="the server's marker topic")
+                return True
+            except AssertionError:
+                self.instance.stopServer()
+                ntcore.NetworkTableInstance.destroy(self.instance)
+                self.instance = None
+                return False
+        finally:
+            marking.close()
+            probe.stopClient()
+            ntcore.NetworkTableInstance.destroy(probe)
 
     @property
     def address(self) -> str:
