@@ -8,7 +8,8 @@ a stock Python program would run instead): each round launches the two side by
 side, alternating, BEST_OF times each, and keeps each one's fastest launch
 (other work on a shared machine only ever slows a launch down); the tricks'
 order rotates from round to round. The paths are `jointid fit --motion rich`
-(the console script, tui.command), `jointid --help`, `jointid sweep`, and the
+(the console script, tui.command), `jointid fit --csv` of a 1e6-row log like for like (bench_log_path's; the
+log is written to the temporary folder once), `jointid --help`, `jointid sweep`, and the
 `jointid` command to the explorer's first complete frame at 120x40 and the
 process's end (bench_tui_startup's COMMAND). What a trick buys is
 1 - with / without per round: the share of its path's time (without the trick)
@@ -26,13 +27,14 @@ import os
 import statistics
 import subprocess
 import sys
+import tempfile
 import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from common import ENVIRONMENT  # noqa: E402  (this folder is first on sys.path)
+from common import ENVIRONMENT, write_log  # noqa: E402  (this folder is first on sys.path)
 
 ROUNDS = 9
 BEST_OF = 3
@@ -53,12 +55,19 @@ def explorer(undo: str = "", module: str = "tui.command") -> str:
 
 FIT = ["fit", "--motion", "rich"]
 FIT_PATH = "`jointid fit --motion rich`"
+LOG = Path(tempfile.gettempdir()) / "jointid-budget-log.csv"
+"""A 1,000,000-row log of t, q, qd, qdd, tau (common.write_log), written when a trick on its path runs."""
+LOG_FIT = ["fit", "--csv", str(LOG), "--json", "--model", "plain", "--no-robust", "--cutoff", "0"]
+LOG_PATH = "`jointid fit --csv` 1e6 rows"
 EXPLORER_PATH = "`jointid` to the first frame"
 
 TRICKS = {
     # name: (where, path, code as shipped, code with the trick undone)
     "end-process": ("jointid/cli/output.py end_process", FIT_PATH, command(FIT),
                     command(FIT, "import jointid.cli\njointid.cli.end_process = lambda status: None")),
+    # Its path is the log path like for like (bench_log_path.py), where pandas' import is most of what it saves.
+    "gc-off-until-lasting": ("jointid/cli/__init__.py console_script", LOG_PATH, command(LOG_FIT),
+                             command(LOG_FIT, "import gc\ngc.disable = lambda: None")),
     "metadata-on-version": ("jointid/cli/version.py", FIT_PATH, command(FIT), command(FIT, "import importlib.metadata")),
     "student-t-quantile": ("jointid/estimation/student_t.py (no scipy.special)", FIT_PATH, command(FIT),
                            command(FIT, "import scipy.special")),
@@ -124,6 +133,8 @@ def main() -> int:
     unknown = set(names) - set(TRICKS)
     if unknown:
         raise SystemExit(f"unknown tricks: {', '.join(sorted(unknown))}; known: {', '.join(TRICKS)}")
+    if any(TRICKS[name][1] == LOG_PATH for name in names) and not LOG.exists():
+        write_log(LOG, 1_000_000)
     for name in names:  # warm-up: the file cache and compiled modules, and every variant runs
         launch(TRICKS[name][2])
         launch(TRICKS[name][3])

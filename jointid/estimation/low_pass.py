@@ -223,9 +223,10 @@ class ParallelFilter:
         reach = np.cumsum(weights[half:] + weights[half::-1]) - weights[half]
         return float(np.searchsorted(reach, 0.95 * weights.sum())) / self.rate
 
-    def rows(self, count: int) -> np.ndarray:
-        """Indices of the rows `apply` keeps out of `count`: every decimation-th from the first."""
-        return np.arange(0, count, self.decimation)
+    def rows(self, count: int) -> range:
+        """Indices of the rows `apply` keeps out of `count`: every decimation-th from the first (a range: its
+        length alone is most often wanted, and an index array of a million rows cost 2.5 ms)."""
+        return range(0, count, self.decimation)
 
     def apply(self, columns: np.ndarray) -> np.ndarray:
         """(N, k) columns -> (M, k): each low-passed, at the `rows(N)` only."""

@@ -584,7 +584,7 @@ def filtered_regressors(log: JointLog, model: JointModel, filters,
     them) and an empty torque."""
     data, estimate = log.data, log.derivatives
     size = shared_size(filters, data.count) if len(filters) > 1 else None  # one filter alone: its own blocks
-    outs = [np.empty((len(chosen.rows(data.count)), model.size)) for chosen in filters]
+    outs = [np.empty((len(chosen.rows(data.count)), model.size), order="F") for chosen in filters]
     torques = [np.empty(0)] * len(filters)
     extra = np.empty((len(filters[0].rows(data.count)), len(candidates)))
     for j, term in enumerate((*model.terms, None, *candidates)):

@@ -87,3 +87,34 @@ def test_a_finished_subcommand_ends_the_process_without_the_teardown(args, teard
     assert done.returncode == (2 if teardown else 0)
     if not teardown:
         assert done.stdout.startswith("State: q = 1.000000 rad") and "Actuator torque" in done.stdout
+
+
+COLLECTOR_PROBE = """\
+import gc, sys
+import jointid.cli
+
+def recorded(*args, **kwargs):
+    print("collecting" if gc.isenabled() else "not collecting", flush=True)
+    return 0
+
+if {recorded!r}:
+    jointid.cli.subcommand({recorded!r}).run = recorded
+sys.argv = ["jointid", *{args!r}]
+jointid.cli.console_script(explorer=recorded)
+"""
+
+
+@pytest.mark.parametrize("args, recorded, collecting", [
+    (["torque", "--q", "1", "--qd", "2", "--qdd", "3"], "torque", False),
+    (["fit", "--samples", "20"], "fit", False),
+    (["watch", "--csv", "growing.csv"], "watch", True),
+    (["serve"], "serve", True),
+    ([], None, True),  # the explorer
+])
+def test_only_a_command_that_lasts_collects_reference_cycles(args, recorded, collecting):
+    """console_script turns the cyclic collector off for a command that ends and back on for one that runs until
+    stopped, whose cycles would otherwise pile up for hours."""
+    done = subprocess.run([sys.executable, "-c", COLLECTOR_PROBE.format(args=args, recorded=recorded)],
+                          capture_output=True, text=True, env=BUFFERED)
+    assert done.stderr == "" and done.returncode == 0
+    assert done.stdout.strip() == ("collecting" if collecting else "not collecting")
