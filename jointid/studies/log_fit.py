@@ -38,6 +38,7 @@ from ..norms import rms
 from ..options import DEFAULT_ORDER, model_extras
 from ..samples import JointData
 from ..text_safety import shown_name
+from ..threads import map_in_threads
 from .angle_models import check_angle_model
 from .refits import ROBUST_CHOICE, beyond_noise, is_exact, robust_refit, robust_spreads, stretch_scatter
 from .sensitivity import FACTORS, SensitivityCheck, Variant, sensitivity_check
@@ -585,10 +586,14 @@ def filtered_regressors(log: JointLog, model: JointModel, filters,
     data, estimate = log.data, log.derivatives
     size = shared_size(filters, data.count) if len(filters) > 1 else None  # one filter alone: its own blocks
     outs = [np.empty((len(chosen.rows(data.count)), model.size), order="F") for chosen in filters]
-    torques = [np.empty(0)] * len(filters)
+    torques = [np.empty(0) for _ in filters]
     extra = np.empty((len(filters[0].rows(data.count)), len(candidates)))
-    for j, term in enumerate((*model.terms, None, *candidates)):
-        candidate = j > model.size
+
+    terms = (*model.terms, None, *candidates)
+
+    def through_filters(j: int) -> None:
+        """Column j (the torque at model.size) through the filters, into its place in the outputs."""
+        term, candidate = terms[j], j > model.size
         with np.errstate(all="ignore") if candidate else contextlib.nullcontext():
             column = data.tau if term is None else np.asarray(term.column(data.q, data.qd, data.qdd), dtype=float)
             if estimate is not None and (term is None or not term.from_derivatives):
@@ -601,6 +606,13 @@ def filtered_regressors(log: JointLog, model: JointModel, filters,
                 torques[k] = out
             else:
                 outs[k][:, j] = out
+
+    # Filtered columns on the machine's cores at once (their FFTs leave the GIL); unfiltered, each is only copied.
+    if filters[0].active:
+        map_in_threads(through_filters, range(len(terms)))
+    else:
+        for j in range(len(terms)):
+            through_filters(j)
     return list(zip(outs, torques)) + ([(extra, np.empty(0))] if candidates else [])
 
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from jointid import threads
 from jointid.estimation import low_pass
 from jointid.estimation.low_pass import FilterRequest
 from jointid.logs.pipeline import joint_log_from_table
@@ -59,3 +60,21 @@ def test_shared_and_reused_columns_give_what_filtering_apart_gives(seconds):
         (X_apart, tau_apart), = log_fit.filtered_regressors(log, logs.result.model, (other,))
         np.testing.assert_allclose(X, X_apart, rtol=0, atol=1e-12 * np.max(np.abs(X_apart)))
         np.testing.assert_allclose(tau, tau_apart, rtol=0, atol=1e-12 * np.max(np.abs(tau_apart)))
+
+
+def test_columns_filtered_on_several_threads_equal_one_thread_bit_for_bit(monkeypatch):
+    """The columns go through their filters side by side (jointid.threads); each lands in its own place."""
+    log = joint_log_from_table(long_log(90.0))
+    model = model_named("coulomb+bias")
+    chosen = log_fit.low_pass_for(log, FilterRequest(5.0))
+    others = [log_fit.low_pass_for(log, FilterRequest(5.0 * factor, chosen.decimation)) for factor in (0.5, 2.0)]
+    candidates = log_fit._candidates(model)
+    monkeypatch.setattr(threads.os, "cpu_count", lambda: 1)
+    alone = log_fit.filtered_regressors(log, model, (chosen, *others), candidates)
+    monkeypatch.setattr(threads.os, "cpu_count", lambda: 4)
+    side_by_side = log_fit.filtered_regressors(log, model, (chosen, *others), candidates)
+    assert len(alone) == len(side_by_side) == 4
+    for (X, tau), (X_threads, tau_threads) in zip(alone, side_by_side):
+        np.testing.assert_array_equal(X_threads, X)
+        np.testing.assert_array_equal(tau_threads, tau)
+    assert all(np.isfinite(X).all() for X, _ in alone[:3])
