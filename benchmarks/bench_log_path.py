@@ -14,7 +14,8 @@ digits, about 97 MB) and runs interleaved rounds of three fresh processes, their
 It prints each one's wall and CPU time and each ratio to the script in the same round as min / median / max (the goal
 is on wall time; CPU time, from os.wait4, is less moved by a busy machine), and whether
 each median meets its goal (exit 1 if not). Then, in this process and warm, where the default path spends its
-time beyond the like-for-like fit (median of 3 calls each, CPU seconds), to say which step to make cheaper.
+time beyond the like-for-like fit (median of 3 calls each, wall and CPU seconds), to say which step to make
+cheaper.
 """
 
 from __future__ import annotations
@@ -42,8 +43,9 @@ def spread(values: list[float]) -> str:
     return " / ".join(f"{value:.2f}" for value in (min(values), statistics.median(values), max(values)))
 
 
-def default_path_steps(path: Path) -> dict[str, float]:
-    """Median CPU seconds (3 warm calls) of each step of the default log fit beyond the like-for-like fit."""
+def default_path_steps(path: Path) -> dict[str, tuple[float, float]]:
+    """Median (wall, CPU) seconds (3 warm calls) of each step of the default log fit beyond the like-for-like fit;
+    CPU above wall is work done on more than one core (jointid.threads)."""
     import functools
 
     import jointid.estimation.low_pass as low_pass
@@ -59,29 +61,38 @@ def default_path_steps(path: Path) -> dict[str, float]:
              "low-pass of the columns (refits', candidates')": (log_fit, "filtered_regressors"),
              "robust step": (log_fit, "outside_torques"), "sensitivity refits": (log_fit, "_sensitivity"),
              "omitted-terms test": (log_fit, "_omitted_terms")}
-    spent: dict[str, list[float]] = {name: [] for name in (*steps, "whole fit", "like-for-like fit")}
-    this_call: dict[str, float] = {}
+    spent: dict[str, list[tuple[float, float]]] = {name: [] for name in (*steps, "whole fit", "like-for-like fit")}
+    this_call: dict[str, tuple[float, float]] = {}
+
+    def now() -> tuple[float, float]:
+        return time.perf_counter(), time.process_time()
+
+    def since(start: tuple[float, float]) -> tuple[float, float]:
+        return tuple(b - a for a, b in zip(start, now()))
+
     for name, (module, attribute) in steps.items():
         def timed(*args, _function=getattr(module, attribute), _name=name, **kwargs):
-            start = time.process_time()
+            start = now()
             try:
                 return _function(*args, **kwargs)
             finally:
-                this_call[_name] = this_call.get(_name, 0.0) + time.process_time() - start
+                before = this_call.get(_name, (0.0, 0.0))
+                this_call[_name] = tuple(a + b for a, b in zip(before, since(start)))
         setattr(module, attribute, functools.wraps(getattr(module, attribute))(timed))
     log = joint_log_from_table(read_table(path))
     for _ in range(3):
         this_call.clear()
-        start = time.process_time()
+        start = now()
         log_fit.fit_logs(log, model=model_named(LOG_MODEL))
-        spent["whole fit"].append(time.process_time() - start)
+        spent["whole fit"].append(since(start))
         for name in steps:
-            spent[name].append(this_call.get(name, 0.0))
-        start = time.process_time()
+            spent[name].append(this_call.get(name, (0.0, 0.0)))
+        start = now()
         log_fit.fit_logs(log, model=model_named("plain"), filtering=FilterRequest(0),
                          exclusion=ExclusionRequest(False))
-        spent["like-for-like fit"].append(time.process_time() - start)
-    return {name: statistics.median(values) for name, values in spent.items()}
+        spent["like-for-like fit"].append(since(start))
+    return {name: tuple(statistics.median(value[k] for value in values) for k in (0, 1))
+            for name, values in spent.items()}
 
 
 def main() -> int:
@@ -119,9 +130,9 @@ def main() -> int:
             missed += [] if met else [name]
             print(f"{name:>14} / script: wall {spread(ratios[name])}  (goal {goal:g}: {'met' if met else 'missed'}); "
                   f"CPU {spread(cpu_ratios[name])}")
-        print("\nThe default fit's steps in this process (CPU s, median of 3 warm calls):")
-        for name, value in default_path_steps(path).items():
-            print(f"  {name:<42} {value:.3f}")
+        print("\nThe default fit's steps in this process (seconds, median of 3 warm calls):")
+        for name, (wall, cpu) in default_path_steps(path).items():
+            print(f"  {name:<47} wall {wall:.3f}  CPU {cpu:.3f}")
     return 1 if missed else 0
 
 

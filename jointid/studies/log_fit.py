@@ -607,12 +607,7 @@ def filtered_regressors(log: JointLog, model: JointModel, filters,
             else:
                 outs[k][:, j] = out
 
-    # Filtered columns on the machine's cores at once (their FFTs leave the GIL); unfiltered, each is only copied.
-    if filters[0].active:
-        map_in_threads(through_filters, range(len(terms)))
-    else:
-        for j in range(len(terms)):
-            through_filters(j)
+    map_in_threads(through_filters, range(len(terms)))  # on the machine's cores at once: FFTs leave the GIL
     return list(zip(outs, torques)) + ([(extra, np.empty(0))] if candidates else [])
 
 
