@@ -12,7 +12,8 @@ two sides of a pair in alternating order:
    `pandas.read_csv(path)` (C engine, its defaults), a regressor by hand and
    `numpy.linalg.lstsq`. Both include every import (pandas among them).
    Ratios: wall time, and peak resident set (each child's own ru_maxrss, from
-   GNU time). Goals: time <= 1.0, memory <= 1.0.
+   GNU time). Goals: time <= 1.5 (every default: issue 31's goal, also bench_log_path's; like for like, goal
+   1.0, is timed there), memory <= 1.0.
 2. In-process: `jointid.logs.table.load_log(path)` against one
    `pandas.read_csv(path)`, both after a warm-up in this process. Goal <= 1.3.
 
@@ -51,7 +52,7 @@ from jointid.studies.log_fit import fit_logs  # noqa: E402
 
 ROUNDS = 7
 ROWS = 1_000_000
-GOALS = {"fresh process, wall time": 1.0, "fresh process, peak resident set": 1.0, "in-process load": 1.3}
+GOALS = {"fresh process, wall time": 1.5, "fresh process, peak resident set": 1.0, "in-process load": 1.3}
 
 BASELINE_SCRIPT = """\
 import sys
