@@ -80,7 +80,8 @@ def closing_content(precision: Precision | None, label_width: int) -> list[Conte
 
 def compact_parameter_lines(item: Readout, note: PrecisionNote, width: int,
                             failure_row: bool = True) -> list[Content]:
-    """A parameter's compact row: symbol, value ± standard error and verdict, wrapped only if too wide.
+    """A parameter's compact row: symbol, value ± standard error and verdict, wrapped only if too wide (the
+    verdict under the value and its error, or if even they do not fit, everything after the value).
 
     One-letter symbols keep their values right-aligned in COMPACT_VALUE_WIDTH so the ± line up;
     a longer symbol (another model's term) takes its extra columns from that padding.
@@ -95,7 +96,13 @@ def compact_parameter_lines(item: Readout, note: PrecisionNote, width: int,
     if note.verdict:
         tail += Content(" ") + verdict_content(note.verdict)
     row = head + Content(" ") + tail
-    lines = [row] if row.cell_length <= width else [head, Content("  ") + tail]
+    with_error = head + Content(" ") + Content(note.text)
+    if row.cell_length <= width:
+        lines = [row]
+    elif note.verdict and with_error.cell_length <= width:  # the value keeps its error; the verdict goes under
+        lines = [with_error, Content("  ") + verdict_content(note.verdict)]
+    else:
+        lines = [head, Content("  ") + tail]
     if item.sign_failure and failure_row:
         failed = Content.from_markup("[bold $text-error]✗ $note[/]", note=failure_note(item))
         if lines[0].cell_length + 2 + failed.cell_length <= width:
