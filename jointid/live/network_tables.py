@@ -163,14 +163,18 @@ class NetworkTablesSource:
         """A client instance subscribed to every topic named (before connecting, so no early value is missed)."""
         nt = self.ntcore
         self.instance = nt.NetworkTableInstance.create()
-        self._release = weakref.finalize(self, _release, nt, self.instance, self.listeners)
+        # The subscribers live only here (and so go before the instance does: _release).
+        self.subscribers: dict[str, object] = {}
+        self._release = weakref.finalize(self, _release, nt, self.instance, self.listeners, self.subscribers)
         options = nt.PubSubOptions(sendAll=True, keepDuplicates=True, periodic=SEND_PERIOD)
         self.topics = {key: self.instance.getTopic(name) for key, name in self.pairs.items()}
-        self.subscribers = {key: topic.genericSubscribe(options) for key, topic in self.topics.items()}
+        self.subscribers.update({key: topic.genericSubscribe(options) for key, topic in self.topics.items()})
         # Topics only, for messages that list what the server publishes.
-        self.every_topic = nt.MultiSubscriber(self.instance, ["/"], nt.PubSubOptions(topicsOnly=True))
+        self.subscribers["every topic"] = nt.MultiSubscriber(self.instance, ["/"], nt.PubSubOptions(topicsOnly=True))
         flags = nt.EventFlags
         for key, subscriber in self.subscribers.items():
+            if key == "every topic":
+                continue
             self.listeners.append(self.instance.addListener(subscriber, flags.kValueAll, self._listener(key)))
         self.listeners.append(self.instance.addConnectionListener(True, self._on_connection))
         self.instance.setServer(self.host, self.port)
@@ -394,11 +398,19 @@ class NetworkTablesSource:
             self.instance = None
 
 
-def _release(ntcore, instance, listeners: list) -> None:
-    """Remove the listeners and destroy the client: at close, or at exit for a source never closed (ntcore's
-    listener thread calling into Python while the interpreter shuts down aborts the process)."""
+def _release(ntcore, instance, listeners: list, subscribers: dict) -> None:
+    """Remove the listeners, unsubscribe and destroy the client: at close, or at exit for a source never closed
+    (ntcore's listener thread calling into Python while the interpreter shuts down aborts the process).
+
+    The subscribers go first: ntcore reuses a destroyed instance's handles for the next instance, so a subscriber
+    freed after its instance would unsubscribe whichever subscriber of a later source now has its handle (that
+    source then waited for topics that never came)."""
     for handle in listeners:
         instance.removeListener(handle)
     listeners.clear()
+    for subscriber in subscribers.values():
+        if hasattr(subscriber, "close"):  # a MultiSubscriber; a GenericSubscriber unsubscribes when freed
+            subscriber.close()
+    subscribers.clear()
     instance.stopClient()
     ntcore.NetworkTableInstance.destroy(instance)

@@ -70,10 +70,14 @@ class LoopbackServer:
                 wait_until(lambda: watching.exists(), timeout=30.0, what="the server's marker topic")
                 return True
             except AssertionError:
+                marking.close()
                 self.instance.stopServer()
                 ntcore.NetworkTableInstance.destroy(self.instance)
                 self.instance = None
                 return False
+            finally:
+                # Freed before its instance: ntcore hands a destroyed instance's handles to the next one.
+                del watching
         finally:
             marking.close()
             probe.stopClient()
@@ -137,6 +141,11 @@ class LoopbackServer:
         for thread in self.streams:
             thread.join()
         if self.instance is not None:
+            # Publishers and subscribers go before their instance (whose handles the next instance reuses).
+            for publisher in self.publishers.values():
+                publisher.close()
+            self.publishers.clear()
+            self.meta.clear()
             self.instance.stopServer()
             ntcore.NetworkTableInstance.destroy(self.instance)
             self.instance = None

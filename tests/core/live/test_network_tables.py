@@ -248,3 +248,20 @@ def test_an_entry_map_without_an_effort_is_refused_before_connecting():
         NetworkTablesSource("127.0.0.1:1", "q=/Arm/Position")
     with pytest.raises(NetworkTablesError, match="unknown quantity 'x'"):
         NetworkTablesSource("127.0.0.1:1", "x=/Arm/Position")
+
+
+def test_a_closed_source_freed_later_leaves_the_next_sources_subscriptions_alone(server, sources):
+    """ntcore gives a new instance the handles of a destroyed one: a closed source's subscribers, freed only when
+    the source object goes (a garbage collection, at any time), would unsubscribe the next source's own."""
+    import gc
+
+    run = arm(rate=50, duration=2.0)
+    server.publish_topics(ARM_TOPICS)
+    first = NetworkTablesSource(server.address, ARM_ENTRIES)
+    first.close()
+    second = arm_source(server, sources)
+    del first
+    gc.collect()
+    server.stream(dict(zip(ARM_TOPICS, (run.q, run.qd, run.qdd, run.tau))), run.t)
+    columns, _, _ = collect(second, len(run.t))
+    np.testing.assert_allclose(columns["tau"], run.tau, rtol=1e-12)
