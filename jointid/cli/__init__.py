@@ -78,9 +78,9 @@ def console_script(explorer=None) -> None:
     opened. `explorer` is as for main().
 
     The cyclic garbage collector is off until a command that lasts (the explorer, `serve`, `watch`) starts: a
-    command that ends makes few reference cycles (the peak memory of fit, compare, report and design moved by under
-    0.5 %), while collecting walks every object its imports built and frees almost none; off, a 1e6-row
-    `jointid fit --csv` takes 0.05 less time (bench_startup_budget gc-off-until-lasting, benchmarks/README.md).
+    command that ends makes few reference cycles (the peak memory of fit, compare, report and design grew by at most
+    0.8 % without it), while collecting walks every object its imports built and frees almost none: 37-52 ms of a
+    1e6-row `jointid fit --csv` (benchmarks/README.md, 2026-11-29 08:15-08:55).
     """
     gc.disable()
     sys.exit(main(end_after_subcommand=True, explorer=explorer))
