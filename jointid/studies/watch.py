@@ -475,14 +475,26 @@ class Watcher:
         self.ended = self.ended or bool(received.ended)
 
     def _add_samples(self, received) -> None:
-        """A block's samples: checked, a sample that is no number taken as a gap, the rest streamed."""
+        """A block's samples: checked, cut at the source's breaks, a sample that is no number taken as a gap, the
+        rest streamed."""
         columns = {name: np.asarray(values) for name, values in received.columns.items()}
         for name in columns:
             if name != "state":
                 columns[name] = np.asarray(columns[name], dtype=float)
         if "t" not in columns or "q" not in columns or "tau" not in columns:
             raise ValueError("a live source must give t, q and tau to be watched")
-        finite = np.ones(received.count, dtype=bool)
+        # A break the source marks (a reconnection, a file truncated or replaced) starts a stretch, as a gap does,
+        # even where the times run on or go back: nothing is differentiated or filtered across it.
+        edges = sorted({0, received.count, *(int(row) for row in received.breaks if 0 <= row < received.count)})
+        for first, last in zip(edges[:-1], edges[1:]):
+            if first in received.breaks:
+                self._fed = None
+            self._add_stretch_piece({name: values[first:last] for name, values in columns.items()})
+
+    def _add_stretch_piece(self, columns: dict[str, np.ndarray]) -> None:
+        """Samples with no break inside: a sample that is no number taken as a gap, the rest streamed."""
+        count = len(columns["t"])
+        finite = np.ones(count, dtype=bool)
         for name, values in columns.items():
             if name != "state":
                 finite &= np.isfinite(values)

@@ -334,3 +334,34 @@ def test_streamed_derivatives_and_low_pass_equal_the_offline_ones_away_from_the_
     assert rows[0] * 5 >= window + chosen.extension and len(rows) > 0.8 * len(filtered)
     scale = np.max(np.abs(filtered), axis=0)
     np.testing.assert_allclose(values / scale, filtered[rows] / scale, atol=1e-10)
+
+
+def test_a_break_the_source_marks_starts_a_stretch_even_where_time_runs_on():
+    """A reconnection or a replaced file is a break (Received.breaks) whatever the times say: the stretches either
+    side end there, as at a gap (a sample that is no number), so the rows that would need samples across it are
+    not fitted; the estimates still converge."""
+    samples = arm(200.0, 30.0)
+    middle = 3010  # mid-block: a break need not fall on a block's first row
+
+    def fed(how: str) -> Watcher:
+        watcher = Watcher()
+        tau = samples.tau.copy()
+        if how == "gap":
+            tau[middle - 1] = np.nan  # the sample before the break's row left out: the next stretch starts there
+        for first in range(0, len(samples.t), 20):
+            rows = slice(first, first + 20)
+            marked = (middle - first,) if how == "break" and first <= middle < first + 20 else ()
+            watcher.add(Received({"t": samples.t[rows], "q": samples.q[rows], "tau": tau[rows]}, breaks=marked))
+        watcher.add(Received(ended=True))
+        return watcher
+
+    joined, broken, gap = (fed(how).refresh() for how in ("joined", "break", "gap"))
+    assert joined.received == broken.received == gap.received == len(samples.t)
+    assert broken.fitted < joined.fitted  # the rows either side of the break that need samples across it
+    # As the gap: the same rows to within the decimation's phase (the gap's stretch before it is a sample shorter),
+    # and the same estimates to far below their errors.
+    assert abs(broken.fitted - gap.fitted) <= 0.01 * gap.fitted
+    for trace, at_gap in zip(broken.parameters, gap.parameters):
+        assert trace.name == at_gap.name
+        assert abs(trace.value - at_gap.value) <= 1e-3 * abs(at_gap.value)
+        assert abs(trace.value - samples.truth[trace.name]) <= 0.05 * samples.truth[trace.name]
