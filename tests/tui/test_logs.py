@@ -113,6 +113,21 @@ async def test_a_heldout_log_needs_a_training_log_first(logs):
 
 
 @synchronous
+async def test_a_log_loaded_while_a_number_field_has_the_focus_refuses_nothing(logs):
+    """The field shows 'from log' and gives up the focus: that text is the screen's, not typing to commit."""
+    train, _ = logs
+    app = make_app()
+    async with app.run_test(size=SIZE) as pilot:
+        stepper = app.screen.query(Stepper).first()
+        stepper.focus()
+        await pilot.pause()
+        await load(pilot, train)
+        await pilot.pause()
+        assert stepper.value == FROM_LOG and not stepper.has_focus
+        assert [n.title for n in app._notifications if n.severity == "error"] == []
+
+
+@synchronous
 async def test_synthetic_controls_are_off_with_the_reason_and_come_back(logs):
     train, _ = logs
     app = make_app()

@@ -226,6 +226,10 @@ class Stepper(RepaintOnValue, Input):
             return None
 
     def _commit_typed(self) -> None:
+        """Commit or refuse what was typed; nothing when nothing was (the field may show the screen's own text,
+        such as 'from log', as it loses the focus to being disabled)."""
+        if not self.editing:
+            return
         if self.value.strip() == self.steps.format(self.number):
             self.show_value(self.number)
             return
