@@ -99,6 +99,20 @@ def add_log_arguments(parser: argparse.ArgumentParser) -> None:
                        "qd, qdd, tau); default: by name, t/time/timestamp, q/position/pos/angle, qd/velocity/vel, "
                        "qdd/acceleration/accel, tau/torque/effort (a suffixed name such as position_rad only "
                        "through this map)")
+    add_reading_arguments(group)
+    group.add_argument("--exclude", type=_time_window, action="append", default=None, metavar="START:END",
+                       help="leave out the samples from START to END seconds after the log's start (a data log's: "
+                       "seconds of its own time stamps) (repeatable), "
+                       "e.g. where you know an outside torque acted")
+    group.add_argument("--no-robust", action="store_true",
+                       help="keep every sample: do not look for outside torques (pushes, collisions) to leave out")
+    add_effort_arguments(group)
+    parser.set_defaults(**dict.fromkeys(SETTING_FLAGS))
+
+
+def add_reading_arguments(group) -> None:
+    """The flags that say how a joint's samples are read and filtered before the fit (--zero, --clockwise,
+    --degrees, --window, --order, --cutoff, --decimate): a log's, and `watch`'s for samples as they arrive."""
     group.add_argument("--zero", choices=ZERO_CHOICES, default=None,
                        help="where the log's angle 0 points: right (jointid's own q = 0, the default), up, left, or "
                        "down (a pendulum hanging); q = angle + pi/2, + pi or - pi/2")
@@ -116,14 +130,6 @@ def add_log_arguments(parser: argparse.ArgumentParser) -> None:
                        "fit; 0 turns it off; default: 3 times the motion's bandwidth (the note says why)")
     group.add_argument("--decimate", type=whole_number(1), default=None, metavar="N",
                        help="keep every Nth sample after the low-pass; default: about 20 per cutoff hertz")
-    group.add_argument("--exclude", type=_time_window, action="append", default=None, metavar="START:END",
-                       help="leave out the samples from START to END seconds after the log's start (a data log's: "
-                       "seconds of its own time stamps) (repeatable), "
-                       "e.g. where you know an outside torque acted")
-    group.add_argument("--no-robust", action="store_true",
-                       help="keep every sample: do not look for outside torques (pushes, collisions) to leave out")
-    add_effort_arguments(group)
-    parser.set_defaults(**dict.fromkeys(SETTING_FLAGS))
 
 
 class _LogRuns(argparse.Action):

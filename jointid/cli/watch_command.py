@@ -10,18 +10,11 @@ import os
 import sys
 from typing import TYPE_CHECKING
 
-from .arguments import UserError, add_model_argument, positive_number, whole_number
+from .arguments import UserError, add_model_argument, positive_number
 from .commands import SUBCOMMANDS
 from .effort_arguments import add_effort_arguments, check_gains_request
 from .exit_status import ExitStatus
-from .log_arguments import (
-    UNIT_CHOICES,
-    ZERO_CHOICES,
-    _column_map,
-    _effort_scale,
-    _entry_map,
-    cutoff_number,
-)
+from .log_arguments import UNIT_CHOICES, _column_map, _effort_scale, _entry_map, add_reading_arguments
 
 if TYPE_CHECKING:
     from ..present.watch import Saved
@@ -64,21 +57,9 @@ def add_parser(subparsers) -> None:
                         help="the topics' unit for q, qd and qdd when their properties name none; default radians")
     reading = parser.add_argument_group("how the samples are read and fitted (as for a log)")
     add_model_argument(reading)
-    reading.add_argument("--zero", choices=ZERO_CHOICES, default=None,
-                         help="where the angle 0 points: right (the default), up, left, or down (a pendulum hanging)")
-    reading.add_argument("--clockwise", action="store_true",
-                         help="the angle grows clockwise: q, qd, qdd and the torque change sign")
-    reading.add_argument("--degrees", action="store_true", help="the CSV gives q, qd, qdd in degrees")
     reading.add_argument("--effort-scale", type=_effort_scale, metavar="K",
                          help="the effort's unit per unit of the logged effort, e.g. 12 for a duty cycle; default 1")
-    reading.add_argument("--window", type=whole_number(3), default=None, metavar="W",
-                         help="Savitzky-Golay window (odd) for qd and qdd from q; default automatic")
-    reading.add_argument("--order", type=whole_number(2), default=None, metavar="P",
-                         help="Savitzky-Golay polynomial order")
-    reading.add_argument("--cutoff", type=cutoff_number, default=None, metavar="HZ",
-                         help="low-pass the effort and every regressor column at HZ; 0 turns it off; default automatic")
-    reading.add_argument("--decimate", type=whole_number(1), default=None, metavar="N",
-                         help="keep every Nth sample after the low-pass; default automatic")
+    add_reading_arguments(reading)
     reading.add_argument("--no-robust", action="store_true",
                          help="keep every sample: do not look for outside torques to leave out")
     add_effort_arguments(reading)
