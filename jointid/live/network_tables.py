@@ -163,18 +163,20 @@ class NetworkTablesSource:
         """A client instance subscribed to every topic named (before connecting, so no early value is missed)."""
         nt = self.ntcore
         self.instance = nt.NetworkTableInstance.create()
-        # The subscribers live only here (and so go before the instance does: _release).
+        # The subscribers live only in this dict, which _release empties before the instance goes; what has a close
+        # is closed then.
         self.subscribers: dict[str, object] = {}
-        self._release = weakref.finalize(self, _release, nt, self.instance, self.listeners, self.subscribers)
+        closing: list = []
+        self._release = weakref.finalize(self, _release, nt, self.instance, self.listeners, self.subscribers,
+                                         closing)
         options = nt.PubSubOptions(sendAll=True, keepDuplicates=True, periodic=SEND_PERIOD)
         self.topics = {key: self.instance.getTopic(name) for key, name in self.pairs.items()}
         self.subscribers.update({key: topic.genericSubscribe(options) for key, topic in self.topics.items()})
         # Topics only, for messages that list what the server publishes.
-        self.subscribers["every topic"] = nt.MultiSubscriber(self.instance, ["/"], nt.PubSubOptions(topicsOnly=True))
+        self.every_topic = nt.MultiSubscriber(self.instance, ["/"], nt.PubSubOptions(topicsOnly=True))
+        closing.append(self.every_topic)
         flags = nt.EventFlags
         for key, subscriber in self.subscribers.items():
-            if key == "every topic":
-                continue
             self.listeners.append(self.instance.addListener(subscriber, flags.kValueAll, self._listener(key)))
         self.listeners.append(self.instance.addConnectionListener(True, self._on_connection))
         self.instance.setServer(self.host, self.port)
@@ -398,7 +400,7 @@ class NetworkTablesSource:
             self.instance = None
 
 
-def _release(ntcore, instance, listeners: list, subscribers: dict) -> None:
+def _release(ntcore, instance, listeners: list, subscribers: dict, closing: list) -> None:
     """Remove the listeners, unsubscribe and destroy the client: at close, or at exit for a source never closed
     (ntcore's listener thread calling into Python while the interpreter shuts down aborts the process).
 
@@ -408,9 +410,9 @@ def _release(ntcore, instance, listeners: list, subscribers: dict) -> None:
     for handle in listeners:
         instance.removeListener(handle)
     listeners.clear()
-    for subscriber in subscribers.values():
-        if hasattr(subscriber, "close"):  # a MultiSubscriber; a GenericSubscriber unsubscribes when freed
-            subscriber.close()
-    subscribers.clear()
+    subscribers.clear()  # a GenericSubscriber unsubscribes when freed (it has no close)
+    for subscriber in closing:  # a MultiSubscriber
+        subscriber.close()
+    closing.clear()
     instance.stopClient()
     ntcore.NetworkTableInstance.destroy(instance)
